@@ -1,0 +1,648 @@
+//! The wakelab configuration: TOML with an embedded default for every value.
+//!
+//! A configuration is built in three layers: the embedded default, the preset named by a
+//! top-level `preset` key (`quick` or `paper`, which set the grid and time tables), then the
+//! user's file, merged table by table. Unknown keys are errors, and [`WakelabConfig::validate`]
+//! checks every number against its allowed range before any work starts.
+
+use crate::error::{ConfigError, WakelabError};
+use serde::{Deserialize, Serialize};
+use std::path::Path;
+
+/// The complete, effective configuration of a wakelab run.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct WakelabConfig {
+    /// The preset the grid and time tables started from (`quick` or `paper`).
+    pub preset: Preset,
+    /// Seed of every random draw in the run.
+    pub seed: u64,
+    pub ship: ShipConfig,
+    pub environment: EnvironmentConfig,
+    pub grid: GridConfig,
+    pub time: TimeConfig,
+    pub solver: SolverConfig,
+    pub output: OutputConfig,
+}
+
+/// Grid and time presets (spec 2.1.2 for `paper`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize, Default)]
+#[serde(rename_all = "lowercase")]
+pub enum Preset {
+    /// A coarse grid that runs in seconds.
+    #[default]
+    Quick,
+    /// The spec's grid: 2000 m x 300 m core of 4001 x 201 cells plus 500 m beaches of 101 cells.
+    Paper,
+}
+
+impl std::str::FromStr for Preset {
+    type Err = ConfigError;
+    fn from_str(s: &str) -> Result<Self, Self::Err> {
+        match s {
+            "quick" => Ok(Self::Quick),
+            "paper" => Ok(Self::Paper),
+            other => Err(ConfigError::new("preset", other, "one of `quick`, `paper`")),
+        }
+    }
+}
+
+/// The ship and the empirical coefficients of its initial data plane (Tables 2.1-2.2).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct ShipConfig {
+    pub name: String,
+    /// Length L (m).
+    pub length: f64,
+    /// Beam B (m).
+    pub beam: f64,
+    /// Draft D (m).
+    pub draft: f64,
+    /// Wetted surface area S (m^2).
+    pub wetted_area: f64,
+    /// Ship speed U_ship (m/s).
+    pub speed: f64,
+    /// Propeller diameter D_p (m).
+    pub propeller_diameter: f64,
+    /// Horizontal offset of each propeller axis from the centreline, y_p (m).
+    pub propeller_offset: f64,
+    /// Depth of the propeller axles, z_p (m, positive down).
+    pub propeller_depth: f64,
+    /// Horizontal offset of each rudder, y_r (m).
+    pub rudder_offset: f64,
+    /// Rudder mid-span depth z_r (m, positive down).
+    pub rudder_depth: f64,
+    /// Rudder thickness t_r (m).
+    pub rudder_thickness: f64,
+    /// Rudder chord c_r (m).
+    pub rudder_chord: f64,
+    /// Rudder planform area S_r (m^2).
+    pub rudder_area: f64,
+    /// Swirl number S~ (-).
+    pub swirl_number: f64,
+    /// Rudder drag coefficient C_dr (-).
+    pub rudder_drag_coefficient: f64,
+    /// Hull wave-making drag coefficient C_R (-).
+    pub wave_drag_coefficient: f64,
+    /// Table 2.2 coefficients.
+    pub coefficients: IdpCoefficients,
+}
+
+/// The empirical IDP coefficients of Table 2.2.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct IdpCoefficients {
+    pub a1: f64,
+    pub a2: f64,
+    pub a3: f64,
+    pub a4: f64,
+    pub a: f64,
+    pub a_p: f64,
+    pub a_s1: f64,
+    pub a_s2: f64,
+    pub alpha_theta: f64,
+    pub c_delta: f64,
+}
+
+/// The ocean the ship sails through.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct EnvironmentConfig {
+    /// Latitude (degrees north) for TEOS-10 pressure and gravity.
+    pub latitude: f64,
+    /// Longitude (degrees east, -180..360) for TEOS-10.
+    pub longitude: f64,
+    /// Gravitational acceleration g (m/s^2).
+    pub gravity: f64,
+    /// Molecular kinematic viscosity nu (m^2/s), Table 2.1.
+    pub kinematic_viscosity: f64,
+    /// Reference density rho_0 (kg/m^3), Table 2.1.
+    pub reference_density: f64,
+    /// Background in-situ temperature T_b(z) (deg C).
+    pub temperature: Profile,
+    /// Background practical salinity S_b(z) (PSU).
+    pub salinity: Profile,
+    pub swell: SwellConfig,
+    pub wind: WindConfig,
+    /// Ambient (background) turbulence kinetic energy (m^2/s^2).
+    pub ambient_tke: f64,
+    /// Ambient dissipation rate (m^2/s^3).
+    pub ambient_dissipation: f64,
+}
+
+/// Shape of a background profile.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum ProfileKind {
+    /// `surface + depth_gradient * depth` everywhere.
+    Linear,
+    /// Uniform `surface` down to `mixed_layer_depth`, then the linear gradient below (Fig. 3.3).
+    MixedLayer,
+}
+
+/// A background profile f_b(z) (Eq. 2.7), constant in time.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Profile {
+    pub kind: ProfileKind,
+    /// Value at the surface.
+    pub surface: f64,
+    /// Change per metre of depth (negative: decreasing downward).
+    pub depth_gradient: f64,
+    /// Depth of the mixed layer (m); used by `mixed_layer` only.
+    pub mixed_layer_depth: f64,
+}
+
+impl Profile {
+    /// Value at depth `depth` (m, positive down).
+    pub fn at_depth(&self, depth: f64) -> f64 {
+        let below = match self.kind {
+            ProfileKind::Linear => depth,
+            ProfileKind::MixedLayer => (depth - self.mixed_layer_depth).max(0.0),
+        };
+        self.surface + self.depth_gradient * below
+    }
+}
+
+/// Swell direction relative to the ship's track.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(untagged)]
+pub enum SwellDirection {
+    /// `calm`, `following`, `head` or `beam`.
+    Named(NamedDirection),
+    /// Direction of propagation in degrees from the ship's heading, counter-clockwise seen from
+    /// above (0 = following, 90 = towards port, the +y side, 180 = head).
+    Degrees(f64),
+}
+
+/// The named swell directions.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum NamedDirection {
+    Calm,
+    Following,
+    Head,
+    Beam,
+}
+
+/// The swell whose Stokes drift (Eq. 2.1) drives the vortex force (Eq. 2.6).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct SwellConfig {
+    /// Amplitude a_s (m).
+    pub amplitude: f64,
+    /// Wavelength lambda (m).
+    pub wavelength: f64,
+    /// Direction of propagation relative to the track.
+    pub direction: SwellDirection,
+}
+
+impl SwellConfig {
+    /// Propagation angle from the ship's heading (radians), or `None` for a calm sea.
+    pub fn angle(&self) -> Option<f64> {
+        match self.direction {
+            SwellDirection::Named(NamedDirection::Calm) => None,
+            _ if self.amplitude == 0.0 => None,
+            SwellDirection::Named(NamedDirection::Following) => Some(0.0),
+            SwellDirection::Named(NamedDirection::Beam) => Some(std::f64::consts::FRAC_PI_2),
+            SwellDirection::Named(NamedDirection::Head) => Some(std::f64::consts::PI),
+            SwellDirection::Degrees(d) => Some(d.to_radians()),
+        }
+    }
+}
+
+/// The wind over the scene (used by the surface stage).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct WindConfig {
+    /// Wind speed at 10 m (m/s).
+    pub speed: f64,
+    /// Direction the wind blows towards, degrees from the ship's heading.
+    pub direction: f64,
+}
+
+/// The cross-wake grid (spec 2.1.2): a uniform core and stretched damping beaches on each side.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct GridConfig {
+    /// Width of the uniform core (m).
+    pub core_width: f64,
+    /// Depth of the domain (m).
+    pub depth: f64,
+    /// Cells across the core.
+    pub core_cells: usize,
+    /// Cells over the depth.
+    pub depth_cells: usize,
+    /// Width of each damping beach (m); 0 for none.
+    pub beach_width: f64,
+    /// Cells in each beach.
+    pub beach_cells: usize,
+}
+
+/// Simulated time and output times.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct TimeConfig {
+    /// Simulated wake age (s); the wake is U_ship * duration long (Eq. 2.24).
+    pub duration: f64,
+    /// Courant number of the adaptive time step.
+    pub cfl: f64,
+    /// Largest time step (s).
+    pub max_dt: f64,
+    /// Interval between saved surface slices (s), from which the (x, y) map is built.
+    pub surface_interval: f64,
+    /// Interval between saved full cross-sections (s).
+    pub output_interval: f64,
+}
+
+/// Lateral boundary of the 2D+t domain.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum LateralBoundary {
+    /// Outlets behind the damping beaches (spec 2.1.2): pressure fixed, zero-gradient velocity.
+    Outlet,
+    /// Free-slip, no-flux walls (for closed-box tests).
+    Wall,
+}
+
+/// Numerical and model options of the hydrodynamic solver.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct SolverConfig {
+    /// Somero (2021) near-surface anisotropy correction, Eqs. (2.15)-(2.21); off in the paper.
+    pub somero_anisotropy: bool,
+    /// Rate of the beach damping at the outer edge (1/s); grows quadratically from the core.
+    pub beach_damping: f64,
+    pub lateral_boundary: LateralBoundary,
+    /// Upper limit on the eddy viscosity nu_t (m^2/s).
+    pub max_eddy_viscosity: f64,
+}
+
+/// Where and what the run writes.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct OutputConfig {
+    /// Run directory.
+    pub dir: String,
+    /// Along-track spacing of the surface (x, y) map (m).
+    pub map_dx: f64,
+    /// Write NetCDF files.
+    pub netcdf: bool,
+    /// Write PNG pictures.
+    pub pictures: bool,
+}
+
+/// The embedded default configuration, as TOML (the `quick` preset).
+pub const DEFAULT_TOML: &str = include_str!("default.toml");
+
+impl Preset {
+    /// The grid and time tables of this preset, as TOML.
+    pub fn overlay(&self) -> toml::Table {
+        let text = match self {
+            Preset::Quick => QUICK_PRESET,
+            Preset::Paper => PAPER_PRESET,
+        };
+        text.parse::<toml::Table>()
+            .expect("embedded preset is valid TOML")
+    }
+}
+
+const QUICK_PRESET: &str = r#"
+[grid]
+core_width = 1200.0
+depth = 120.0
+core_cells = 401
+depth_cells = 81
+beach_width = 300.0
+beach_cells = 25
+
+[time]
+duration = 3600.0
+cfl = 0.5
+max_dt = 10.0
+surface_interval = 10.0
+output_interval = 600.0
+"#;
+
+const PAPER_PRESET: &str = r#"
+[grid]
+core_width = 2000.0
+depth = 300.0
+core_cells = 4001
+depth_cells = 201
+beach_width = 500.0
+beach_cells = 101
+
+[time]
+duration = 3600.0
+cfl = 0.5
+max_dt = 10.0
+surface_interval = 5.0
+output_interval = 300.0
+"#;
+
+/// Merge `over` into `base`, table by table (values of `over` win).
+fn merge_tables(base: &mut toml::Table, over: toml::Table) {
+    for (key, value) in over {
+        match (base.get_mut(&key), value) {
+            (Some(toml::Value::Table(b)), toml::Value::Table(o)) => merge_tables(b, o),
+            (_, v) => {
+                base.insert(key, v);
+            }
+        }
+    }
+}
+
+impl Default for WakelabConfig {
+    fn default() -> Self {
+        Self::from_toml_str("", "<embedded default>").expect("embedded default is valid")
+    }
+}
+
+impl WakelabConfig {
+    /// The embedded default with the given preset's grid and time.
+    pub fn with_preset(preset: Preset) -> Self {
+        Self::from_toml_str(&format!("preset = \"{}\"", preset.name()), "<preset>")
+            .expect("embedded presets are valid")
+    }
+
+    /// Build the effective configuration from a user's TOML text, layered over the default and
+    /// the preset it names. Unknown keys and out-of-range values are errors.
+    pub fn from_toml_str(text: &str, origin: &str) -> Result<Self, WakelabError> {
+        Self::from_toml_str_with_preset(text, origin, None)
+    }
+
+    /// As [`Self::from_toml_str`], with `preset` (from the command line) replacing the file's.
+    pub fn from_toml_str_with_preset(text: &str, origin: &str, preset: Option<Preset>) -> Result<Self, WakelabError> {
+        let parse_err = |message: String| WakelabError::Parse {
+            path: origin.to_string(),
+            message,
+        };
+        let mut user: toml::Table = text.parse().map_err(|e: toml::de::Error| parse_err(e.to_string()))?;
+        if let Some(p) = preset {
+            user.insert("preset".into(), toml::Value::String(p.name().into()));
+        }
+        let preset = match user.get("preset") {
+            None => Preset::Quick,
+            Some(toml::Value::String(s)) => s.parse()?,
+            Some(other) => return Err(ConfigError::new("preset", other, "one of `quick`, `paper`").into()),
+        };
+        let mut table: toml::Table = DEFAULT_TOML.parse().expect("embedded default is valid TOML");
+        merge_tables(&mut table, preset.overlay());
+        merge_tables(&mut table, user);
+        let config: WakelabConfig = toml::Value::Table(table)
+            .try_into()
+            .map_err(|e: toml::de::Error| parse_err(e.to_string()))?;
+        config.validate()?;
+        Ok(config)
+    }
+
+    /// Read a configuration file (see [`Self::from_toml_str`]).
+    pub fn from_file(path: &Path) -> Result<Self, WakelabError> {
+        let text = std::fs::read_to_string(path).map_err(|e| WakelabError::io(path, e))?;
+        Self::from_toml_str(&text, &path.display().to_string())
+    }
+
+    /// The effective configuration as TOML, which reads back to the same configuration.
+    pub fn to_toml_string(&self) -> String {
+        toml::to_string_pretty(self).expect("configuration serialises")
+    }
+
+    /// Check every value against its allowed range; the error names the field.
+    pub fn validate(&self) -> Result<(), ConfigError> {
+        let s = &self.ship;
+        positive("ship.length", s.length, 1.0, 500.0, "m")?;
+        positive("ship.beam", s.beam, 0.5, 100.0, "m")?;
+        positive("ship.draft", s.draft, 0.1, 40.0, "m")?;
+        positive("ship.wetted_area", s.wetted_area, 1.0, 1.0e5, "m^2")?;
+        positive("ship.speed", s.speed, 0.1, 30.0, "m/s")?;
+        positive("ship.propeller_diameter", s.propeller_diameter, 0.1, 20.0, "m")?;
+        range("ship.propeller_offset", s.propeller_offset, 0.0, s.beam, "m (0 to the beam)")?;
+        positive("ship.propeller_depth", s.propeller_depth, 0.1, 40.0, "m")?;
+        range("ship.rudder_offset", s.rudder_offset, 0.0, s.beam, "m (0 to the beam)")?;
+        positive("ship.rudder_depth", s.rudder_depth, 0.05, 40.0, "m")?;
+        positive("ship.rudder_thickness", s.rudder_thickness, 0.01, 10.0, "m")?;
+        positive("ship.rudder_chord", s.rudder_chord, 0.05, 50.0, "m")?;
+        positive("ship.rudder_area", s.rudder_area, 0.01, 500.0, "m^2")?;
+        range("ship.swirl_number", s.swirl_number, 0.0, 2.0, "")?;
+        positive("ship.rudder_drag_coefficient", s.rudder_drag_coefficient, 1e-6, 2.0, "")?;
+        range("ship.wave_drag_coefficient", s.wave_drag_coefficient, 0.0, 0.1, "")?;
+        let c = &s.coefficients;
+        for (name, v) in [
+            ("a1", c.a1),
+            ("a2", c.a2),
+            ("a3", c.a3),
+            ("a4", c.a4),
+            ("a", c.a),
+            ("a_p", c.a_p),
+            ("a_s1", c.a_s1),
+            ("a_s2", c.a_s2),
+            ("alpha_theta", c.alpha_theta),
+            ("c_delta", c.c_delta),
+        ] {
+            positive(&format!("ship.coefficients.{name}"), v, 1e-6, 100.0, "")?;
+        }
+
+        let e = &self.environment;
+        range("environment.latitude", e.latitude, -90.0, 90.0, "degrees")?;
+        range("environment.longitude", e.longitude, -180.0, 360.0, "degrees")?;
+        positive("environment.gravity", e.gravity, 9.7, 9.9, "m/s^2")?;
+        positive("environment.kinematic_viscosity", e.kinematic_viscosity, 1e-7, 1e-4, "m^2/s")?;
+        positive("environment.reference_density", e.reference_density, 990.0, 1060.0, "kg/m^3")?;
+        validate_profile("environment.temperature", &e.temperature, -2.0, 40.0, self.grid.depth)?;
+        validate_profile("environment.salinity", &e.salinity, 2.0, 42.0, self.grid.depth)?;
+        range("environment.swell.amplitude", e.swell.amplitude, 0.0, 10.0, "m")?;
+        positive("environment.swell.wavelength", e.swell.wavelength, 5.0, 1000.0, "m")?;
+        if e.swell.amplitude > 0.0 {
+            let steepness = e.swell.amplitude * 2.0 * std::f64::consts::PI / e.swell.wavelength;
+            if steepness > 0.3 {
+                return Err(ConfigError::new(
+                    "environment.swell.amplitude",
+                    e.swell.amplitude,
+                    format!(
+                        "steepness a k = {steepness:.3} must be at most 0.3 for a Stokes wave \
+                         (amplitude at most {:.3} m for this wavelength)",
+                        0.3 * e.swell.wavelength / (2.0 * std::f64::consts::PI)
+                    ),
+                ));
+            }
+        }
+        if let SwellDirection::Degrees(d) = e.swell.direction {
+            range("environment.swell.direction", d, -360.0, 360.0, "degrees, or calm/following/head/beam")?;
+        }
+        range("environment.wind.speed", e.wind.speed, 0.0, 40.0, "m/s")?;
+        range("environment.wind.direction", e.wind.direction, -360.0, 360.0, "degrees")?;
+        positive("environment.ambient_tke", e.ambient_tke, 1e-12, 1e-2, "m^2/s^2")?;
+        positive("environment.ambient_dissipation", e.ambient_dissipation, 1e-15, 1e-2, "m^2/s^3")?;
+
+        let g = &self.grid;
+        positive("grid.core_width", g.core_width, 10.0, 20_000.0, "m")?;
+        positive("grid.depth", g.depth, 5.0, 2000.0, "m")?;
+        count("grid.core_cells", g.core_cells, 8, 20_001)?;
+        count("grid.depth_cells", g.depth_cells, 4, 2001)?;
+        range("grid.beach_width", g.beach_width, 0.0, 20_000.0, "m")?;
+        if g.beach_width > 0.0 {
+            count("grid.beach_cells", g.beach_cells, 2, 2001)?;
+        } else if g.beach_cells != 0 {
+            return Err(ConfigError::new("grid.beach_cells", g.beach_cells, "0 when grid.beach_width is 0"));
+        }
+        let deepest = s.propeller_depth + s.propeller_diameter;
+        if g.depth < 2.0 * deepest {
+            return Err(ConfigError::new(
+                "grid.depth",
+                g.depth,
+                format!("at least {:.1} m (twice the propeller depth plus diameter)", 2.0 * deepest),
+            ));
+        }
+        if g.core_width < 4.0 * s.beam {
+            return Err(ConfigError::new(
+                "grid.core_width",
+                g.core_width,
+                format!("at least {:.1} m (four beams)", 4.0 * s.beam),
+            ));
+        }
+
+        let t = &self.time;
+        positive("time.duration", t.duration, 1.0, 86_400.0, "s")?;
+        positive("time.cfl", t.cfl, 0.01, 0.9, "")?;
+        positive("time.max_dt", t.max_dt, 1e-3, 600.0, "s")?;
+        positive("time.surface_interval", t.surface_interval, 1e-2, t.duration, "s (up to time.duration)")?;
+        positive("time.output_interval", t.output_interval, 1e-2, t.duration, "s (up to time.duration)")?;
+
+        let so = &self.solver;
+        range("solver.beach_damping", so.beach_damping, 0.0, 10.0, "1/s")?;
+        positive("solver.max_eddy_viscosity", so.max_eddy_viscosity, 1e-4, 100.0, "m^2/s")?;
+
+        let o = &self.output;
+        if o.dir.trim().is_empty() {
+            return Err(ConfigError::new("output.dir", "\"\"", "a non-empty path"));
+        }
+        positive("output.map_dx", o.map_dx, 0.1, 10_000.0, "m")?;
+        Ok(())
+    }
+}
+
+impl Preset {
+    pub fn name(&self) -> &'static str {
+        match self {
+            Preset::Quick => "quick",
+            Preset::Paper => "paper",
+        }
+    }
+}
+
+fn range(field: &str, v: f64, lo: f64, hi: f64, unit: &str) -> Result<(), ConfigError> {
+    if v.is_finite() && v >= lo && v <= hi {
+        Ok(())
+    } else {
+        Err(ConfigError::new(field, v, format!("must be in [{lo}, {hi}] {unit}").trim_end().to_string()))
+    }
+}
+
+fn positive(field: &str, v: f64, lo: f64, hi: f64, unit: &str) -> Result<(), ConfigError> {
+    range(field, v, lo, hi, unit)
+}
+
+fn count(field: &str, v: usize, lo: usize, hi: usize) -> Result<(), ConfigError> {
+    if (lo..=hi).contains(&v) {
+        Ok(())
+    } else {
+        Err(ConfigError::new(field, v, format!("must be an integer in [{lo}, {hi}]")))
+    }
+}
+
+fn validate_profile(field: &str, p: &Profile, lo: f64, hi: f64, depth: f64) -> Result<(), ConfigError> {
+    range(&format!("{field}.surface"), p.surface, lo, hi, "")?;
+    range(&format!("{field}.depth_gradient"), p.depth_gradient, -1.0, 1.0, "per metre of depth")?;
+    range(&format!("{field}.mixed_layer_depth"), p.mixed_layer_depth, 0.0, depth, "m (0 to grid.depth)")?;
+    let bottom = p.at_depth(depth);
+    if !(lo..=hi).contains(&bottom) {
+        return Err(ConfigError::new(
+            format!("{field}.depth_gradient"),
+            p.depth_gradient,
+            format!("the profile reaches {bottom:.3} at the bottom ({depth} m); it must stay in [{lo}, {hi}]"),
+        ));
+    }
+    Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn default_is_the_ddg5415_of_table_2_1() {
+        let c = WakelabConfig::default();
+        assert_eq!(c.ship.length, 142.0);
+        assert_eq!(c.ship.beam, 18.9);
+        assert_eq!(c.ship.wetted_area, 2949.5);
+        assert_eq!(c.ship.speed, 7.0);
+        assert_eq!(c.ship.coefficients.c_delta, 1.14);
+        assert_eq!(c.preset, Preset::Quick);
+    }
+
+    #[test]
+    fn paper_preset_has_the_spec_grid() {
+        let c = WakelabConfig::with_preset(Preset::Paper);
+        assert_eq!((c.grid.core_cells, c.grid.depth_cells, c.grid.beach_cells), (4001, 201, 101));
+        assert_eq!((c.grid.core_width, c.grid.depth, c.grid.beach_width), (2000.0, 300.0, 500.0));
+        assert_eq!(c.time.duration, 3600.0);
+    }
+
+    #[test]
+    fn shown_config_reads_back_identically() {
+        let c = WakelabConfig::with_preset(Preset::Paper);
+        let back = WakelabConfig::from_toml_str(&c.to_toml_string(), "shown").unwrap();
+        assert_eq!(c, back);
+    }
+
+    #[test]
+    fn user_values_override_the_preset() {
+        let c = WakelabConfig::from_toml_str("preset = \"paper\"\n[grid]\ncore_cells = 1001\n", "t").unwrap();
+        assert_eq!(c.grid.core_cells, 1001);
+        assert_eq!(c.grid.depth_cells, 201);
+    }
+
+    #[test]
+    fn unknown_key_is_an_error_naming_it() {
+        let err = WakelabConfig::from_toml_str("[ship]\nsped = 3.0\n", "t").unwrap_err();
+        assert!(err.to_string().contains("sped"), "{err}");
+    }
+
+    #[test]
+    fn out_of_range_value_names_field_and_range() {
+        let err = WakelabConfig::from_toml_str("[ship]\nspeed = -3.0\n", "t").unwrap_err();
+        let msg = err.to_string();
+        assert!(msg.contains("ship.speed") && msg.contains("-3") && msg.contains("[0.1, 30]"), "{msg}");
+    }
+
+    #[test]
+    fn swell_direction_accepts_names_and_degrees() {
+        let c = WakelabConfig::from_toml_str("[environment.swell]\ndirection = \"head\"\n", "t").unwrap();
+        assert_eq!(c.environment.swell.angle(), Some(std::f64::consts::PI));
+        let c = WakelabConfig::from_toml_str("[environment.swell]\ndirection = 45.0\n", "t").unwrap();
+        assert!((c.environment.swell.angle().unwrap() - std::f64::consts::FRAC_PI_4).abs() < 1e-15);
+        let c = WakelabConfig::from_toml_str("[environment.swell]\ndirection = \"calm\"\n", "t").unwrap();
+        assert_eq!(c.environment.swell.angle(), None);
+        assert!(WakelabConfig::from_toml_str("[environment.swell]\ndirection = \"sideways\"\n", "t").is_err());
+    }
+
+    #[test]
+    fn too_steep_swell_is_refused() {
+        let err = WakelabConfig::from_toml_str("[environment.swell]\namplitude = 8.0\nwavelength = 50.0\n", "t")
+            .unwrap_err();
+        assert!(err.to_string().contains("environment.swell.amplitude"), "{err}");
+    }
+
+    #[test]
+    fn mixed_layer_profile_is_uniform_above_the_layer() {
+        let p = Profile {
+            kind: ProfileKind::MixedLayer,
+            surface: 20.0,
+            depth_gradient: -0.05,
+            mixed_layer_depth: 30.0,
+        };
+        assert_eq!(p.at_depth(10.0), 20.0);
+        assert!((p.at_depth(50.0) - 19.0).abs() < 1e-12);
+    }
+}

@@ -1,0 +1,59 @@
+//! Errors shared by every stage.
+
+use thiserror::Error;
+
+/// A configuration value outside its allowed range, or a key that does not exist.
+#[derive(Debug, Error, Clone, PartialEq)]
+#[error("invalid configuration: `{field}` = {value}: {allowed}")]
+pub struct ConfigError {
+    /// Dotted path of the field, as written in the TOML file (`ship.speed`).
+    pub field: String,
+    /// The offending value as the user wrote it.
+    pub value: String,
+    /// What would have been accepted.
+    pub allowed: String,
+}
+
+impl ConfigError {
+    pub fn new(field: impl Into<String>, value: impl ToString, allowed: impl Into<String>) -> Self {
+        Self {
+            field: field.into(),
+            value: value.to_string(),
+            allowed: allowed.into(),
+        }
+    }
+}
+
+/// Every error a wakelab stage can return.
+#[derive(Debug, Error)]
+pub enum WakelabError {
+    #[error(transparent)]
+    Config(#[from] ConfigError),
+    #[error("could not parse configuration {path}: {message}")]
+    Parse { path: String, message: String },
+    #[error("simulation blew up at step {step} (t = {time:.2} s): {detail}")]
+    BlowUp {
+        step: usize,
+        time: f64,
+        detail: String,
+    },
+    #[error("I/O error on {path}: {source}")]
+    Io {
+        path: String,
+        #[source]
+        source: std::io::Error,
+    },
+    #[error("NetCDF error on {path}: {message}")]
+    NetCdf { path: String, message: String },
+    #[error("image error on {path}: {message}")]
+    Image { path: String, message: String },
+}
+
+impl WakelabError {
+    pub fn io(path: impl AsRef<std::path::Path>, source: std::io::Error) -> Self {
+        Self::Io {
+            path: path.as_ref().display().to_string(),
+            source,
+        }
+    }
+}

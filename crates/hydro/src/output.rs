@@ -1,0 +1,337 @@
+//! The hydro stage's files: cross-sections and surface slices as they are computed (NetCDF,
+//! streamed one record at a time so memory stays bounded), the surface map x = U_ship t
+//! (NetCDF), the IDP scalars (JSON) and PNG pictures of the surface wake and cross-sections.
+//!
+//! Every file is written to a temporary name and renamed when complete, so a failed run leaves
+//! no half-written output.
+
+use crate::slices::{CrossSection, SurfaceMap, SLICE_FIELDS};
+use crate::{simulate_wake_with, WakeEvent, WakeSlices};
+use netcdf3::{FileWriter, Version};
+use std::path::{Path, PathBuf};
+use wakelab_core::io::netcdf::{write_error, CfLayout, CfVariable};
+use wakelab_core::io::picture::{Colormap, FieldPicture};
+use wakelab_core::io::{write_atomically, AtomicFile};
+use wakelab_core::{CrossGrid, WakelabConfig, WakelabError};
+
+/// Files written by [`run_hydro_stage`].
+#[derive(Debug, Clone, Default)]
+pub struct HydroOutputs {
+    pub files: Vec<PathBuf>,
+    pub steps: usize,
+}
+
+fn global_attributes(config: &WakelabConfig, title: &str) -> Vec<(String, String)> {
+    vec![
+        ("title".into(), title.into()),
+        ("source".into(), format!("wakelab {} 2D+t RANS wake solver", env!("CARGO_PKG_VERSION"))),
+        ("ship".into(), config.ship.name.clone()),
+        ("preset".into(), config.preset.name().into()),
+        ("wakelab_config".into(), config.to_toml_string()),
+    ]
+}
+
+fn field_variables(dims: &[&str]) -> Vec<CfVariable> {
+    SLICE_FIELDS
+        .iter()
+        .map(|(name, units, long)| CfVariable::new(name, dims, units, long))
+        .collect()
+}
+
+fn time_var() -> CfVariable {
+    CfVariable::new("time", &["time"], "s", "time since the initial data plane").axis("T").standard_name("time")
+}
+
+fn y_var() -> CfVariable {
+    CfVariable::new("y", &["y"], "m", "cross-track distance from the ship's track, positive to port").axis("Y")
+}
+
+fn z_var() -> CfVariable {
+    CfVariable::new("z", &["z"], "m", "height above the mean sea surface")
+        .axis("Z")
+        .positive("up")
+        .standard_name("height")
+}
+
+fn to_f32(v: &[f64]) -> Vec<f32> {
+    v.iter().map(|&x| x as f32).collect()
+}
+
+/// Run the hydro stage of `config` and write its files into `dir`; `progress` is called after
+/// every step with (simulated time, steps).
+pub fn run_hydro_stage(
+    config: &WakelabConfig,
+    dir: &Path,
+    progress: &mut dyn FnMut(f64, usize),
+) -> Result<(WakeSlices, HydroOutputs), WakelabError> {
+    std::fs::create_dir_all(dir).map_err(|e| WakelabError::io(dir, e))?;
+    let grid = CrossGrid::new(&config.grid);
+    let t = &config.time;
+    let count = |interval: f64| {
+        let n = (t.duration / interval + 1e-9).floor() as usize;
+        n + 1 + usize::from(t.duration - n as f64 * interval > 1e-9)
+    };
+    let (n_sections, n_surface) = (count(t.output_interval), count(t.surface_interval));
+
+    let sections_file = AtomicFile::new(dir.join("wake_sections.nc"))?;
+    let surface_file = AtomicFile::new(dir.join("wake_surface.nc"))?;
+    let mut outputs = HydroOutputs::default();
+    let run = {
+        let mut sec_vars = vec![time_var(), z_var(), y_var()];
+        sec_vars.extend(field_variables(&["time", "y", "z"]));
+        let sec_layout = CfLayout {
+            dims: vec![("y".into(), grid.ny()), ("z".into(), grid.nz())],
+            record_dim: Some(("time".into(), n_sections)),
+            variables: sec_vars,
+            global: global_attributes(config, "wakelab ship wake cross-sections (2D+t)"),
+        };
+        let mut surf_vars = vec![time_var(), y_var()];
+        surf_vars.extend(field_variables(&["time", "y"]));
+        let surf_layout = CfLayout {
+            dims: vec![("y".into(), grid.ny())],
+            record_dim: Some(("time".into(), n_surface)),
+            variables: surf_vars,
+            global: global_attributes(config, "wakelab ship wake surface slices (top cell, 2D+t)"),
+        };
+        let sec_ds = sec_layout.data_set("wake_sections.nc")?;
+        let surf_ds = surf_layout.data_set("wake_surface.nc")?;
+        let sec_path = sections_file.temporary_path().to_path_buf();
+        let surf_path = surface_file.temporary_path().to_path_buf();
+        let mut sec_w = FileWriter::open(&sec_path).map_err(|e| write_error(&sec_path, e))?;
+        sec_w.set_def(&sec_ds, Version::Offset64Bit, 0).map_err(|e| write_error(&sec_path, e))?;
+        sec_w.write_var_f32("y", &to_f32(&grid.y_centres)).map_err(|e| write_error(&sec_path, e))?;
+        sec_w.write_var_f32("z", &to_f32(&grid.z_centres)).map_err(|e| write_error(&sec_path, e))?;
+        let mut surf_w = FileWriter::open(&surf_path).map_err(|e| write_error(&surf_path, e))?;
+        surf_w.set_def(&surf_ds, Version::Offset64Bit, 0).map_err(|e| write_error(&surf_path, e))?;
+        surf_w.write_var_f32("y", &to_f32(&grid.y_centres)).map_err(|e| write_error(&surf_path, e))?;
+        let (mut sec_i, mut surf_i) = (0usize, 0usize);
+        let mut picked: Vec<CrossSection> = Vec::new();
+        let pick = [0, n_sections / 2, n_sections - 1];
+        let run = simulate_wake_with(config, &mut |e| {
+            match e {
+                WakeEvent::Progress { time, steps, .. } => progress(time, steps),
+                WakeEvent::Section(s) => {
+                    write_record(&mut sec_w, &sec_path, sec_i, s.time, &s.fields)?;
+                    if pick.contains(&sec_i) && config.output.pictures {
+                        picked.push(s.clone());
+                    }
+                    sec_i += 1;
+                }
+                WakeEvent::Surface(s) => {
+                    write_record(&mut surf_w, &surf_path, surf_i, s.time, &s.fields)?;
+                    surf_i += 1;
+                }
+            }
+            Ok(())
+        })?;
+        sec_w.close().map_err(|e| write_error(&sec_path, e))?;
+        surf_w.close().map_err(|e| write_error(&surf_path, e))?;
+        if config.output.pictures {
+            for s in &picked {
+                outputs.files.extend(write_section_pictures(dir, &grid, s)?);
+            }
+        }
+        run
+    };
+    outputs.files.push(sections_file.commit()?);
+    outputs.files.push(surface_file.commit()?);
+
+    let map = run.surface_map(config, config.output.map_dx);
+    outputs.files.push(write_surface_map(dir, config, &map)?);
+    if config.output.pictures {
+        outputs.files.extend(write_surface_pictures(dir, &map)?);
+    }
+    let idp = serde_json::to_string_pretty(&run.idp).expect("serialisable");
+    outputs.files.push(write_atomically(dir.join("idp.json"), idp.as_bytes())?);
+    outputs.steps = run.steps;
+    Ok((run, outputs))
+}
+
+fn write_record(w: &mut FileWriter, path: &Path, i: usize, time: f64, fields: &[Vec<f32>]) -> Result<(), WakelabError> {
+    w.write_record_f32("time", i, &[time as f32]).map_err(|e| write_error(path, e))?;
+    for ((name, _, _), data) in SLICE_FIELDS.iter().zip(fields) {
+        w.write_record_f32(name, i, data).map_err(|e| write_error(path, e))?;
+    }
+    Ok(())
+}
+
+/// Write the (x, y) surface map as NetCDF.
+pub fn write_surface_map(dir: &Path, config: &WakelabConfig, map: &SurfaceMap) -> Result<PathBuf, WakelabError> {
+    let file = AtomicFile::new(dir.join("surface_map.nc"))?;
+    let mut vars = vec![
+        CfVariable::new("x", &["x"], "m", "distance behind the stern (x = U_ship t + x_IDP, Eq. 2.24)").axis("X"),
+        y_var(),
+    ];
+    vars.extend(field_variables(&["x", "y"]));
+    let layout = CfLayout {
+        dims: vec![("x".into(), map.x.len()), ("y".into(), map.y.len())],
+        record_dim: None,
+        variables: vars,
+        global: global_attributes(config, "wakelab surface wake map"),
+    };
+    let ds = layout.data_set("surface_map.nc")?;
+    let path = file.temporary_path().to_path_buf();
+    let mut w = FileWriter::open(&path).map_err(|e| write_error(&path, e))?;
+    w.set_def(&ds, Version::Offset64Bit, 0).map_err(|e| write_error(&path, e))?;
+    w.write_var_f32("x", &to_f32(&map.x)).map_err(|e| write_error(&path, e))?;
+    w.write_var_f32("y", &to_f32(&map.y)).map_err(|e| write_error(&path, e))?;
+    for ((name, _, _), data) in SLICE_FIELDS.iter().zip(&map.fields) {
+        w.write_var_f32(name, data).map_err(|e| write_error(&path, e))?;
+    }
+    w.close().map_err(|e| write_error(&path, e))?;
+    file.commit()
+}
+
+/// Fields drawn in pictures: (name, diverging colour map).
+const PICTURED: [(&str, bool); 5] = [("U", true), ("V", true), ("k", false), ("dT", true), ("nu_t", false)];
+
+fn field_index(name: &str) -> usize {
+    SLICE_FIELDS.iter().position(|f| f.0 == name).expect("known field")
+}
+
+/// Pictures of the surface map, x along the picture's width (transposed from x-major).
+pub fn write_surface_pictures(dir: &Path, map: &SurfaceMap) -> Result<Vec<PathBuf>, WakelabError> {
+    let (rows, cols) = (map.x.len(), map.y.len());
+    let mut files = Vec::new();
+    for (name, diverging) in PICTURED {
+        let i = field_index(name);
+        let src = &map.fields[i];
+        let mut t = vec![0f32; rows * cols];
+        for r in 0..rows {
+            for c in 0..cols {
+                // picture row = y from port (top) to starboard (bottom)
+                t[(cols - 1 - c) * rows + r] = src[r * cols + c];
+            }
+        }
+        let (_, units, long) = SLICE_FIELDS[i];
+        let pic = FieldPicture {
+            values: &t,
+            rows: cols,
+            cols: rows,
+            title: format!("surface {name}: {long}"),
+            units: units.into(),
+            colormap: if diverging { Colormap::Diverging } else { Colormap::Sequential },
+            size: (1200, 300),
+            caption: format!(
+                "x {:.0}..{:.0} m behind the stern (left to right); y {:.0}..{:.0} m (port at top)",
+                map.x[0],
+                map.x[rows - 1],
+                map.y[0],
+                map.y[cols - 1]
+            ),
+        };
+        let path = dir.join(format!("surface_{name}.png"));
+        pic.write_png(&path)?;
+        files.push(path);
+    }
+    Ok(files)
+}
+
+/// Pictures of one cross-section over the core of the grid.
+pub fn write_section_pictures(dir: &Path, grid: &CrossGrid, s: &CrossSection) -> Result<Vec<PathBuf>, WakelabError> {
+    let nz = grid.nz();
+    let core = grid.core.clone();
+    let mut files = Vec::new();
+    for (name, diverging) in PICTURED {
+        let i = field_index(name);
+        let src = &s.fields[i];
+        let cols = core.len();
+        let mut t = vec![0f32; nz * cols];
+        for (c, j) in core.clone().enumerate() {
+            for k in 0..nz {
+                t[k * cols + c] = src[j * nz + k];
+            }
+        }
+        let (_, units, long) = SLICE_FIELDS[i];
+        let pic = FieldPicture {
+            values: &t,
+            rows: nz,
+            cols,
+            title: format!("{name} at t = {:.0} s: {long}", s.time),
+            units: units.into(),
+            colormap: if diverging { Colormap::Diverging } else { Colormap::Sequential },
+            size: (1000, 250),
+            caption: format!(
+                "y {:.0}..{:.0} m (starboard to port), depth 0..{:.0} m",
+                grid.y_faces[core.start],
+                grid.y_faces[core.end],
+                grid.depth
+            ),
+        };
+        let path = dir.join(format!("section_{name}_t{:05.0}.png", s.time));
+        pic.write_png(&path)?;
+        files.push(path);
+    }
+    Ok(files)
+}
+
+/// Write the IDP fields on the grid (NetCDF) and pictures of U_0 and k_0.
+pub fn write_idp_fields(dir: &Path, config: &WakelabConfig) -> Result<Vec<PathBuf>, WakelabError> {
+    let grid = CrossGrid::new(&config.grid);
+    let idp = crate::initial_data_plane(config);
+    let names = [
+        ("U0", "m s-1", "IDP axial wake velocity relative to the ship, Eq. (2.26)"),
+        ("V0", "m s-1", "IDP cross-track swirl velocity, Eq. (2.51)"),
+        ("W0", "m s-1", "IDP vertical swirl velocity, Eq. (2.51)"),
+        ("k0", "m2 s-2", "IDP turbulence kinetic energy"),
+        ("eps0", "m2 s-3", "IDP dissipation rate"),
+    ];
+    let (ny, nz) = (grid.ny(), grid.nz());
+    let mut data = vec![Vec::with_capacity(ny * nz); names.len()];
+    for &y in &grid.y_centres {
+        for &z in &grid.z_centres {
+            let p = idp.at(y, -z);
+            for (d, v) in data.iter_mut().zip([p.u0, p.v, p.w, p.k, p.eps]) {
+                d.push(v as f32);
+            }
+        }
+    }
+    let file = AtomicFile::new(dir.join("idp.nc"))?;
+    let mut vars = vec![z_var(), y_var()];
+    vars.extend(names.iter().map(|(n, u, l)| CfVariable::new(n, &["y", "z"], u, l)));
+    let layout = CfLayout {
+        dims: vec![("y".into(), ny), ("z".into(), nz)],
+        record_dim: None,
+        variables: vars,
+        global: global_attributes(config, "wakelab initial data plane"),
+    };
+    let ds = layout.data_set("idp.nc")?;
+    let path = file.temporary_path().to_path_buf();
+    let mut w = FileWriter::open(&path).map_err(|e| write_error(&path, e))?;
+    w.set_def(&ds, Version::Offset64Bit, 0).map_err(|e| write_error(&path, e))?;
+    w.write_var_f32("y", &to_f32(&grid.y_centres)).map_err(|e| write_error(&path, e))?;
+    w.write_var_f32("z", &to_f32(&grid.z_centres)).map_err(|e| write_error(&path, e))?;
+    for ((n, _, _), d) in names.iter().zip(&data) {
+        w.write_var_f32(n, d).map_err(|e| write_error(&path, e))?;
+    }
+    w.close().map_err(|e| write_error(&path, e))?;
+    let mut files = vec![file.commit()?];
+    // pictures of the near field: 60 m either side, top 20 m
+    let (ys, zs): (Vec<usize>, Vec<usize>) = (
+        (0..ny).filter(|&j| grid.y_centres[j].abs() <= 30.0).collect(),
+        (0..nz).filter(|&k| grid.z_centres[k] >= -15.0).collect(),
+    );
+    for (idx, diverging) in [(0usize, true), (3, false)] {
+        let mut t = Vec::with_capacity(ys.len() * zs.len());
+        for &k in &zs {
+            for &j in &ys {
+                t.push(data[idx][j * nz + k]);
+            }
+        }
+        let (n, u, l) = names[idx];
+        let pic = FieldPicture {
+            values: &t,
+            rows: zs.len(),
+            cols: ys.len(),
+            title: format!("{n}: {l}"),
+            units: u.into(),
+            colormap: if diverging { Colormap::Diverging } else { Colormap::Sequential },
+            size: (800, 400),
+            caption: "y -30..30 m (starboard to port), depth 0..15 m".into(),
+        };
+        let path = dir.join(format!("idp_{n}.png"));
+        pic.write_png(&path)?;
+        files.push(path);
+    }
+    Ok(files)
+}

@@ -1,0 +1,168 @@
+//! Saved time slices of the wake and the 2D+t -> 3D transform x = U_ship t (Eqs. 2.24-2.25).
+
+use crate::solver::WakeSolver;
+use crate::turbulence::Derived;
+use serde::Serialize;
+
+/// The quantities saved for every slice, in output order, with CF names and units.
+pub const SLICE_FIELDS: [(&str, &str, &str); 9] = [
+    ("U", "m s-1", "axial (along-track) velocity, Earth frame, positive along the heading"),
+    ("V", "m s-1", "cross-track velocity, positive to port"),
+    ("W", "m s-1", "vertical velocity, positive up"),
+    ("k", "m2 s-2", "turbulence kinetic energy"),
+    ("eps", "m2 s-3", "dissipation rate of turbulence kinetic energy"),
+    ("nu_t", "m2 s-1", "eddy viscosity"),
+    ("dT", "K", "temperature perturbation from the background"),
+    ("dS", "1e-3", "practical salinity perturbation from the background"),
+    ("rho_anomaly", "kg m-3", "density perturbation from the background"),
+];
+
+/// Every saved field at cell centres of one time (ny x nz each, z fastest), as f32.
+#[derive(Debug, Clone, Serialize)]
+pub struct CrossSection {
+    pub time: f64,
+    /// Fields in the order of [`SLICE_FIELDS`].
+    pub fields: Vec<Vec<f32>>,
+}
+
+/// The top cell of every field at one time (ny values each).
+#[derive(Debug, Clone, Serialize, PartialEq)]
+pub struct SurfaceSlice {
+    pub time: f64,
+    /// Fields in the order of [`SLICE_FIELDS`].
+    pub fields: Vec<Vec<f32>>,
+}
+
+impl SurfaceSlice {
+    pub fn field(&self, name: &str) -> &[f32] {
+        let i = SLICE_FIELDS.iter().position(|f| f.0 == name).expect("known field");
+        &self.fields[i]
+    }
+}
+
+/// Centre values of every field, restricted to levels `levels`.
+fn centre_fields(solver: &mut WakeSolver, levels: std::ops::Range<usize>) -> Vec<Vec<f32>> {
+    let s = &solver.setup;
+    let (ny, nz) = (s.ny, s.nz);
+    let nl = levels.len();
+    let mut out = vec![Vec::with_capacity(ny * nl); SLICE_FIELDS.len()];
+    let d: Derived = solver.derived().clone();
+    let s = &solver.setup;
+    let st = solver.state();
+    for j in 0..ny {
+        for kk in levels.clone() {
+            let i = j * nz + kk;
+            let values = [
+                st.u[[j, kk]],
+                0.5 * (st.v[[j, kk]] + st.v[[j + 1, kk]]),
+                0.5 * (st.w[[j, kk]] + st.w[[j, kk + 1]]),
+                st.k[[j, kk]],
+                st.eps[[j, kk]],
+                d.eddy_viscosity[i],
+                st.temperature[[j, kk]],
+                st.salinity[[j, kk]],
+                s.column.density_anomaly(kk, st.temperature[[j, kk]], st.salinity[[j, kk]]),
+            ];
+            for (o, v) in out.iter_mut().zip(values) {
+                o.push(v as f32);
+            }
+        }
+    }
+    out
+}
+
+impl WakeSolver {
+    /// The full cross-section now.
+    pub fn cross_section(&mut self) -> CrossSection {
+        let nz = self.setup.nz;
+        CrossSection {
+            time: self.time(),
+            fields: centre_fields(self, 0..nz),
+        }
+    }
+
+    /// The surface (top cell) now.
+    pub fn surface_slice(&mut self) -> SurfaceSlice {
+        SurfaceSlice {
+            time: self.time(),
+            fields: centre_fields(self, 0..1),
+        }
+    }
+}
+
+/// The surface wake as a map over (x, y): x = U_ship t + x_IDP behind the stern (Eq. 2.24),
+/// linear interpolation between saved slices, y over the uniform core of the grid.
+#[derive(Debug, Clone, Serialize)]
+pub struct SurfaceMap {
+    /// Distance behind the stern of each row (m).
+    pub x: Vec<f64>,
+    /// Cross-track position of each column (m).
+    pub y: Vec<f64>,
+    /// Fields in the order of [`SLICE_FIELDS`], each x-major (rows x, columns y).
+    pub fields: Vec<Vec<f32>>,
+}
+
+impl SurfaceMap {
+    /// Resample saved slices onto rows `dx` apart, columns `core` of the grid's y centres.
+    pub fn from_slices(
+        slices: &[SurfaceSlice],
+        ship_speed: f64,
+        x_idp: f64,
+        y_centres: &[f64],
+        core: std::ops::Range<usize>,
+        dx: f64,
+    ) -> Self {
+        assert!(!slices.is_empty(), "a surface map needs at least one slice");
+        let t_end = slices.last().expect("non-empty").time;
+        let rows = ((ship_speed * t_end) / dx).floor() as usize + 1;
+        let x: Vec<f64> = (0..rows).map(|r| x_idp + r as f64 * dx).collect();
+        let y: Vec<f64> = y_centres[core.clone()].to_vec();
+        let mut fields = vec![Vec::with_capacity(rows * y.len()); SLICE_FIELDS.len()];
+        let mut seg = 0;
+        for &xr in &x {
+            let t = (xr - x_idp) / ship_speed;
+            while seg + 2 < slices.len() && slices[seg + 1].time < t {
+                seg += 1;
+            }
+            let (a, b) = if slices.len() == 1 {
+                (&slices[0], &slices[0])
+            } else {
+                (&slices[seg], &slices[seg + 1])
+            };
+            let span = b.time - a.time;
+            let f = if span > 0.0 { ((t - a.time) / span).clamp(0.0, 1.0) } else { 0.0 } as f32;
+            for (out, (fa, fb)) in fields.iter_mut().zip(a.fields.iter().zip(&b.fields)) {
+                out.extend(core.clone().map(|j| fa[j] * (1.0 - f) + fb[j] * f));
+            }
+        }
+        Self { x, y, fields }
+    }
+
+    pub fn field(&self, name: &str) -> &[f32] {
+        let i = SLICE_FIELDS.iter().position(|f| f.0 == name).expect("known field");
+        &self.fields[i]
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn map_interpolates_linearly_in_time_at_x_equal_u_t() {
+        let slice = |t: f64, v: f32| SurfaceSlice {
+            time: t,
+            fields: vec![vec![v; 3]; SLICE_FIELDS.len()],
+        };
+        let slices = [slice(0.0, 0.0), slice(10.0, 1.0), slice(20.0, 3.0)];
+        let map = SurfaceMap::from_slices(&slices, 7.0, 71.0, &[-1.0, 0.0, 1.0], 0..3, 35.0);
+        // rows at t = 0, 5, 10, 15, 20 s
+        assert_eq!(map.x.len(), 5);
+        let u = map.field("U");
+        let want = [0.0, 0.5, 1.0, 2.0, 3.0];
+        for (r, w) in want.iter().enumerate() {
+            assert!((u[r * 3 + 1] - w).abs() < 1e-6, "row {r}: {}", u[r * 3 + 1]);
+        }
+        assert!((map.x[2] - (71.0 + 70.0)).abs() < 1e-12);
+    }
+}

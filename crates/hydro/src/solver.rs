@@ -1,0 +1,446 @@
+//! Time integration of the 2D+t wake: second-order strong-stability-preserving Runge-Kutta
+//! (Heun) with a projection onto divergence-free velocity after each stage (Chorin's projection,
+//! the explicit counterpart of the spec's PISO, Eqs. 2.63-2.65), and an adaptive time step
+//! bounded by advection (Courant number), diffusion, the turbulence time scale k/eps, the beach
+//! damping and `time.max_dt`.
+
+use crate::idp::InitialDataPlane;
+use crate::momentum::{corner_shear, v_tendency, w_tendency, MomentumInputs};
+use crate::pressure::PressureSolver;
+use crate::setup::{Setup, PRANDTL, SCHMIDT};
+use crate::state::WakeState;
+use crate::transport::{advect_diffuse, Diffusivity};
+use crate::turbulence::{add_k_eps_sources, Derived};
+use ndarray::{Array2, Zip};
+use rayon::prelude::*;
+use wakelab_core::config::{LateralBoundary, WakelabConfig};
+use wakelab_core::WakelabError;
+
+/// Smallest time step before the run is declared blown up (s).
+const MIN_DT: f64 = 1e-3;
+
+/// The solver of one wake: state, fixed setup and work space.
+pub struct WakeSolver {
+    pub setup: Setup,
+    state: WakeState,
+    derived: Derived,
+    pressure: PressureSolver,
+    tendency: WakeState,
+    stage: WakeState,
+    rhs: Array2<f64>,
+    scratch: Array2<f64>,
+    shear: Vec<f64>,
+    time: f64,
+    steps: usize,
+    cfl: f64,
+    max_dt: f64,
+    last_dt: f64,
+}
+
+/// What limited the last time step.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum StepLimit {
+    Advection,
+    Diffusion,
+    Turbulence,
+    Maximum,
+}
+
+impl WakeSolver {
+    /// A solver starting from the ship's initial data plane (Eqs. 2.26-2.62).
+    pub fn new(config: &WakelabConfig) -> Self {
+        let setup = Setup::new(config);
+        let env = &config.environment;
+        let idp = InitialDataPlane::new(&config.ship, env.kinematic_viscosity, env.reference_density, env.gravity);
+        let state = WakeState::from_idp(&setup.grid, &idp, env.ambient_tke, env.ambient_dissipation);
+        let mut solver = Self::with_state(config, setup, state);
+        solver.project_state();
+        solver
+    }
+
+    /// A solver starting from a given state (for tests and restarts).
+    pub fn with_state(config: &WakelabConfig, setup: Setup, state: WakeState) -> Self {
+        let (ny, nz) = (setup.ny, setup.nz);
+        let pressure = PressureSolver::new(&setup.grid, setup.lateral);
+        let derived = Derived::new(ny * nz, setup.somero);
+        Self {
+            tendency: state.clone(),
+            stage: state.clone(),
+            state,
+            derived,
+            pressure,
+            rhs: Array2::zeros((ny, nz)),
+            scratch: Array2::zeros((nz, ny)),
+            shear: vec![0.0; (ny + 1) * (nz + 1)],
+            time: 0.0,
+            steps: 0,
+            cfl: config.time.cfl,
+            max_dt: config.time.max_dt,
+            last_dt: 0.0,
+            setup,
+        }
+    }
+
+    pub fn state(&self) -> &WakeState {
+        &self.state
+    }
+
+    pub fn state_mut(&mut self) -> &mut WakeState {
+        &mut self.state
+    }
+
+    /// Simulated time since the IDP (s).
+    pub fn time(&self) -> f64 {
+        self.time
+    }
+
+    pub fn steps(&self) -> usize {
+        self.steps
+    }
+
+    pub fn last_dt(&self) -> f64 {
+        self.last_dt
+    }
+
+    /// Eddy viscosity and other derived fields of the current state.
+    pub fn derived(&mut self) -> &Derived {
+        self.derived.update(&self.setup, &self.state);
+        &self.derived
+    }
+
+    /// Make the current velocity divergence-free (used once on the initial data plane).
+    pub fn project_state(&mut self) {
+        project(&self.setup, &self.pressure, &mut self.state, &mut self.rhs, &mut self.scratch);
+    }
+
+    /// Largest |div u| over the cells (1/s).
+    pub fn max_divergence(&self) -> f64 {
+        let mut d = Array2::zeros((self.setup.ny, self.setup.nz));
+        divergence(&self.setup, &self.state, &mut d);
+        d.iter().fold(0.0f64, |m, x| m.max(x.abs()))
+    }
+
+    /// The stable time step of the current state and what limits it.
+    pub fn stable_dt(&mut self) -> (f64, StepLimit) {
+        self.derived.update(&self.setup, &self.state);
+        stable_dt(&self.setup, &self.state, &self.derived, self.cfl, self.max_dt)
+    }
+
+    /// Advance by one step of at most `limit` seconds; returns the step taken.
+    pub fn step(&mut self, limit: f64) -> Result<f64, WakelabError> {
+        let (dt, why) = self.stable_dt();
+        if dt < MIN_DT && limit > MIN_DT {
+            let field = match why {
+                StepLimit::Advection => "V/W (Courant number)",
+                StepLimit::Diffusion => "nu_t (diffusion limit)",
+                StepLimit::Turbulence => "k/eps (turbulence time scale)",
+                StepLimit::Maximum => "time step",
+            };
+            return Err(WakelabError::BlowUp {
+                step: self.steps,
+                time: self.time,
+                detail: format!("time step collapsed to {dt:.2e} s, limited by {field}"),
+            });
+        }
+        let dt = dt.min(limit);
+        // Heun: s1 = s0 + dt L(s0); s_new = (s0 + s1 + dt L(s1)) / 2
+        evaluate_tendency(&self.setup, &mut self.derived, &mut self.shear, &self.state, &mut self.tendency);
+        self.stage.clone_from(&self.state);
+        axpy(&mut self.stage, dt, &self.tendency);
+        self.finish_stage(true);
+        evaluate_tendency(&self.setup, &mut self.derived, &mut self.shear, &self.stage, &mut self.tendency);
+        axpy(&mut self.stage, dt, &self.tendency);
+        average_into(&mut self.state, &self.stage);
+        self.finish_stage(false);
+        self.time += dt;
+        self.steps += 1;
+        self.last_dt = dt;
+        if let Some(field) = first_non_finite(&self.state) {
+            return Err(WakelabError::BlowUp {
+                step: self.steps,
+                time: self.time,
+                detail: format!("field {field} is not finite"),
+            });
+        }
+        Ok(dt)
+    }
+
+    /// Advance to time `t_end` exactly.
+    pub fn run_until(&mut self, t_end: f64) -> Result<(), WakelabError> {
+        while self.time < t_end - 1e-9 {
+            self.step(t_end - self.time)?;
+        }
+        Ok(())
+    }
+
+    fn finish_stage(&mut self, on_stage: bool) {
+        let target = if on_stage { &mut self.stage } else { &mut self.state };
+        clip_turbulence(&self.setup, target);
+        project(&self.setup, &self.pressure, target, &mut self.rhs, &mut self.scratch);
+    }
+}
+
+/// s += dt * t, field by field.
+fn axpy(s: &mut WakeState, dt: f64, t: &WakeState) {
+    for (a, b) in fields_mut(s).into_iter().zip(fields(t)) {
+        Zip::from(a).and(b).par_for_each(|x, &y| *x += dt * y);
+    }
+}
+
+/// s = (s + other) / 2, field by field.
+fn average_into(s: &mut WakeState, other: &WakeState) {
+    for (a, b) in fields_mut(s).into_iter().zip(fields(other)) {
+        Zip::from(a).and(b).par_for_each(|x, &y| *x = 0.5 * (*x + y));
+    }
+}
+
+fn fields(s: &WakeState) -> [&Array2<f64>; 7] {
+    [&s.u, &s.v, &s.w, &s.k, &s.eps, &s.temperature, &s.salinity]
+}
+
+fn fields_mut(s: &mut WakeState) -> [&mut Array2<f64>; 7] {
+    [
+        &mut s.u,
+        &mut s.v,
+        &mut s.w,
+        &mut s.k,
+        &mut s.eps,
+        &mut s.temperature,
+        &mut s.salinity,
+    ]
+}
+
+const FIELD_NAMES: [&str; 7] = ["U", "V", "W", "k", "eps", "dT", "dS"];
+
+fn first_non_finite(s: &WakeState) -> Option<&'static str> {
+    fields(s)
+        .iter()
+        .zip(FIELD_NAMES)
+        .find(|(a, _)| a.as_slice().expect("layout").par_iter().any(|x| !x.is_finite()))
+        .map(|(_, n)| n)
+}
+
+/// Keep k and eps positive: floors a thousandth of the ambient values.
+fn clip_turbulence(s: &Setup, state: &mut WakeState) {
+    let (kmin, emin) = (1e-3 * s.ambient_k, 1e-3 * s.ambient_eps);
+    state.k.par_mapv_inplace(|x| x.max(kmin));
+    state.eps.par_mapv_inplace(|x| x.max(emin));
+}
+
+/// The stable time step (see module docs).
+fn stable_dt(s: &Setup, state: &WakeState, d: &Derived, cfl: f64, max_dt: f64) -> (f64, StepLimit) {
+    let nz = s.nz;
+    let v = state.v.as_slice().expect("layout");
+    let w = state.w.as_slice().expect("layout");
+    let k = state.k.as_slice().expect("layout");
+    let eps = state.eps.as_slice().expect("layout");
+    let inv_dz2 = 1.0 / (s.dz * s.dz);
+    let (adv, diff, turb) = (0..s.ny)
+        .into_par_iter()
+        .map(|j| {
+            let inv_dy = 1.0 / s.dy[j];
+            let (mut a, mut df, mut t) = (0.0f64, 0.0f64, 0.0f64);
+            for kk in 0..nz {
+                let i = j * nz + kk;
+                let vc = 0.5 * (v[j * nz + kk].abs() + v[(j + 1) * nz + kk].abs());
+                let wc = 0.5 * (w[j * (nz + 1) + kk].abs() + w[j * (nz + 1) + kk + 1].abs());
+                a = a.max(vc * inv_dy + wc / s.dz);
+                df = df.max(d.viscosity[i] * 2.0 * (inv_dy * inv_dy + inv_dz2));
+                t = t.max(eps[i] / k[i]);
+            }
+            (a, df, t)
+        })
+        .reduce(|| (0.0, 0.0, 0.0), |x, y| (x.0.max(y.0), x.1.max(y.1), x.2.max(y.2)));
+    let damping = s.damping_centre.iter().fold(0.0f64, |m, &x| m.max(x));
+    let candidates = [
+        (cfl / adv.max(1e-30), StepLimit::Advection),
+        (0.4 / diff.max(1e-30), StepLimit::Diffusion),
+        (0.5 / turb.max(1e-30), StepLimit::Turbulence),
+        (0.9 / damping.max(1e-30), StepLimit::Diffusion),
+        (max_dt, StepLimit::Maximum),
+    ];
+    candidates
+        .into_iter()
+        .fold((f64::INFINITY, StepLimit::Maximum), |best, c| if c.0 < best.0 { c } else { best })
+}
+
+/// Evaluate the right-hand side of every prognostic equation into `out`.
+fn evaluate_tendency(s: &Setup, d: &mut Derived, shear: &mut [f64], state: &WakeState, out: &mut WakeState) {
+    d.update(s, state);
+    let c = s.constants;
+    let u = state.u.as_slice().expect("layout");
+    let v = state.v.as_slice().expect("layout");
+    let w = state.w.as_slice().expect("layout");
+    let nut = &d.eddy_viscosity;
+    let somero_shear = d.somero_shear.as_deref();
+    corner_shear(s, v, w, &d.viscosity, somero_shear, shear);
+    let inputs = MomentumInputs {
+        u,
+        v,
+        w,
+        viscosity: &d.viscosity,
+        buoyancy: &d.buoyancy,
+        shear,
+        normal_correction: d.somero_normal.as_ref().map(|(a, b)| (a.as_slice(), b.as_slice())),
+    };
+    v_tendency(s, &inputs, out.v.as_slice_mut().expect("layout"));
+    w_tendency(s, &inputs, out.w.as_slice_mut().expect("layout"));
+
+    let momentum = Diffusivity {
+        molecular: s.viscosity,
+        turbulent_factor: 1.0,
+        eddy_viscosity: nut,
+        vertical_factor: somero_shear,
+    };
+    let du = out.u.as_slice_mut().expect("layout");
+    advect_diffuse(s, u, v, w, &momentum, 0.0, du);
+    add_axial_forces(s, u, du);
+
+    let scalar = |molecular: f64, sigma: f64| Diffusivity {
+        molecular,
+        turbulent_factor: 1.0 / sigma,
+        eddy_viscosity: nut,
+        vertical_factor: None,
+    };
+    let k = state.k.as_slice().expect("layout");
+    let eps = state.eps.as_slice().expect("layout");
+    advect_diffuse(s, k, v, w, &scalar(s.viscosity, c.sigma_k), s.ambient_k, out.k.as_slice_mut().expect("layout"));
+    advect_diffuse(
+        s,
+        eps,
+        v,
+        w,
+        &scalar(s.viscosity, c.sigma_eps),
+        s.ambient_eps,
+        out.eps.as_slice_mut().expect("layout"),
+    );
+    add_k_eps_sources(
+        s,
+        state,
+        d,
+        out.k.as_slice_mut().expect("layout"),
+        out.eps.as_slice_mut().expect("layout"),
+    );
+
+    let t = state.temperature.as_slice().expect("layout");
+    let dt_out = out.temperature.as_slice_mut().expect("layout");
+    advect_diffuse(s, t, v, w, &scalar(s.viscosity / PRANDTL, c.sigma_t), 0.0, dt_out);
+    add_background_sources(s, nut, w, t, &s.column.dtemperature_dz, &s.column.face_dtemperature_dz, dt_out);
+    let sal = state.salinity.as_slice().expect("layout");
+    let ds_out = out.salinity.as_slice_mut().expect("layout");
+    advect_diffuse(s, sal, v, w, &scalar(s.viscosity / SCHMIDT, c.sigma_t), 0.0, ds_out);
+    add_background_sources(s, nut, w, sal, &s.column.dsalinity_dz, &s.column.face_dsalinity_dz, ds_out);
+}
+
+/// Vortex force on U, f_x = -u_Sy dU/dy (Eq. 2.6), and beach damping.
+fn add_axial_forces(s: &Setup, u: &[f64], du: &mut [f64]) {
+    let (ny, nz) = (s.ny, s.nz);
+    du.par_chunks_mut(nz).enumerate().for_each(|(j, col)| {
+        let (jl, jr) = (j.saturating_sub(1), (j + 1).min(ny - 1));
+        let dist = s.grid.y_centres[jr] - s.grid.y_centres[jl];
+        for (kk, x) in col.iter_mut().enumerate() {
+            let dudy = (u[jr * nz + kk] - u[jl * nz + kk]) / dist;
+            *x += -s.stokes_centre.across[kk] * dudy - s.damping_centre[j] * u[j * nz + kk];
+        }
+    });
+}
+
+/// Right-hand sides of Eqs. (2.22)-(2.23): -W d f_b/dz + d/dz(nu_t / sigma_t d f_b/dz), with no
+/// turbulent flux through the lid or bottom, and beach damping of the perturbation.
+fn add_background_sources(s: &Setup, nut: &[f64], w: &[f64], perturbation: &[f64], grad: &[f64], face_grad: &[f64], out: &mut [f64]) {
+    let nz = s.nz;
+    let inv_sigma = 1.0 / s.constants.sigma_t;
+    out.par_chunks_mut(nz).enumerate().for_each(|(j, col)| {
+        let face_flux = |kf: usize| {
+            if kf == 0 || kf == nz {
+                0.0
+            } else {
+                0.5 * (nut[j * nz + kf - 1] + nut[j * nz + kf]) * inv_sigma * face_grad[kf]
+            }
+        };
+        for (kk, x) in col.iter_mut().enumerate() {
+            let wc = 0.5 * (w[j * (nz + 1) + kk] + w[j * (nz + 1) + kk + 1]);
+            // flux K df_b/dz is upward-positive gradient flux; its divergence is (top - bottom)/dz
+            let diffusion = (face_flux(kk) - face_flux(kk + 1)) / s.dz;
+            *x += -wc * grad[kk] + diffusion - s.damping_centre[j] * perturbation[j * nz + kk];
+        }
+    });
+}
+
+/// Cell divergence dV/dy + dW/dz.
+pub fn divergence(s: &Setup, state: &WakeState, out: &mut Array2<f64>) {
+    let nz = s.nz;
+    let v = state.v.as_slice().expect("layout");
+    let w = state.w.as_slice().expect("layout");
+    out.as_slice_mut()
+        .expect("layout")
+        .par_chunks_mut(nz)
+        .enumerate()
+        .for_each(|(j, col)| {
+            for (kk, x) in col.iter_mut().enumerate() {
+                *x = (v[(j + 1) * nz + kk] - v[j * nz + kk]) / s.dy[j]
+                    + (w[j * (nz + 1) + kk] - w[j * (nz + 1) + kk + 1]) / s.dz;
+            }
+        });
+}
+
+/// Project (V, W) onto divergence-free fields: solve D G p = D u*, then u = u* - G p.
+pub fn project(s: &Setup, solver: &PressureSolver, state: &mut WakeState, rhs: &mut Array2<f64>, scratch: &mut Array2<f64>) {
+    let (ny, nz) = (s.ny, s.nz);
+    {
+        let v = state.v.as_slice_mut().expect("layout");
+        match s.lateral {
+            LateralBoundary::Outlet => {
+                for kk in 0..nz {
+                    v[kk] = v[nz + kk];
+                    v[ny * nz + kk] = v[(ny - 1) * nz + kk];
+                }
+            }
+            LateralBoundary::Wall => {
+                v[..nz].fill(0.0);
+                v[ny * nz..].fill(0.0);
+            }
+        }
+    }
+    divergence(s, state, rhs);
+    solver.solve(rhs, scratch);
+    let p = rhs.as_slice().expect("layout");
+    let outlet = s.lateral == LateralBoundary::Outlet;
+    state
+        .v
+        .as_slice_mut()
+        .expect("layout")
+        .par_chunks_mut(nz)
+        .enumerate()
+        .for_each(|(jf, col)| {
+            for (kk, x) in col.iter_mut().enumerate() {
+                let grad = if jf == 0 {
+                    if outlet {
+                        p[kk] / (0.5 * s.dy[0])
+                    } else {
+                        0.0
+                    }
+                } else if jf == ny {
+                    if outlet {
+                        -p[(ny - 1) * nz + kk] / (0.5 * s.dy[ny - 1])
+                    } else {
+                        0.0
+                    }
+                } else {
+                    (p[jf * nz + kk] - p[(jf - 1) * nz + kk]) / s.dyc[jf]
+                };
+                *x -= grad;
+            }
+        });
+    state
+        .w
+        .as_slice_mut()
+        .expect("layout")
+        .par_chunks_mut(nz + 1)
+        .enumerate()
+        .for_each(|(j, col)| {
+            for kf in 1..nz {
+                col[kf] -= (p[j * nz + kf - 1] - p[j * nz + kf]) / s.dz;
+            }
+        });
+}

@@ -302,8 +302,7 @@ impl Preset {
             Preset::Quick => QUICK_PRESET,
             Preset::Paper => PAPER_PRESET,
         };
-        text.parse::<toml::Table>()
-            .expect("embedded preset is valid TOML")
+        text.parse::<toml::Table>().expect("embedded preset is valid TOML")
     }
 }
 
@@ -362,8 +361,7 @@ impl Default for WakelabConfig {
 impl WakelabConfig {
     /// The embedded default with the given preset's grid and time.
     pub fn with_preset(preset: Preset) -> Self {
-        Self::from_toml_str(&format!("preset = \"{}\"", preset.name()), "<preset>")
-            .expect("embedded presets are valid")
+        Self::from_toml_str(&format!("preset = \"{}\"", preset.name()), "<preset>").expect("embedded presets are valid")
     }
 
     /// Build the effective configuration from a user's TOML text, layered over the default and
@@ -417,7 +415,13 @@ impl WakelabConfig {
         positive("ship.wetted_area", s.wetted_area, 1.0, 1.0e5, "m^2")?;
         positive("ship.speed", s.speed, 0.1, 30.0, "m/s")?;
         positive("ship.propeller_diameter", s.propeller_diameter, 0.1, 20.0, "m")?;
-        range("ship.propeller_offset", s.propeller_offset, 0.0, s.beam, "m (0 to the beam)")?;
+        range(
+            "ship.propeller_offset",
+            s.propeller_offset,
+            0.0,
+            s.beam,
+            "m (0 to the beam)",
+        )?;
         positive("ship.propeller_depth", s.propeller_depth, 0.1, 40.0, "m")?;
         range("ship.rudder_offset", s.rudder_offset, 0.0, s.beam, "m (0 to the beam)")?;
         positive("ship.rudder_depth", s.rudder_depth, 0.05, 40.0, "m")?;
@@ -447,8 +451,20 @@ impl WakelabConfig {
         range("environment.latitude", e.latitude, -90.0, 90.0, "degrees")?;
         range("environment.longitude", e.longitude, -180.0, 360.0, "degrees")?;
         positive("environment.gravity", e.gravity, 9.7, 9.9, "m/s^2")?;
-        positive("environment.kinematic_viscosity", e.kinematic_viscosity, 1e-7, 1e-4, "m^2/s")?;
-        positive("environment.reference_density", e.reference_density, 990.0, 1060.0, "kg/m^3")?;
+        positive(
+            "environment.kinematic_viscosity",
+            e.kinematic_viscosity,
+            1e-7,
+            1e-4,
+            "m^2/s",
+        )?;
+        positive(
+            "environment.reference_density",
+            e.reference_density,
+            990.0,
+            1060.0,
+            "kg/m^3",
+        )?;
         validate_profile("environment.temperature", &e.temperature, -2.0, 40.0, self.grid.depth)?;
         validate_profile("environment.salinity", &e.salinity, 2.0, 42.0, self.grid.depth)?;
         range("environment.swell.amplitude", e.swell.amplitude, 0.0, 10.0, "m")?;
@@ -468,12 +484,24 @@ impl WakelabConfig {
             }
         }
         if let SwellDirection::Degrees(d) = e.swell.direction {
-            range("environment.swell.direction", d, -360.0, 360.0, "degrees, or calm/following/head/beam")?;
+            range(
+                "environment.swell.direction",
+                d,
+                -360.0,
+                360.0,
+                "degrees, or calm/following/head/beam",
+            )?;
         }
         range("environment.wind.speed", e.wind.speed, 0.0, 40.0, "m/s")?;
         range("environment.wind.direction", e.wind.direction, -360.0, 360.0, "degrees")?;
         positive("environment.ambient_tke", e.ambient_tke, 1e-12, 1e-2, "m^2/s^2")?;
-        positive("environment.ambient_dissipation", e.ambient_dissipation, 1e-15, 1e-2, "m^2/s^3")?;
+        positive(
+            "environment.ambient_dissipation",
+            e.ambient_dissipation,
+            1e-15,
+            1e-2,
+            "m^2/s^3",
+        )?;
 
         let g = &self.grid;
         positive("grid.core_width", g.core_width, 10.0, 20_000.0, "m")?;
@@ -484,14 +512,21 @@ impl WakelabConfig {
         if g.beach_width > 0.0 {
             count("grid.beach_cells", g.beach_cells, 2, 2001)?;
         } else if g.beach_cells != 0 {
-            return Err(ConfigError::new("grid.beach_cells", g.beach_cells, "0 when grid.beach_width is 0"));
+            return Err(ConfigError::new(
+                "grid.beach_cells",
+                g.beach_cells,
+                "0 when grid.beach_width is 0",
+            ));
         }
         let deepest = s.propeller_depth + s.propeller_diameter;
         if g.depth < 2.0 * deepest {
             return Err(ConfigError::new(
                 "grid.depth",
                 g.depth,
-                format!("at least {:.1} m (twice the propeller depth plus diameter)", 2.0 * deepest),
+                format!(
+                    "at least {:.1} m (twice the propeller depth plus diameter)",
+                    2.0 * deepest
+                ),
             ));
         }
         if g.core_width < 4.0 * s.beam {
@@ -506,8 +541,20 @@ impl WakelabConfig {
         positive("time.duration", t.duration, 1.0, 86_400.0, "s")?;
         positive("time.cfl", t.cfl, 0.01, 0.9, "")?;
         positive("time.max_dt", t.max_dt, 1e-3, 600.0, "s")?;
-        positive("time.surface_interval", t.surface_interval, 1e-2, t.duration, "s (up to time.duration)")?;
-        positive("time.output_interval", t.output_interval, 1e-2, t.duration, "s (up to time.duration)")?;
+        positive(
+            "time.surface_interval",
+            t.surface_interval,
+            1e-2,
+            t.duration,
+            "s (up to time.duration)",
+        )?;
+        positive(
+            "time.output_interval",
+            t.output_interval,
+            1e-2,
+            t.duration,
+            "s (up to time.duration)",
+        )?;
 
         let so = &self.solver;
         range("solver.beach_damping", so.beach_damping, 0.0, 10.0, "1/s")?;
@@ -535,7 +582,11 @@ fn range(field: &str, v: f64, lo: f64, hi: f64, unit: &str) -> Result<(), Config
     if v.is_finite() && v >= lo && v <= hi {
         Ok(())
     } else {
-        Err(ConfigError::new(field, v, format!("must be in [{lo}, {hi}] {unit}").trim_end().to_string()))
+        Err(ConfigError::new(
+            field,
+            v,
+            format!("must be in [{lo}, {hi}] {unit}").trim_end().to_string(),
+        ))
     }
 }
 
@@ -547,14 +598,30 @@ fn count(field: &str, v: usize, lo: usize, hi: usize) -> Result<(), ConfigError>
     if (lo..=hi).contains(&v) {
         Ok(())
     } else {
-        Err(ConfigError::new(field, v, format!("must be an integer in [{lo}, {hi}]")))
+        Err(ConfigError::new(
+            field,
+            v,
+            format!("must be an integer in [{lo}, {hi}]"),
+        ))
     }
 }
 
 fn validate_profile(field: &str, p: &Profile, lo: f64, hi: f64, depth: f64) -> Result<(), ConfigError> {
     range(&format!("{field}.surface"), p.surface, lo, hi, "")?;
-    range(&format!("{field}.depth_gradient"), p.depth_gradient, -1.0, 1.0, "per metre of depth")?;
-    range(&format!("{field}.mixed_layer_depth"), p.mixed_layer_depth, 0.0, depth, "m (0 to grid.depth)")?;
+    range(
+        &format!("{field}.depth_gradient"),
+        p.depth_gradient,
+        -1.0,
+        1.0,
+        "per metre of depth",
+    )?;
+    range(
+        &format!("{field}.mixed_layer_depth"),
+        p.mixed_layer_depth,
+        0.0,
+        depth,
+        "m (0 to grid.depth)",
+    )?;
     let bottom = p.at_depth(depth);
     if !(lo..=hi).contains(&bottom) {
         return Err(ConfigError::new(
@@ -584,8 +651,14 @@ mod tests {
     #[test]
     fn paper_preset_has_the_spec_grid() {
         let c = WakelabConfig::with_preset(Preset::Paper);
-        assert_eq!((c.grid.core_cells, c.grid.depth_cells, c.grid.beach_cells), (4001, 201, 101));
-        assert_eq!((c.grid.core_width, c.grid.depth, c.grid.beach_width), (2000.0, 300.0, 500.0));
+        assert_eq!(
+            (c.grid.core_cells, c.grid.depth_cells, c.grid.beach_cells),
+            (4001, 201, 101)
+        );
+        assert_eq!(
+            (c.grid.core_width, c.grid.depth, c.grid.beach_width),
+            (2000.0, 300.0, 500.0)
+        );
         assert_eq!(c.time.duration, 3600.0);
     }
 
@@ -613,7 +686,10 @@ mod tests {
     fn out_of_range_value_names_field_and_range() {
         let err = WakelabConfig::from_toml_str("[ship]\nspeed = -3.0\n", "t").unwrap_err();
         let msg = err.to_string();
-        assert!(msg.contains("ship.speed") && msg.contains("-3") && msg.contains("[0.1, 30]"), "{msg}");
+        assert!(
+            msg.contains("ship.speed") && msg.contains("-3") && msg.contains("[0.1, 30]"),
+            "{msg}"
+        );
     }
 
     #[test]
@@ -629,8 +705,8 @@ mod tests {
 
     #[test]
     fn too_steep_swell_is_refused() {
-        let err = WakelabConfig::from_toml_str("[environment.swell]\namplitude = 8.0\nwavelength = 50.0\n", "t")
-            .unwrap_err();
+        let err =
+            WakelabConfig::from_toml_str("[environment.swell]\namplitude = 8.0\nwavelength = 50.0\n", "t").unwrap_err();
         assert!(err.to_string().contains("environment.swell.amplitude"), "{err}");
     }
 

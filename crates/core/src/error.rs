@@ -32,11 +32,7 @@ pub enum WakelabError {
     #[error("could not parse configuration {path}: {message}")]
     Parse { path: String, message: String },
     #[error("simulation blew up at step {step} (t = {time:.2} s): {detail}")]
-    BlowUp {
-        step: usize,
-        time: f64,
-        detail: String,
-    },
+    BlowUp { step: usize, time: f64, detail: String },
     #[error("I/O error on {path}: {source}")]
     Io {
         path: String,

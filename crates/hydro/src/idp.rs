@@ -142,8 +142,8 @@ impl InitialDataPlane {
         let a_r = 0.23 * ship.rudder_drag_coefficient.sqrt(); // (2.62)
         let y_rh = a_r * (x_idp * ship.rudder_thickness).sqrt() + 0.5 * ship.rudder_thickness; // (2.60)
         let z_rh = ship.rudder_area / (2.0 * ship.rudder_chord); // (2.61)
-        let u_r_max = a_r * u * ship.rudder_area * ship.rudder_drag_coefficient
-            / (2.0 * std::f64::consts::PI * y_rh * z_rh); // (2.58)
+        let u_r_max =
+            a_r * u * ship.rudder_area * ship.rudder_drag_coefficient / (2.0 * std::f64::consts::PI * y_rh * z_rh); // (2.58)
         let k_r_max = u_r_max * u_r_max; // (2.59)
         Self {
             ship: ship.clone(),
@@ -228,8 +228,7 @@ impl InitialDataPlane {
             u_r += sc.u_r_max * (-c.a * r2).exp();
             k_r += (sc.k_r_max * (c.a1 * (-c.a2 * r2).exp() - c.a3 * (-c.a4 * r2).exp())).max(0.0);
         }
-        let eps_r =
-            (24.0 * sc.u_r_max / (sh.rudder_drag_coefficient * b * b * sh.speed)).sqrt() * k_r.powf(1.5);
+        let eps_r = (24.0 * sc.u_r_max / (sh.rudder_drag_coefficient * b * b * sh.speed)).sqrt() * k_r.powf(1.5);
 
         IdpPoint {
             u0: u_p - (u_f + u_r + u_w), // (2.26)

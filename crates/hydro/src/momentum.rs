@@ -66,7 +66,11 @@ pub fn v_tendency(s: &Setup, f: &MomentumInputs, out: &mut [f64]) {
             let face = if vel >= 0.0 {
                 upwind_face(if c >= 1 { Some(vf(c - 1, k)) } else { None }, vf(c, k), vf(c + 1, k))
             } else {
-                upwind_face(if c + 2 <= ny { Some(vf(c + 2, k)) } else { None }, vf(c + 1, k), vf(c, k))
+                upwind_face(
+                    if c + 2 <= ny { Some(vf(c + 2, k)) } else { None },
+                    vf(c + 1, k),
+                    vf(c, k),
+                )
             };
             let mut tau = 2.0 * f.viscosity[c * nz + k] * (vf(c + 1, k) - vf(c, k)) / s.dy[c];
             if let Some((vv, _)) = f.normal_correction {
@@ -81,9 +85,17 @@ pub fn v_tendency(s: &Setup, f: &MomentumInputs, out: &mut [f64]) {
                 let kf = k + 1;
                 let vel = 0.5 * (wf(jf - 1, kf) + wf(jf, kf));
                 let face = if vel >= 0.0 {
-                    upwind_face(if kf + 1 < nz { Some(vf(jf, kf + 1)) } else { None }, vf(jf, kf), vf(jf, kf - 1))
+                    upwind_face(
+                        if kf + 1 < nz { Some(vf(jf, kf + 1)) } else { None },
+                        vf(jf, kf),
+                        vf(jf, kf - 1),
+                    )
                 } else {
-                    upwind_face(if kf >= 2 { Some(vf(jf, kf - 2)) } else { None }, vf(jf, kf - 1), vf(jf, kf))
+                    upwind_face(
+                        if kf >= 2 { Some(vf(jf, kf - 2)) } else { None },
+                        vf(jf, kf - 1),
+                        vf(jf, kf),
+                    )
                 };
                 vel * face - f.shear[jf * (nz + 1) + kf]
             } else {
@@ -111,7 +123,11 @@ pub fn w_tendency(s: &Setup, f: &MomentumInputs, out: &mut [f64]) {
         let centre_flux = |c: usize| {
             let vel = 0.5 * (wf(j, c) + wf(j, c + 1));
             let face = if vel >= 0.0 {
-                upwind_face(if c + 2 <= nz { Some(wf(j, c + 2)) } else { None }, wf(j, c + 1), wf(j, c))
+                upwind_face(
+                    if c + 2 <= nz { Some(wf(j, c + 2)) } else { None },
+                    wf(j, c + 1),
+                    wf(j, c),
+                )
             } else {
                 upwind_face(if c >= 1 { Some(wf(j, c - 1)) } else { None }, wf(j, c), wf(j, c + 1))
             };
@@ -138,14 +154,18 @@ pub fn w_tendency(s: &Setup, f: &MomentumInputs, out: &mut [f64]) {
             let face = if vel >= 0.0 {
                 upwind_face(if l >= 1 { Some(wf(l - 1, kf)) } else { None }, wf(l, kf), wf(r, kf))
             } else {
-                upwind_face(if r + 1 < ny { Some(wf(r + 1, kf)) } else { None }, wf(r, kf), wf(l, kf))
+                upwind_face(
+                    if r + 1 < ny { Some(wf(r + 1, kf)) } else { None },
+                    wf(r, kf),
+                    wf(l, kf),
+                )
             };
             vel * face - f.shear[jf * (nz + 1) + kf]
         };
         let inv_dy = 1.0 / s.dy[j];
         for kf in 1..nz {
-            let div = (corner_flux(j + 1, kf) - corner_flux(j, kf)) * inv_dy
-                + (centre_flux(kf - 1) - centre_flux(kf)) / dz;
+            let div =
+                (corner_flux(j + 1, kf) - corner_flux(j, kf)) * inv_dy + (centre_flux(kf - 1) - centre_flux(kf)) / dz;
             let buoyancy = 0.5 * (f.buoyancy[j * nz + kf - 1] + f.buoyancy[j * nz + kf]);
             let dudz = (u[j * nz + kf - 1] - u[j * nz + kf]) / dz;
             let (jl, jr) = (j.saturating_sub(1), (j + 1).min(ny - 1));

@@ -24,7 +24,10 @@ pub struct HydroOutputs {
 fn global_attributes(config: &WakelabConfig, title: &str) -> Vec<(String, String)> {
     vec![
         ("title".into(), title.into()),
-        ("source".into(), format!("wakelab {} 2D+t RANS wake solver", env!("CARGO_PKG_VERSION"))),
+        (
+            "source".into(),
+            format!("wakelab {} 2D+t RANS wake solver", env!("CARGO_PKG_VERSION")),
+        ),
         ("ship".into(), config.ship.name.clone()),
         ("preset".into(), config.preset.name().into()),
         ("wakelab_config".into(), config.to_toml_string()),
@@ -39,11 +42,19 @@ fn field_variables(dims: &[&str]) -> Vec<CfVariable> {
 }
 
 fn time_var() -> CfVariable {
-    CfVariable::new("time", &["time"], "s", "time since the initial data plane").axis("T").standard_name("time")
+    CfVariable::new("time", &["time"], "s", "time since the initial data plane")
+        .axis("T")
+        .standard_name("time")
 }
 
 fn y_var() -> CfVariable {
-    CfVariable::new("y", &["y"], "m", "cross-track distance from the ship's track, positive to port").axis("Y")
+    CfVariable::new(
+        "y",
+        &["y"],
+        "m",
+        "cross-track distance from the ship's track, positive to port",
+    )
+    .axis("Y")
 }
 
 fn z_var() -> CfVariable {
@@ -58,11 +69,12 @@ fn to_f32(v: &[f64]) -> Vec<f32> {
 }
 
 /// Run the hydro stage of `config` and write its files into `dir`; `progress` is called after
-/// every step with (simulated time, steps).
+/// every step with (simulated time, steps) and may cancel the run by returning an error, which
+/// leaves no NetCDF file behind.
 pub fn run_hydro_stage(
     config: &WakelabConfig,
     dir: &Path,
-    progress: &mut dyn FnMut(f64, usize),
+    progress: &mut dyn FnMut(f64, usize) -> Result<(), WakelabError>,
 ) -> Result<(WakeSlices, HydroOutputs), WakelabError> {
     std::fs::create_dir_all(dir).map_err(|e| WakelabError::io(dir, e))?;
     let grid = CrossGrid::new(&config.grid);
@@ -98,18 +110,28 @@ pub fn run_hydro_stage(
         let sec_path = sections_file.temporary_path().to_path_buf();
         let surf_path = surface_file.temporary_path().to_path_buf();
         let mut sec_w = FileWriter::open(&sec_path).map_err(|e| write_error(&sec_path, e))?;
-        sec_w.set_def(&sec_ds, Version::Offset64Bit, 0).map_err(|e| write_error(&sec_path, e))?;
-        sec_w.write_var_f32("y", &to_f32(&grid.y_centres)).map_err(|e| write_error(&sec_path, e))?;
-        sec_w.write_var_f32("z", &to_f32(&grid.z_centres)).map_err(|e| write_error(&sec_path, e))?;
+        sec_w
+            .set_def(&sec_ds, Version::Offset64Bit, 0)
+            .map_err(|e| write_error(&sec_path, e))?;
+        sec_w
+            .write_var_f32("y", &to_f32(&grid.y_centres))
+            .map_err(|e| write_error(&sec_path, e))?;
+        sec_w
+            .write_var_f32("z", &to_f32(&grid.z_centres))
+            .map_err(|e| write_error(&sec_path, e))?;
         let mut surf_w = FileWriter::open(&surf_path).map_err(|e| write_error(&surf_path, e))?;
-        surf_w.set_def(&surf_ds, Version::Offset64Bit, 0).map_err(|e| write_error(&surf_path, e))?;
-        surf_w.write_var_f32("y", &to_f32(&grid.y_centres)).map_err(|e| write_error(&surf_path, e))?;
+        surf_w
+            .set_def(&surf_ds, Version::Offset64Bit, 0)
+            .map_err(|e| write_error(&surf_path, e))?;
+        surf_w
+            .write_var_f32("y", &to_f32(&grid.y_centres))
+            .map_err(|e| write_error(&surf_path, e))?;
         let (mut sec_i, mut surf_i) = (0usize, 0usize);
         let mut picked: Vec<CrossSection> = Vec::new();
         let pick = [0, n_sections / 2, n_sections - 1];
         let run = simulate_wake_with(config, &mut |e| {
             match e {
-                WakeEvent::Progress { time, steps, .. } => progress(time, steps),
+                WakeEvent::Progress { time, steps, .. } => progress(time, steps)?,
                 WakeEvent::Section(s) => {
                     write_record(&mut sec_w, &sec_path, sec_i, s.time, &s.fields)?;
                     if pick.contains(&sec_i) && config.output.pictures {
@@ -142,13 +164,16 @@ pub fn run_hydro_stage(
         outputs.files.extend(write_surface_pictures(dir, &map)?);
     }
     let idp = serde_json::to_string_pretty(&run.idp).expect("serialisable");
-    outputs.files.push(write_atomically(dir.join("idp.json"), idp.as_bytes())?);
+    outputs
+        .files
+        .push(write_atomically(dir.join("idp.json"), idp.as_bytes())?);
     outputs.steps = run.steps;
     Ok((run, outputs))
 }
 
 fn write_record(w: &mut FileWriter, path: &Path, i: usize, time: f64, fields: &[Vec<f32>]) -> Result<(), WakelabError> {
-    w.write_record_f32("time", i, &[time as f32]).map_err(|e| write_error(path, e))?;
+    w.write_record_f32("time", i, &[time as f32])
+        .map_err(|e| write_error(path, e))?;
     for ((name, _, _), data) in SLICE_FIELDS.iter().zip(fields) {
         w.write_record_f32(name, i, data).map_err(|e| write_error(path, e))?;
     }
@@ -159,7 +184,13 @@ fn write_record(w: &mut FileWriter, path: &Path, i: usize, time: f64, fields: &[
 pub fn write_surface_map(dir: &Path, config: &WakelabConfig, map: &SurfaceMap) -> Result<PathBuf, WakelabError> {
     let file = AtomicFile::new(dir.join("surface_map.nc"))?;
     let mut vars = vec![
-        CfVariable::new("x", &["x"], "m", "distance behind the stern (x = U_ship t + x_IDP, Eq. 2.24)").axis("X"),
+        CfVariable::new(
+            "x",
+            &["x"],
+            "m",
+            "distance behind the stern (x = U_ship t + x_IDP, Eq. 2.24)",
+        )
+        .axis("X"),
         y_var(),
     ];
     vars.extend(field_variables(&["x", "y"]));
@@ -172,9 +203,12 @@ pub fn write_surface_map(dir: &Path, config: &WakelabConfig, map: &SurfaceMap) -
     let ds = layout.data_set("surface_map.nc")?;
     let path = file.temporary_path().to_path_buf();
     let mut w = FileWriter::open(&path).map_err(|e| write_error(&path, e))?;
-    w.set_def(&ds, Version::Offset64Bit, 0).map_err(|e| write_error(&path, e))?;
-    w.write_var_f32("x", &to_f32(&map.x)).map_err(|e| write_error(&path, e))?;
-    w.write_var_f32("y", &to_f32(&map.y)).map_err(|e| write_error(&path, e))?;
+    w.set_def(&ds, Version::Offset64Bit, 0)
+        .map_err(|e| write_error(&path, e))?;
+    w.write_var_f32("x", &to_f32(&map.x))
+        .map_err(|e| write_error(&path, e))?;
+    w.write_var_f32("y", &to_f32(&map.y))
+        .map_err(|e| write_error(&path, e))?;
     for ((name, _, _), data) in SLICE_FIELDS.iter().zip(&map.fields) {
         w.write_var_f32(name, data).map_err(|e| write_error(&path, e))?;
     }
@@ -210,7 +244,11 @@ pub fn write_surface_pictures(dir: &Path, map: &SurfaceMap) -> Result<Vec<PathBu
             cols: rows,
             title: format!("surface {name}: {long}"),
             units: units.into(),
-            colormap: if diverging { Colormap::Diverging } else { Colormap::Sequential },
+            colormap: if diverging {
+                Colormap::Diverging
+            } else {
+                Colormap::Sequential
+            },
             size: (1200, 300),
             caption: format!(
                 "x {:.0}..{:.0} m behind the stern (left to right); y {:.0}..{:.0} m (port at top)",
@@ -249,13 +287,15 @@ pub fn write_section_pictures(dir: &Path, grid: &CrossGrid, s: &CrossSection) ->
             cols,
             title: format!("{name} at t = {:.0} s: {long}", s.time),
             units: units.into(),
-            colormap: if diverging { Colormap::Diverging } else { Colormap::Sequential },
+            colormap: if diverging {
+                Colormap::Diverging
+            } else {
+                Colormap::Sequential
+            },
             size: (1000, 250),
             caption: format!(
                 "y {:.0}..{:.0} m (starboard to port), depth 0..{:.0} m",
-                grid.y_faces[core.start],
-                grid.y_faces[core.end],
-                grid.depth
+                grid.y_faces[core.start], grid.y_faces[core.end], grid.depth
             ),
         };
         let path = dir.join(format!("section_{name}_t{:05.0}.png", s.time));
@@ -270,7 +310,11 @@ pub fn write_idp_fields(dir: &Path, config: &WakelabConfig) -> Result<Vec<PathBu
     let grid = CrossGrid::new(&config.grid);
     let idp = crate::initial_data_plane(config);
     let names = [
-        ("U0", "m s-1", "IDP axial wake velocity relative to the ship, Eq. (2.26)"),
+        (
+            "U0",
+            "m s-1",
+            "IDP axial wake velocity relative to the ship, Eq. (2.26)",
+        ),
         ("V0", "m s-1", "IDP cross-track swirl velocity, Eq. (2.51)"),
         ("W0", "m s-1", "IDP vertical swirl velocity, Eq. (2.51)"),
         ("k0", "m2 s-2", "IDP turbulence kinetic energy"),
@@ -298,9 +342,12 @@ pub fn write_idp_fields(dir: &Path, config: &WakelabConfig) -> Result<Vec<PathBu
     let ds = layout.data_set("idp.nc")?;
     let path = file.temporary_path().to_path_buf();
     let mut w = FileWriter::open(&path).map_err(|e| write_error(&path, e))?;
-    w.set_def(&ds, Version::Offset64Bit, 0).map_err(|e| write_error(&path, e))?;
-    w.write_var_f32("y", &to_f32(&grid.y_centres)).map_err(|e| write_error(&path, e))?;
-    w.write_var_f32("z", &to_f32(&grid.z_centres)).map_err(|e| write_error(&path, e))?;
+    w.set_def(&ds, Version::Offset64Bit, 0)
+        .map_err(|e| write_error(&path, e))?;
+    w.write_var_f32("y", &to_f32(&grid.y_centres))
+        .map_err(|e| write_error(&path, e))?;
+    w.write_var_f32("z", &to_f32(&grid.z_centres))
+        .map_err(|e| write_error(&path, e))?;
     for ((n, _, _), d) in names.iter().zip(&data) {
         w.write_var_f32(n, d).map_err(|e| write_error(&path, e))?;
     }
@@ -325,7 +372,11 @@ pub fn write_idp_fields(dir: &Path, config: &WakelabConfig) -> Result<Vec<PathBu
             cols: ys.len(),
             title: format!("{n}: {l}"),
             units: u.into(),
-            colormap: if diverging { Colormap::Diverging } else { Colormap::Sequential },
+            colormap: if diverging {
+                Colormap::Diverging
+            } else {
+                Colormap::Sequential
+            },
             size: (800, 400),
             caption: "y -30..30 m (starboard to port), depth 0..15 m".into(),
         };

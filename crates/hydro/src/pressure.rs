@@ -35,8 +35,16 @@ impl PressureSolver {
         let mut upper = vec![0.0; ny];
         let mut diag = vec![0.0; ny];
         for j in 0..ny {
-            let a = if j > 0 { 1.0 / (grid.dy[j] * grid.dy_centres(j)) } else { 0.0 };
-            let c = if j + 1 < ny { 1.0 / (grid.dy[j] * grid.dy_centres(j + 1)) } else { 0.0 };
+            let a = if j > 0 {
+                1.0 / (grid.dy[j] * grid.dy_centres(j))
+            } else {
+                0.0
+            };
+            let c = if j + 1 < ny {
+                1.0 / (grid.dy[j] * grid.dy_centres(j + 1))
+            } else {
+                0.0
+            };
             lower[j] = a;
             upper[j] = c;
             diag[j] = -(a + c);
@@ -100,7 +108,11 @@ impl PressureSolver {
             }
             let mut prev = 0.0;
             for j in 0..ny {
-                let a = if self.pinned && m == 0 && j == 0 { 0.0 } else { self.lower[j] };
+                let a = if self.pinned && m == 0 && j == 0 {
+                    0.0
+                } else {
+                    self.lower[j]
+                };
                 let d = (line[j] - a * prev) * ip[j];
                 line[j] = d;
                 prev = d;

@@ -90,7 +90,15 @@ impl Setup {
         let damping_face = grid
             .y_faces
             .iter()
-            .map(|&y| rate(if y < lo { lo - y } else if y > hi { y - hi } else { 0.0 }))
+            .map(|&y| {
+                rate(if y < lo {
+                    lo - y
+                } else if y > hi {
+                    y - hi
+                } else {
+                    0.0
+                })
+            })
             .collect();
         Self {
             ny,
@@ -113,5 +121,12 @@ impl Setup {
             constants: RODI,
             grid,
         }
+    }
+}
+
+impl Setup {
+    /// Eddy viscosity of the ambient turbulence, C_mu k_amb^2 / eps_amb (Eq. 2.11).
+    pub fn ambient_eddy_viscosity(&self) -> f64 {
+        (self.constants.c_mu * self.ambient_k * self.ambient_k / self.ambient_eps).min(self.max_eddy_viscosity)
     }
 }

@@ -6,7 +6,11 @@ use serde::Serialize;
 
 /// The quantities saved for every slice, in output order, with CF names and units.
 pub const SLICE_FIELDS: [(&str, &str, &str); 9] = [
-    ("U", "m s-1", "axial (along-track) velocity, Earth frame, positive along the heading"),
+    (
+        "U",
+        "m s-1",
+        "axial (along-track) velocity, Earth frame, positive along the heading",
+    ),
     ("V", "m s-1", "cross-track velocity, positive to port"),
     ("W", "m s-1", "vertical velocity, positive up"),
     ("k", "m2 s-2", "turbulence kinetic energy"),
@@ -61,7 +65,8 @@ fn centre_fields(solver: &mut WakeSolver, levels: std::ops::Range<usize>) -> Vec
                 d.eddy_viscosity[i],
                 st.temperature[[j, kk]],
                 st.salinity[[j, kk]],
-                s.column.density_anomaly(kk, st.temperature[[j, kk]], st.salinity[[j, kk]]),
+                s.column
+                    .density_anomaly(kk, st.temperature[[j, kk]], st.salinity[[j, kk]]),
             ];
             for (o, v) in out.iter_mut().zip(values) {
                 o.push(v as f32);
@@ -130,7 +135,11 @@ impl SurfaceMap {
                 (&slices[seg], &slices[seg + 1])
             };
             let span = b.time - a.time;
-            let f = if span > 0.0 { ((t - a.time) / span).clamp(0.0, 1.0) } else { 0.0 } as f32;
+            let f = if span > 0.0 {
+                ((t - a.time) / span).clamp(0.0, 1.0)
+            } else {
+                0.0
+            } as f32;
             for (out, (fa, fb)) in fields.iter_mut().zip(a.fields.iter().zip(&b.fields)) {
                 out.extend(core.clone().map(|j| fa[j] * (1.0 - f) + fb[j] * f));
             }

@@ -51,7 +51,12 @@ impl WakeSolver {
     pub fn new(config: &WakelabConfig) -> Self {
         let setup = Setup::new(config);
         let env = &config.environment;
-        let idp = InitialDataPlane::new(&config.ship, env.kinematic_viscosity, env.reference_density, env.gravity);
+        let idp = InitialDataPlane::new(
+            &config.ship,
+            env.kinematic_viscosity,
+            env.reference_density,
+            env.gravity,
+        );
         let state = WakeState::from_idp(&setup.grid, &idp, env.ambient_tke, env.ambient_dissipation);
         let mut solver = Self::with_state(config, setup, state);
         solver.project_state();
@@ -110,7 +115,13 @@ impl WakeSolver {
 
     /// Make the current velocity divergence-free (used once on the initial data plane).
     pub fn project_state(&mut self) {
-        project(&self.setup, &self.pressure, &mut self.state, &mut self.rhs, &mut self.scratch);
+        project(
+            &self.setup,
+            &self.pressure,
+            &mut self.state,
+            &mut self.rhs,
+            &mut self.scratch,
+        );
     }
 
     /// Largest |div u| over the cells (1/s).
@@ -144,22 +155,35 @@ impl WakeSolver {
         }
         let dt = dt.min(limit);
         // Heun: s1 = s0 + dt L(s0); s_new = (s0 + s1 + dt L(s1)) / 2
-        evaluate_tendency(&self.setup, &mut self.derived, &mut self.shear, &self.state, &mut self.tendency);
+        evaluate_tendency(
+            &self.setup,
+            &mut self.derived,
+            &mut self.shear,
+            &self.state,
+            &mut self.tendency,
+        );
         self.stage.clone_from(&self.state);
         axpy(&mut self.stage, dt, &self.tendency);
         self.finish_stage(true);
-        evaluate_tendency(&self.setup, &mut self.derived, &mut self.shear, &self.stage, &mut self.tendency);
+        evaluate_tendency(
+            &self.setup,
+            &mut self.derived,
+            &mut self.shear,
+            &self.stage,
+            &mut self.tendency,
+        );
         axpy(&mut self.stage, dt, &self.tendency);
         average_into(&mut self.state, &self.stage);
         self.finish_stage(false);
         self.time += dt;
         self.steps += 1;
         self.last_dt = dt;
-        if let Some(field) = first_non_finite(&self.state) {
+        let bad = non_finite_fields(&self.state);
+        if !bad.is_empty() {
             return Err(WakelabError::BlowUp {
                 step: self.steps,
                 time: self.time,
-                detail: format!("field {field} is not finite"),
+                detail: format!("not finite: {}", bad.join(", ")),
             });
         }
         Ok(dt)
@@ -212,12 +236,13 @@ fn fields_mut(s: &mut WakeState) -> [&mut Array2<f64>; 7] {
 
 const FIELD_NAMES: [&str; 7] = ["U", "V", "W", "k", "eps", "dT", "dS"];
 
-fn first_non_finite(s: &WakeState) -> Option<&'static str> {
+fn non_finite_fields(s: &WakeState) -> Vec<&'static str> {
     fields(s)
         .iter()
         .zip(FIELD_NAMES)
-        .find(|(a, _)| a.as_slice().expect("layout").par_iter().any(|x| !x.is_finite()))
+        .filter(|(a, _)| a.as_slice().expect("layout").par_iter().any(|x| !x.is_finite()))
         .map(|(_, n)| n)
+        .collect()
 }
 
 /// Keep k and eps positive: floors a thousandth of the ambient values.
@@ -259,9 +284,10 @@ fn stable_dt(s: &Setup, state: &WakeState, d: &Derived, cfl: f64, max_dt: f64) -
         (0.9 / damping.max(1e-30), StepLimit::Diffusion),
         (max_dt, StepLimit::Maximum),
     ];
-    candidates
-        .into_iter()
-        .fold((f64::INFINITY, StepLimit::Maximum), |best, c| if c.0 < best.0 { c } else { best })
+    candidates.into_iter().fold(
+        (f64::INFINITY, StepLimit::Maximum),
+        |best, c| if c.0 < best.0 { c } else { best },
+    )
 }
 
 /// Evaluate the right-hand side of every prognostic equation into `out`.
@@ -304,7 +330,15 @@ fn evaluate_tendency(s: &Setup, d: &mut Derived, shear: &mut [f64], state: &Wake
     };
     let k = state.k.as_slice().expect("layout");
     let eps = state.eps.as_slice().expect("layout");
-    advect_diffuse(s, k, v, w, &scalar(s.viscosity, c.sigma_k), s.ambient_k, out.k.as_slice_mut().expect("layout"));
+    advect_diffuse(
+        s,
+        k,
+        v,
+        w,
+        &scalar(s.viscosity, c.sigma_k),
+        s.ambient_k,
+        out.k.as_slice_mut().expect("layout"),
+    );
     advect_diffuse(
         s,
         eps,
@@ -325,11 +359,27 @@ fn evaluate_tendency(s: &Setup, d: &mut Derived, shear: &mut [f64], state: &Wake
     let t = state.temperature.as_slice().expect("layout");
     let dt_out = out.temperature.as_slice_mut().expect("layout");
     advect_diffuse(s, t, v, w, &scalar(s.viscosity / PRANDTL, c.sigma_t), 0.0, dt_out);
-    add_background_sources(s, nut, w, t, &s.column.dtemperature_dz, &s.column.face_dtemperature_dz, dt_out);
+    add_background_sources(
+        s,
+        nut,
+        w,
+        t,
+        &s.column.dtemperature_dz,
+        &s.column.face_dtemperature_dz,
+        dt_out,
+    );
     let sal = state.salinity.as_slice().expect("layout");
     let ds_out = out.salinity.as_slice_mut().expect("layout");
     advect_diffuse(s, sal, v, w, &scalar(s.viscosity / SCHMIDT, c.sigma_t), 0.0, ds_out);
-    add_background_sources(s, nut, w, sal, &s.column.dsalinity_dz, &s.column.face_dsalinity_dz, ds_out);
+    add_background_sources(
+        s,
+        nut,
+        w,
+        sal,
+        &s.column.dsalinity_dz,
+        &s.column.face_dsalinity_dz,
+        ds_out,
+    );
 }
 
 /// Vortex force on U, f_x = -u_Sy dU/dy (Eq. 2.6), and beach damping.
@@ -347,15 +397,27 @@ fn add_axial_forces(s: &Setup, u: &[f64], du: &mut [f64]) {
 
 /// Right-hand sides of Eqs. (2.22)-(2.23): -W d f_b/dz + d/dz(nu_t / sigma_t d f_b/dz), with no
 /// turbulent flux through the lid or bottom, and beach damping of the perturbation.
-fn add_background_sources(s: &Setup, nut: &[f64], w: &[f64], perturbation: &[f64], grad: &[f64], face_grad: &[f64], out: &mut [f64]) {
+///
+/// The background is steady under the ambient turbulence (it solves its own equation, Eq. 2.8),
+/// so only the wake's excess eddy viscosity nu_t - nu_t,amb mixes it.
+fn add_background_sources(
+    s: &Setup,
+    nut: &[f64],
+    w: &[f64],
+    perturbation: &[f64],
+    grad: &[f64],
+    face_grad: &[f64],
+    out: &mut [f64],
+) {
     let nz = s.nz;
     let inv_sigma = 1.0 / s.constants.sigma_t;
+    let amb = s.ambient_eddy_viscosity();
     out.par_chunks_mut(nz).enumerate().for_each(|(j, col)| {
         let face_flux = |kf: usize| {
             if kf == 0 || kf == nz {
                 0.0
             } else {
-                0.5 * (nut[j * nz + kf - 1] + nut[j * nz + kf]) * inv_sigma * face_grad[kf]
+                (0.5 * (nut[j * nz + kf - 1] + nut[j * nz + kf]) - amb) * inv_sigma * face_grad[kf]
             }
         };
         for (kk, x) in col.iter_mut().enumerate() {
@@ -385,7 +447,13 @@ pub fn divergence(s: &Setup, state: &WakeState, out: &mut Array2<f64>) {
 }
 
 /// Project (V, W) onto divergence-free fields: solve D G p = D u*, then u = u* - G p.
-pub fn project(s: &Setup, solver: &PressureSolver, state: &mut WakeState, rhs: &mut Array2<f64>, scratch: &mut Array2<f64>) {
+pub fn project(
+    s: &Setup,
+    solver: &PressureSolver,
+    state: &mut WakeState,
+    rhs: &mut Array2<f64>,
+    scratch: &mut Array2<f64>,
+) {
     let (ny, nz) = (s.ny, s.nz);
     {
         let v = state.v.as_slice_mut().expect("layout");

@@ -48,7 +48,12 @@ mod tests {
     /// dispersion relation omega^2 = g k (Phillips 1977, Eq. 3.3.21).
     #[test]
     fn equals_a2_omega_k_with_deep_water_dispersion() {
-        for (a, lambda, z) in [(1.0, 100.0, 0.0), (1.0, 100.0, -5.0), (0.5, 60.0, -12.0), (2.0, 250.0, -30.0)] {
+        for (a, lambda, z) in [
+            (1.0, 100.0, 0.0),
+            (1.0, 100.0, -5.0),
+            (0.5, 60.0, -12.0),
+            (2.0, 250.0, -30.0),
+        ] {
             let k = 2.0 * std::f64::consts::PI / lambda;
             let omega = (9.81 * k).sqrt();
             let want = a * a * omega * k * (2.0 * k * z).exp();
@@ -58,8 +63,8 @@ mod tests {
         // a = 1 m, lambda = 100 m at the surface: 0.04933 m/s (hand-computed).
         assert!((stokes_drift(1.0, 100.0, 9.81, 0.0) - 0.049330).abs() < 1e-5);
         // e-folding depth lambda / 4 pi
-        let ratio = stokes_drift(1.0, 100.0, 9.81, -100.0 / (4.0 * std::f64::consts::PI))
-            / stokes_drift(1.0, 100.0, 9.81, 0.0);
+        let ratio =
+            stokes_drift(1.0, 100.0, 9.81, -100.0 / (4.0 * std::f64::consts::PI)) / stokes_drift(1.0, 100.0, 9.81, 0.0);
         assert!((ratio - (-1f64).exp()).abs() < 1e-12);
     }
 }

@@ -130,16 +130,19 @@ fn somero_corrections(s: &Setup, state: &WakeState, nut: &[f64], shear: &mut [f6
 
 /// Source terms of k and eps (right-hand sides of Eqs. 2.9 and 2.10), added to `dk`, `deps`.
 ///
-/// Ambient turbulence is held steady by the sustaining terms of Spalart & Rumsey (2007),
-/// eps_amb in the k equation and C2 eps_amb^2 / k_amb in the eps equation, so the sea away from
-/// the wake neither decays nor grows; beaches relax both towards the ambient state.
+/// The ambient turbulence (k_amb, eps_amb) is part of the background of Eq. (2.7): a steady
+/// solution of its own equations, held by forcing the model does not resolve. Its tendency is
+/// therefore subtracted, as the sustaining terms of Spalart & Rumsey (2007):
+/// S_k = eps_amb - G_b(z) and S_eps = C2 eps_amb^2 / k_amb - C1 C3 (eps_amb / k_amb) G_b(z), with
+/// G_b = -N_b^2 nu_t,amb / sigma_t, so the sea away from the wake neither decays nor grows;
+/// beaches relax both towards the ambient state.
 pub fn add_k_eps_sources(s: &Setup, state: &WakeState, d: &Derived, dk: &mut [f64], deps: &mut [f64]) {
     let c = s.constants;
     let k = state.k.as_slice().expect("layout");
     let eps = state.eps.as_slice().expect("layout");
     let nz = s.nz;
-    let sustain_k = s.ambient_eps;
-    let sustain_eps = c.c2 * s.ambient_eps * s.ambient_eps / s.ambient_k;
+    let amb_ratio = s.ambient_eps / s.ambient_k;
+    let amb_nut = s.ambient_eddy_viscosity();
     dk.par_chunks_mut(nz)
         .zip(deps.par_chunks_mut(nz))
         .enumerate()
@@ -147,6 +150,9 @@ pub fn add_k_eps_sources(s: &Setup, state: &WakeState, d: &Derived, dk: &mut [f6
             let sigma = s.damping_centre[j];
             for kk in 0..nz {
                 let i = j * nz + kk;
+                let g_b = -s.column.n2[kk] * amb_nut / c.sigma_t;
+                let sustain_k = s.ambient_eps - g_b;
+                let sustain_eps = c.c2 * s.ambient_eps * amb_ratio - c.c1 * amb_ratio * c.c3 * g_b;
                 let (p, g) = (d.production[i], d.buoyancy_production[i]);
                 let ratio = eps[i] / k[i];
                 dkc[kk] += p + g - eps[i] + sustain_k - sigma * (k[i] - s.ambient_k);

@@ -150,7 +150,11 @@ fn run_wake(cfg: &WakelabConfig, dir: &Path, quiet: bool) -> Result<()> {
     std::fs::create_dir_all(dir).with_context(|| format!("creating {}", dir.display()))?;
     write_atomically(dir.join("config.toml"), cfg.to_toml_string().as_bytes())?;
     let duration = cfg.time.duration;
-    let bar = if quiet { ProgressBar::hidden() } else { ProgressBar::new(duration.ceil() as u64) };
+    let bar = if quiet {
+        ProgressBar::hidden()
+    } else {
+        ProgressBar::new(duration.ceil() as u64)
+    };
     bar.set_style(
         ProgressStyle::with_template(
             "{spinner} wake [{bar:40}] {pos}/{len} s simulated | {msg} | {elapsed_precise} elapsed, {eta} left",
@@ -169,6 +173,7 @@ fn run_wake(cfg: &WakelabConfig, dir: &Path, quiet: bool) -> Result<()> {
         }
         bar.set_position(t.floor() as u64);
         bar.set_message(format!("step {steps}, {rate:.1} steps/s"));
+        Ok(())
     })?;
     bar.finish_and_clear();
     eprintln!(

@@ -77,7 +77,8 @@ impl CfLayout {
         for v in &self.variables {
             ds.add_var_f32(&v.name, &v.dims).map_err(err)?;
             ds.add_var_attr_string(&v.name, "units", &v.units).map_err(err)?;
-            ds.add_var_attr_string(&v.name, "long_name", &v.long_name).map_err(err)?;
+            ds.add_var_attr_string(&v.name, "long_name", &v.long_name)
+                .map_err(err)?;
             for (attr, value) in [
                 ("standard_name", &v.standard_name),
                 ("axis", &v.axis),

@@ -136,7 +136,14 @@ impl FieldPicture<'_> {
         draw_text(&mut img, MARGIN, 6, &self.title, 2, black);
         let lx = bar_x + BAR_W + 6;
         draw_text(&mut img, lx, TITLE_H, &format_value(hi), 1, black);
-        draw_text(&mut img, lx, TITLE_H + h / 2 - 4, &format_value(0.5 * (lo + hi)), 1, black);
+        draw_text(
+            &mut img,
+            lx,
+            TITLE_H + h / 2 - 4,
+            &format_value(0.5 * (lo + hi)),
+            1,
+            black,
+        );
         draw_text(&mut img, lx, TITLE_H + h - 8, &format_value(lo), 1, black);
         draw_text(&mut img, lx, TITLE_H + h / 2 + 12, &self.units, 1, black);
         draw_text(&mut img, MARGIN, TITLE_H + h + 8, &self.caption, 1, black);

@@ -9,7 +9,7 @@ use crate::slices::{CrossSection, SurfaceMap, SLICE_FIELDS};
 use crate::{simulate_wake_with, WakeEvent, WakeSlices};
 use netcdf3::{FileWriter, Version};
 use std::path::{Path, PathBuf};
-use wakelab_core::io::netcdf::{write_error, CfLayout, CfVariable};
+use wakelab_core::io::netcdf::{buffered_writer, write_error, CfLayout, CfVariable};
 use wakelab_core::io::picture::{Colormap, FieldPicture};
 use wakelab_core::io::{write_atomically, AtomicFile};
 use wakelab_core::{CrossGrid, WakelabConfig, WakelabError};
@@ -109,7 +109,7 @@ pub fn run_hydro_stage(
         let surf_ds = surf_layout.data_set("wake_surface.nc")?;
         let sec_path = sections_file.temporary_path().to_path_buf();
         let surf_path = surface_file.temporary_path().to_path_buf();
-        let mut sec_w = FileWriter::open(&sec_path).map_err(|e| write_error(&sec_path, e))?;
+        let mut sec_w = buffered_writer(&sec_path)?;
         sec_w
             .set_def(&sec_ds, Version::Offset64Bit, 0)
             .map_err(|e| write_error(&sec_path, e))?;
@@ -119,7 +119,7 @@ pub fn run_hydro_stage(
         sec_w
             .write_var_f32("z", &to_f32(&grid.z_centres))
             .map_err(|e| write_error(&sec_path, e))?;
-        let mut surf_w = FileWriter::open(&surf_path).map_err(|e| write_error(&surf_path, e))?;
+        let mut surf_w = buffered_writer(&surf_path)?;
         surf_w
             .set_def(&surf_ds, Version::Offset64Bit, 0)
             .map_err(|e| write_error(&surf_path, e))?;
@@ -202,7 +202,7 @@ pub fn write_surface_map(dir: &Path, config: &WakelabConfig, map: &SurfaceMap) -
     };
     let ds = layout.data_set("surface_map.nc")?;
     let path = file.temporary_path().to_path_buf();
-    let mut w = FileWriter::open(&path).map_err(|e| write_error(&path, e))?;
+    let mut w = buffered_writer(&path)?;
     w.set_def(&ds, Version::Offset64Bit, 0)
         .map_err(|e| write_error(&path, e))?;
     w.write_var_f32("x", &to_f32(&map.x))
@@ -223,26 +223,32 @@ fn field_index(name: &str) -> usize {
     SLICE_FIELDS.iter().position(|f| f.0 == name).expect("known field")
 }
 
-/// Pictures of the surface map, x along the picture's width (transposed from x-major).
+/// Half-width (m) of the strip drawn in surface pictures.
+const SURFACE_WINDOW: f64 = 250.0;
+
+/// Pictures of the surface map over the central strip, x along the picture's width.
 pub fn write_surface_pictures(dir: &Path, map: &SurfaceMap) -> Result<Vec<PathBuf>, WakelabError> {
-    let (rows, cols) = (map.x.len(), map.y.len());
+    let rows = map.x.len();
+    // picture rows: y from port (top) to starboard (bottom)
+    let cols: Vec<usize> = (0..map.y.len())
+        .rev()
+        .filter(|&c| map.y[c].abs() <= SURFACE_WINDOW)
+        .collect();
+    let (y_lo, y_hi) = (map.y[cols[cols.len() - 1]], map.y[cols[0]]);
     let mut files = Vec::new();
     for (name, diverging) in PICTURED {
         let i = field_index(name);
         let src = &map.fields[i];
-        let mut t = vec![0f32; rows * cols];
-        for r in 0..rows {
-            for c in 0..cols {
-                // picture row = y from port (top) to starboard (bottom)
-                t[(cols - 1 - c) * rows + r] = src[r * cols + c];
-            }
+        let mut t = Vec::with_capacity(rows * cols.len());
+        for &c in &cols {
+            t.extend((0..rows).map(|r| src[r * map.y.len() + c]));
         }
         let (_, units, long) = SLICE_FIELDS[i];
         let pic = FieldPicture {
             values: &t,
-            rows: cols,
+            rows: cols.len(),
             cols: rows,
-            title: format!("surface {name}: {long}"),
+            title: format!("surface {name}"),
             units: units.into(),
             colormap: if diverging {
                 Colormap::Diverging
@@ -251,11 +257,9 @@ pub fn write_surface_pictures(dir: &Path, map: &SurfaceMap) -> Result<Vec<PathBu
             },
             size: (1200, 300),
             caption: format!(
-                "x {:.0}..{:.0} m behind the stern (left to right); y {:.0}..{:.0} m (port at top)",
+                "{long}; x {:.0}..{:.0} m behind the stern (left to right); y {y_lo:.0}..{y_hi:.0} m (port at top)",
                 map.x[0],
                 map.x[rows - 1],
-                map.y[0],
-                map.y[cols - 1]
             ),
         };
         let path = dir.join(format!("surface_{name}.png"));
@@ -265,38 +269,42 @@ pub fn write_surface_pictures(dir: &Path, map: &SurfaceMap) -> Result<Vec<PathBu
     Ok(files)
 }
 
-/// Pictures of one cross-section over the core of the grid.
+/// Half-width and depth (m) of the near-wake window drawn in cross-section pictures.
+const SECTION_WINDOW: (f64, f64) = (200.0, 60.0);
+
+/// Pictures of one cross-section, over the near-wake window of the core.
 pub fn write_section_pictures(dir: &Path, grid: &CrossGrid, s: &CrossSection) -> Result<Vec<PathBuf>, WakelabError> {
     let nz = grid.nz();
-    let core = grid.core.clone();
+    let cols: Vec<usize> = grid
+        .core
+        .clone()
+        .filter(|&j| grid.y_centres[j].abs() <= SECTION_WINDOW.0)
+        .collect();
+    let rows: Vec<usize> = (0..nz).filter(|&k| -grid.z_centres[k] <= SECTION_WINDOW.1).collect();
+    let (y0, y1) = (grid.y_faces[cols[0]], grid.y_faces[cols[cols.len() - 1] + 1]);
+    let depth = (rows.len() as f64 * grid.dz).min(grid.depth);
     let mut files = Vec::new();
     for (name, diverging) in PICTURED {
         let i = field_index(name);
         let src = &s.fields[i];
-        let cols = core.len();
-        let mut t = vec![0f32; nz * cols];
-        for (c, j) in core.clone().enumerate() {
-            for k in 0..nz {
-                t[k * cols + c] = src[j * nz + k];
-            }
+        let mut t = Vec::with_capacity(rows.len() * cols.len());
+        for &k in &rows {
+            t.extend(cols.iter().map(|&j| src[j * nz + k]));
         }
         let (_, units, long) = SLICE_FIELDS[i];
         let pic = FieldPicture {
             values: &t,
-            rows: nz,
-            cols,
-            title: format!("{name} at t = {:.0} s: {long}", s.time),
+            rows: rows.len(),
+            cols: cols.len(),
+            title: format!("{name} at t = {:.0} s", s.time),
             units: units.into(),
             colormap: if diverging {
                 Colormap::Diverging
             } else {
                 Colormap::Sequential
             },
-            size: (1000, 250),
-            caption: format!(
-                "y {:.0}..{:.0} m (starboard to port), depth 0..{:.0} m",
-                grid.y_faces[core.start], grid.y_faces[core.end], grid.depth
-            ),
+            size: (1000, 300),
+            caption: format!("{long}; y {y0:.0}..{y1:.0} m (starboard to port), depth 0..{depth:.0} m"),
         };
         let path = dir.join(format!("section_{name}_t{:05.0}.png", s.time));
         pic.write_png(&path)?;
@@ -341,7 +349,7 @@ pub fn write_idp_fields(dir: &Path, config: &WakelabConfig) -> Result<Vec<PathBu
     };
     let ds = layout.data_set("idp.nc")?;
     let path = file.temporary_path().to_path_buf();
-    let mut w = FileWriter::open(&path).map_err(|e| write_error(&path, e))?;
+    let mut w = buffered_writer(&path)?;
     w.set_def(&ds, Version::Offset64Bit, 0)
         .map_err(|e| write_error(&path, e))?;
     w.write_var_f32("y", &to_f32(&grid.y_centres))
@@ -370,7 +378,7 @@ pub fn write_idp_fields(dir: &Path, config: &WakelabConfig) -> Result<Vec<PathBu
             values: &t,
             rows: zs.len(),
             cols: ys.len(),
-            title: format!("{n}: {l}"),
+            title: format!("initial data plane {n}"),
             units: u.into(),
             colormap: if diverging {
                 Colormap::Diverging
@@ -378,7 +386,7 @@ pub fn write_idp_fields(dir: &Path, config: &WakelabConfig) -> Result<Vec<PathBu
                 Colormap::Sequential
             },
             size: (800, 400),
-            caption: "y -30..30 m (starboard to port), depth 0..15 m".into(),
+            caption: format!("{l}; y -30..30 m (starboard to port), depth 0..15 m"),
         };
         let path = dir.join(format!("idp_{n}.png"));
         pic.write_png(&path)?;

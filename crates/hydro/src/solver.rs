@@ -9,9 +9,9 @@ use crate::momentum::{corner_shear, v_tendency, w_tendency, MomentumInputs};
 use crate::pressure::PressureSolver;
 use crate::setup::{Setup, PRANDTL, SCHMIDT};
 use crate::state::WakeState;
-use crate::transport::{advect_diffuse, Diffusivity};
+use crate::transport::{advect_diffuse, Diffusivity, Transported};
 use crate::turbulence::{add_k_eps_sources, Derived};
-use ndarray::{Array2, Zip};
+use ndarray::Array2;
 use rayon::prelude::*;
 use wakelab_core::config::{LateralBoundary, WakelabConfig};
 use wakelab_core::WakelabError;
@@ -139,7 +139,15 @@ impl WakeSolver {
 
     /// Advance by one step of at most `limit` seconds; returns the step taken.
     pub fn step(&mut self, limit: f64) -> Result<f64, WakelabError> {
-        let (dt, why) = self.stable_dt();
+        // L(s0), which also brings the derived fields up to date for the time step
+        evaluate_tendency(
+            &self.setup,
+            &mut self.derived,
+            &mut self.shear,
+            &self.state,
+            &mut self.tendency,
+        );
+        let (dt, why) = stable_dt(&self.setup, &self.state, &self.derived, self.cfl, self.max_dt);
         if dt < MIN_DT && limit > MIN_DT {
             let field = match why {
                 StepLimit::Advection => "V/W (Courant number)",
@@ -154,17 +162,23 @@ impl WakeSolver {
             });
         }
         let dt = dt.min(limit);
-        // Heun: s1 = s0 + dt L(s0); s_new = (s0 + s1 + dt L(s1)) / 2
-        evaluate_tendency(
+        // Heun: s1 = s0 + dt L(s0); s_new = (s0 + s1 + dt L(s1)) / 2, each pass fused with the
+        // positivity floor of k and eps and (last) the check for non-finite values.
+        let floors = self.floors();
+        for ((stage, base), (tend, floor)) in fields_mut(&mut self.stage)
+            .into_iter()
+            .zip(fields(&self.state))
+            .zip(fields(&self.tendency).into_iter().zip(floors))
+        {
+            euler_update(slice_mut(stage), slice(base), slice(tend), dt, floor);
+        }
+        project(
             &self.setup,
-            &mut self.derived,
-            &mut self.shear,
-            &self.state,
-            &mut self.tendency,
+            &self.pressure,
+            &mut self.stage,
+            &mut self.rhs,
+            &mut self.scratch,
         );
-        self.stage.clone_from(&self.state);
-        axpy(&mut self.stage, dt, &self.tendency);
-        self.finish_stage(true);
         evaluate_tendency(
             &self.setup,
             &mut self.derived,
@@ -172,13 +186,27 @@ impl WakeSolver {
             &self.stage,
             &mut self.tendency,
         );
-        axpy(&mut self.stage, dt, &self.tendency);
-        average_into(&mut self.state, &self.stage);
-        self.finish_stage(false);
+        let mut bad = Vec::new();
+        for (((state, stage), tend), (floor, name)) in fields_mut(&mut self.state)
+            .into_iter()
+            .zip(fields(&self.stage))
+            .zip(fields(&self.tendency))
+            .zip(floors.into_iter().zip(FIELD_NAMES))
+        {
+            if !heun_update(slice_mut(state), slice(stage), slice(tend), dt, floor) {
+                bad.push(name);
+            }
+        }
+        project(
+            &self.setup,
+            &self.pressure,
+            &mut self.state,
+            &mut self.rhs,
+            &mut self.scratch,
+        );
         self.time += dt;
         self.steps += 1;
         self.last_dt = dt;
-        let bad = non_finite_fields(&self.state);
         if !bad.is_empty() {
             return Err(WakelabError::BlowUp {
                 step: self.steps,
@@ -197,25 +225,54 @@ impl WakeSolver {
         Ok(())
     }
 
-    fn finish_stage(&mut self, on_stage: bool) {
-        let target = if on_stage { &mut self.stage } else { &mut self.state };
-        clip_turbulence(&self.setup, target);
-        project(&self.setup, &self.pressure, target, &mut self.rhs, &mut self.scratch);
+    /// Lower bounds of each field in [`fields`] order: k and eps stay positive, at a thousandth
+    /// of their ambient values.
+    fn floors(&self) -> [f64; 7] {
+        let f = f64::NEG_INFINITY;
+        [
+            f,
+            f,
+            f,
+            1e-3 * self.setup.ambient_k,
+            1e-3 * self.setup.ambient_eps,
+            f,
+            f,
+        ]
     }
 }
 
-/// s += dt * t, field by field.
-fn axpy(s: &mut WakeState, dt: f64, t: &WakeState) {
-    for (a, b) in fields_mut(s).into_iter().zip(fields(t)) {
-        Zip::from(a).and(b).par_for_each(|x, &y| *x += dt * y);
-    }
+fn slice(a: &Array2<f64>) -> &[f64] {
+    a.as_slice().expect("standard layout")
 }
 
-/// s = (s + other) / 2, field by field.
-fn average_into(s: &mut WakeState, other: &WakeState) {
-    for (a, b) in fields_mut(s).into_iter().zip(fields(other)) {
-        Zip::from(a).and(b).par_for_each(|x, &y| *x = 0.5 * (*x + y));
-    }
+fn slice_mut(a: &mut Array2<f64>) -> &mut [f64] {
+    a.as_slice_mut().expect("standard layout")
+}
+
+const CHUNK: usize = 1 << 14;
+
+/// out = base + dt * tend, floored.
+fn euler_update(out: &mut [f64], base: &[f64], tend: &[f64], dt: f64, floor: f64) {
+    out.par_chunks_mut(CHUNK).enumerate().for_each(|(c, o)| {
+        let i0 = c * CHUNK;
+        for (i, x) in o.iter_mut().enumerate() {
+            *x = (base[i0 + i] + dt * tend[i0 + i]).max(floor);
+        }
+    });
+}
+
+/// state = (state + stage + dt * tend) / 2, floored; false if any value is not finite.
+fn heun_update(state: &mut [f64], stage: &[f64], tend: &[f64], dt: f64, floor: f64) -> bool {
+    state.par_chunks_mut(CHUNK).enumerate().all(|(c, o)| {
+        let i0 = c * CHUNK;
+        let mut finite = true;
+        for (i, x) in o.iter_mut().enumerate() {
+            let v = 0.5 * (*x + stage[i0 + i] + dt * tend[i0 + i]);
+            finite &= v.is_finite();
+            *x = v.max(floor);
+        }
+        finite
+    })
 }
 
 fn fields(s: &WakeState) -> [&Array2<f64>; 7] {
@@ -235,22 +292,6 @@ fn fields_mut(s: &mut WakeState) -> [&mut Array2<f64>; 7] {
 }
 
 const FIELD_NAMES: [&str; 7] = ["U", "V", "W", "k", "eps", "dT", "dS"];
-
-fn non_finite_fields(s: &WakeState) -> Vec<&'static str> {
-    fields(s)
-        .iter()
-        .zip(FIELD_NAMES)
-        .filter(|(a, _)| a.as_slice().expect("layout").par_iter().any(|x| !x.is_finite()))
-        .map(|(_, n)| n)
-        .collect()
-}
-
-/// Keep k and eps positive: floors a thousandth of the ambient values.
-fn clip_turbulence(s: &Setup, state: &mut WakeState) {
-    let (kmin, emin) = (1e-3 * s.ambient_k, 1e-3 * s.ambient_eps);
-    state.k.par_mapv_inplace(|x| x.max(kmin));
-    state.eps.par_mapv_inplace(|x| x.max(emin));
-}
 
 /// The stable time step (see module docs).
 fn stable_dt(s: &Setup, state: &WakeState, d: &Derived, cfl: f64, max_dt: f64) -> (f64, StepLimit) {
@@ -312,73 +353,85 @@ fn evaluate_tendency(s: &Setup, d: &mut Derived, shear: &mut [f64], state: &Wake
     v_tendency(s, &inputs, out.v.as_slice_mut().expect("layout"));
     w_tendency(s, &inputs, out.w.as_slice_mut().expect("layout"));
 
-    let momentum = Diffusivity {
-        molecular: s.viscosity,
-        turbulent_factor: 1.0,
-        eddy_viscosity: nut,
-        vertical_factor: somero_shear,
-    };
-    let du = out.u.as_slice_mut().expect("layout");
-    advect_diffuse(s, u, v, w, &momentum, 0.0, du);
-    add_axial_forces(s, u, du);
-
     let scalar = |molecular: f64, sigma: f64| Diffusivity {
         molecular,
         turbulent_factor: 1.0 / sigma,
         eddy_viscosity: nut,
         vertical_factor: None,
     };
-    let k = state.k.as_slice().expect("layout");
-    let eps = state.eps.as_slice().expect("layout");
-    advect_diffuse(
-        s,
-        k,
-        v,
-        w,
-        &scalar(s.viscosity, c.sigma_k),
-        s.ambient_k,
-        out.k.as_slice_mut().expect("layout"),
+    let momentum = Diffusivity {
+        vertical_factor: somero_shear,
+        ..scalar(s.viscosity, 1.0)
+    };
+    let transported = [
+        Transported {
+            values: u,
+            diffusivity: momentum,
+            ambient: 0.0,
+        },
+        Transported {
+            values: slice(&state.k),
+            diffusivity: scalar(s.viscosity, c.sigma_k),
+            ambient: s.ambient_k,
+        },
+        Transported {
+            values: slice(&state.eps),
+            diffusivity: scalar(s.viscosity, c.sigma_eps),
+            ambient: s.ambient_eps,
+        },
+        Transported {
+            values: slice(&state.temperature),
+            diffusivity: scalar(s.viscosity / PRANDTL, c.sigma_t),
+            ambient: 0.0,
+        },
+        Transported {
+            values: slice(&state.salinity),
+            diffusivity: scalar(s.viscosity / SCHMIDT, c.sigma_t),
+            ambient: 0.0,
+        },
+    ];
+    let WakeState {
+        u: du,
+        k: dk,
+        eps: deps,
+        temperature: dtemp,
+        salinity: dsal,
+        ..
+    } = out;
+    let (du, dk, deps, dtemp, dsal) = (
+        du.as_slice_mut().expect("layout"),
+        dk.as_slice_mut().expect("layout"),
+        deps.as_slice_mut().expect("layout"),
+        dtemp.as_slice_mut().expect("layout"),
+        dsal.as_slice_mut().expect("layout"),
     );
     advect_diffuse(
         s,
-        eps,
+        &transported,
         v,
         w,
-        &scalar(s.viscosity, c.sigma_eps),
-        s.ambient_eps,
-        out.eps.as_slice_mut().expect("layout"),
+        [&mut *du, &mut *dk, &mut *deps, &mut *dtemp, &mut *dsal],
     );
-    add_k_eps_sources(
-        s,
-        state,
-        d,
-        out.k.as_slice_mut().expect("layout"),
-        out.eps.as_slice_mut().expect("layout"),
-    );
-
-    let t = state.temperature.as_slice().expect("layout");
-    let dt_out = out.temperature.as_slice_mut().expect("layout");
-    advect_diffuse(s, t, v, w, &scalar(s.viscosity / PRANDTL, c.sigma_t), 0.0, dt_out);
+    add_axial_forces(s, u, du);
+    add_k_eps_sources(s, state, d, dk, deps);
+    let col = &s.column;
     add_background_sources(
         s,
         nut,
         w,
-        t,
-        &s.column.dtemperature_dz,
-        &s.column.face_dtemperature_dz,
-        dt_out,
+        transported[3].values,
+        &col.dtemperature_dz,
+        &col.face_dtemperature_dz,
+        dtemp,
     );
-    let sal = state.salinity.as_slice().expect("layout");
-    let ds_out = out.salinity.as_slice_mut().expect("layout");
-    advect_diffuse(s, sal, v, w, &scalar(s.viscosity / SCHMIDT, c.sigma_t), 0.0, ds_out);
     add_background_sources(
         s,
         nut,
         w,
-        sal,
-        &s.column.dsalinity_dz,
-        &s.column.face_dsalinity_dz,
-        ds_out,
+        transported[4].values,
+        &col.dsalinity_dz,
+        &col.face_dsalinity_dz,
+        dsal,
     );
 }
 

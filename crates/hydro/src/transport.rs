@@ -43,72 +43,122 @@ pub struct Diffusivity<'a> {
 
 impl Diffusivity<'_> {
     #[inline]
-    fn horizontal(&self, i: usize) -> f64 {
-        self.molecular + self.turbulent_factor * self.eddy_viscosity[i]
-    }
-
-    #[inline]
     fn vertical(&self, i: usize) -> f64 {
         let f = self.vertical_factor.map_or(1.0, |f| f[i]);
         self.molecular + self.turbulent_factor * self.eddy_viscosity[i] * f
     }
 }
 
-/// Cross-track flux (per unit area) of `phi` through y face `jf` at level `k`.
+/// One transported field: its values, diffusivity, inflow value at outlets and tendency.
+pub struct Transported<'a> {
+    pub values: &'a [f64],
+    pub diffusivity: Diffusivity<'a>,
+    /// Value carried in through an outlet.
+    pub ambient: f64,
+}
+
+/// Columns per parallel task: each task computes every y-face flux of its columns once.
+pub const COLUMN_BLOCK: usize = 32;
+
+/// Cross-track fluxes (per unit area) of every field through y face `jf` at level `k`, into `out`.
 #[inline]
-fn y_flux(s: &Setup, phi: &[f64], v: &[f64], diff: &Diffusivity, jf: usize, k: usize, ambient: f64) -> f64 {
+fn y_fluxes<const N: usize>(
+    s: &Setup,
+    f: &[Transported; N],
+    v: &[f64],
+    nut: &[f64],
+    jf: usize,
+    k: usize,
+    out: &mut [f64; N],
+) {
     let (ny, nz) = (s.ny, s.nz);
     let vel = v[jf * nz + k];
     if jf == 0 || jf == ny {
-        return match s.lateral {
-            LateralBoundary::Wall => 0.0,
-            LateralBoundary::Outlet => {
-                let inside = phi[if jf == 0 { k } else { (ny - 1) * nz + k }];
-                let inflow = (jf == 0 && vel > 0.0) || (jf == ny && vel < 0.0);
-                vel * if inflow { ambient } else { inside }
-            }
-        };
+        let inside = if jf == 0 { k } else { (ny - 1) * nz + k };
+        let inflow = (jf == 0 && vel > 0.0) || (jf == ny && vel < 0.0);
+        for (o, t) in out.iter_mut().zip(f) {
+            *o = match s.lateral {
+                LateralBoundary::Wall => 0.0,
+                LateralBoundary::Outlet => vel * if inflow { t.ambient } else { t.values[inside] },
+            };
+        }
+        return;
     }
-    let (l, r) = (jf - 1, jf);
-    let at = |j: usize| phi[j * nz + k];
-    let face = if vel >= 0.0 {
-        upwind_face(if l >= 1 { Some(at(l - 1)) } else { None }, at(l), at(r))
+    let (l, r) = ((jf - 1) * nz + k, jf * nz + k);
+    let nut_face = 0.5 * (nut[l] + nut[r]);
+    let inv_d = 1.0 / s.dyc[jf];
+    let (a, b, aa) = if vel >= 0.0 {
+        (l, r, (jf >= 2).then(|| l - nz))
     } else {
-        upwind_face(if r + 1 < ny { Some(at(r + 1)) } else { None }, at(r), at(l))
+        (r, l, (jf + 1 < ny).then(|| r + nz))
     };
-    let kd = 0.5 * (diff.horizontal(l * nz + k) + diff.horizontal(r * nz + k));
-    vel * face - kd * (at(r) - at(l)) / s.dyc[jf]
+    for (o, t) in out.iter_mut().zip(f) {
+        let p = t.values;
+        let face = upwind_face(aa.map(|i| p[i]), p[a], p[b]);
+        let kd = t.diffusivity.molecular + t.diffusivity.turbulent_factor * nut_face;
+        *o = vel * face - kd * (p[r] - p[l]) * inv_d;
+    }
 }
 
-/// Tendency of a cell-centred field from advection by (V, W) and diffusion, written to `out`.
-pub fn advect_diffuse(s: &Setup, phi: &[f64], v: &[f64], w: &[f64], diff: &Diffusivity, ambient: f64, out: &mut [f64]) {
+/// Tendencies of N cell-centred fields from advection by (V, W) and diffusion, in one pass that
+/// shares the velocity, upwind direction and eddy viscosity of every face; written to `out`.
+pub fn advect_diffuse<const N: usize>(
+    s: &Setup,
+    fields: &[Transported; N],
+    v: &[f64],
+    w: &[f64],
+    out: [&mut [f64]; N],
+) {
     let nz = s.nz;
     let dz = s.dz;
-    out.par_chunks_mut(nz).enumerate().for_each(|(j, col)| {
-        let c = &phi[j * nz..(j + 1) * nz];
-        let wcol = &w[j * (nz + 1)..(j + 1) * (nz + 1)];
-        let inv_dy = 1.0 / s.dy[j];
-        // upward flux through the top face of cell k (zero at the lid)
-        let mut top = 0.0;
-        for k in 0..nz {
-            let bottom = if k + 1 < nz {
-                let kf = k + 1;
-                let vel = wcol[kf];
-                // the face lies between cell kf - 1 (above) and kf (below)
-                let face = if vel >= 0.0 {
-                    upwind_face(if kf + 1 < nz { Some(c[kf + 1]) } else { None }, c[kf], c[kf - 1])
-                } else {
-                    upwind_face(if kf >= 2 { Some(c[kf - 2]) } else { None }, c[kf - 1], c[kf])
-                };
-                let kd = 0.5 * (diff.vertical(j * nz + kf - 1) + diff.vertical(j * nz + kf));
-                vel * face - kd * (c[kf - 1] - c[kf]) / dz
-            } else {
-                0.0
-            };
-            let west = y_flux(s, phi, v, diff, j, k, ambient);
-            let east = y_flux(s, phi, v, diff, j + 1, k, ambient);
-            col[k] = -(east - west) * inv_dy + (bottom - top) / dz;
-            top = bottom;
+    let nut = fields[0].diffusivity.eddy_viscosity;
+    let size = nz * COLUMN_BLOCK;
+    let mut iters = out.map(|o| o.chunks_mut(size));
+    let blocks: Vec<[&mut [f64]; N]> = (0..s.ny.div_ceil(COLUMN_BLOCK))
+        .map(|_| std::array::from_fn(|f| iters[f].next().expect("block")))
+        .collect();
+    blocks.into_par_iter().enumerate().for_each(|(b, block)| {
+        let j0 = b * COLUMN_BLOCK;
+        let columns = block[0].len() / nz;
+        let mut west = vec![[0.0; N]; nz];
+        let mut east = vec![[0.0; N]; nz];
+        for (k, wf) in west.iter_mut().enumerate() {
+            y_fluxes(s, fields, v, nut, j0, k, wf);
+        }
+        for dj in 0..columns {
+            let j = j0 + dj;
+            for (k, e) in east.iter_mut().enumerate() {
+                y_fluxes(s, fields, v, nut, j + 1, k, e);
+            }
+            let wcol = &w[j * (nz + 1)..(j + 1) * (nz + 1)];
+            let inv_dy = 1.0 / s.dy[j];
+            let base = j * nz;
+            // upward flux through the top face of cell k (zero at the lid)
+            let mut top = [0.0; N];
+            for k in 0..nz {
+                let mut bottom = [0.0; N];
+                if k + 1 < nz {
+                    let kf = k + 1;
+                    let vel = wcol[kf];
+                    // the face lies between cell kf - 1 (above) and kf (below)
+                    let (a, bb, aa) = if vel >= 0.0 {
+                        (kf, kf - 1, (kf + 1 < nz).then_some(kf + 1))
+                    } else {
+                        (kf - 1, kf, (kf >= 2).then(|| kf - 2))
+                    };
+                    for (o, t) in bottom.iter_mut().zip(fields) {
+                        let c = &t.values[base..base + nz];
+                        let face = upwind_face(aa.map(|i| c[i]), c[a], c[bb]);
+                        let kd = 0.5 * (t.diffusivity.vertical(base + kf - 1) + t.diffusivity.vertical(base + kf));
+                        *o = vel * face - kd * (c[kf - 1] - c[kf]) / dz;
+                    }
+                }
+                for f in 0..N {
+                    block[f][dj * nz + k] = -(east[k][f] - west[k][f]) * inv_dy + (bottom[f] - top[f]) / dz;
+                }
+                top = bottom;
+            }
+            std::mem::swap(&mut west, &mut east);
         }
     });
 }

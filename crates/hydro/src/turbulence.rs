@@ -108,8 +108,17 @@ pub fn somero_wall_factor(k: f64, eps: f64, depth: f64) -> f64 {
     (0.07 * k.powf(1.5) / (eps * depth.max(1e-6))).powi(2)
 }
 
-/// Eqs. (2.15)-(2.20): damping of u'w' and v'w' by 1 - 1/(1 + 2/(3f)) and the redistribution of
-/// w'w' (2/3 to u'u', which has no effect with d/dx = 0, 1/3 to v'v').
+/// Somero's corrections for wall factor `f`, as multiples of the k-epsilon stresses:
+/// (kept fraction of u'w' and v'w', added v'v' per w'w', added w'w' per w'w'), Eqs. (2.16)-(2.19).
+/// The u'u' gain of (2.15) (erratum 3) has no effect when d/dx = 0.
+pub fn somero_factors(f: f64) -> (f64, f64, f64) {
+    let shear_kept = 1.0 - 1.0 / (1.0 + 2.0 / (3.0 * f)); // (2.18), (2.19)
+    let vv = 1.0 / (3.0 + 1.0 / f); // (2.16)
+    let ww = -1.0 / (1.0 + 1.0 / (2.0 * f)); // (2.17)
+    (shear_kept, vv, ww)
+}
+
+/// Eqs. (2.15)-(2.20): damping of u'w' and v'w' and the redistribution of w'w' near the surface.
 fn somero_corrections(s: &Setup, state: &WakeState, nut: &[f64], shear: &mut [f64], vv: &mut [f64], ww: &mut [f64]) {
     let nz = s.nz;
     let k = state.k.as_slice().expect("layout");
@@ -119,11 +128,12 @@ fn somero_corrections(s: &Setup, state: &WakeState, nut: &[f64], shear: &mut [f6
         for kk in 0..nz {
             let i = j * nz + kk;
             let f = somero_wall_factor(k[i], eps[i], -s.grid.z_centres[kk]);
-            shear[i] = 1.0 - 1.0 / (1.0 + 2.0 / (3.0 * f)); // (2.18), (2.19)
+            let (kept, vv_gain, ww_gain) = somero_factors(f);
+            shear[i] = kept;
             let dwdz = (w[j * (nz + 1) + kk] - w[j * (nz + 1) + kk + 1]) / s.dz;
             let w2 = (2.0 / 3.0 * k[i] - 2.0 * nut[i] * dwdz).max(0.0);
-            vv[i] = w2 / (3.0 + 1.0 / f); // (2.16)
-            ww[i] = -w2 / (1.0 + 1.0 / (2.0 * f)); // (2.17)
+            vv[i] = vv_gain * w2;
+            ww[i] = ww_gain * w2;
         }
     }
 }
@@ -160,4 +170,24 @@ pub fn add_k_eps_sources(s: &Setup, state: &WakeState, d: &Derived, dk: &mut [f6
                     - sigma * (eps[i] - s.ambient_eps);
             }
         });
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The limits the spec states for Eqs. (2.15)-(2.21): at the surface (1/f -> 0) all of w'w' is
+    /// removed, one third of it goes to v'v' and the shear stresses u'w', v'w' vanish; far from the
+    /// surface (f -> 0) every correction vanishes.
+    #[test]
+    fn somero_corrections_reach_the_limits_of_the_spec() {
+        let surface = somero_wall_factor(0.01, 1e-5, 1e-9);
+        let (kept, vv, ww) = somero_factors(surface);
+        assert!(kept < 1e-9 && (vv - 1.0 / 3.0).abs() < 1e-9 && (ww + 1.0).abs() < 1e-9);
+        let deep = somero_wall_factor(1e-4, 1e-6, 100.0);
+        let (kept, vv, ww) = somero_factors(deep);
+        assert!((kept - 1.0).abs() < 1e-6 && vv.abs() < 1e-6 && ww.abs() < 1e-6);
+        // f = (C k^1.5 / (eps z))^a with C = 0.07, a = 2 (Eq. 2.21)
+        assert!((somero_wall_factor(1.0, 1.0, 0.07) - 1.0).abs() < 1e-12);
+    }
 }

@@ -369,3 +369,32 @@ fn internal_waves_leave_through_the_beaches() {
     );
     assert!(back_beach < 0.05, "beaches let {back_beach} of the amplitude come back");
 }
+
+#[test]
+fn somero_anisotropy_option_changes_the_near_surface_wake_only_when_on() {
+    let run = |on: bool| {
+        let cfg = config(&format!(
+            "[solver]\nsomero_anisotropy = {on}\n[grid]\ncore_width = 200.0\ndepth = 40.0\ncore_cells = 100\ndepth_cells = 27\nbeach_width = 50.0\nbeach_cells = 6\n"
+        ));
+        let mut solver = WakeSolver::new(&cfg);
+        solver.run_until(300.0).unwrap();
+        solver.state().clone()
+    };
+    let (off, on) = (run(false), run(true));
+    let diff = |k: usize| {
+        (0..off.u.nrows())
+            .map(|j| (off.u[[j, k]] - on.u[[j, k]]).abs())
+            .fold(0.0, f64::max)
+    };
+    let scale = off.u.iter().fold(0.0f64, |m, x| m.max(x.abs()));
+    eprintln!(
+        "Somero on vs off: max |dU| at the surface {:.3e}, at 30 m {:.3e}, |U| {scale:.3e}",
+        diff(0),
+        diff(20)
+    );
+    assert!(diff(0) > 1e-3 * scale, "the option had no effect at the surface");
+    assert!(
+        diff(20) < diff(0),
+        "the correction acted more at depth than at the surface"
+    );
+}

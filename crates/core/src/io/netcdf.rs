@@ -97,6 +97,14 @@ impl CfLayout {
     }
 }
 
+/// A `netcdf3` writer on `path` through a 1 MiB buffer (the crate writes value by value; unbuffered
+/// that is one system call per number). The buffer is flushed when the writer is closed.
+pub fn buffered_writer<'a>(path: &std::path::Path) -> Result<netcdf3::FileWriter<'a>, WakelabError> {
+    let file = std::fs::File::create(path).map_err(|e| WakelabError::io(path, e))?;
+    let out = std::io::BufWriter::with_capacity(1 << 20, file);
+    netcdf3::FileWriter::open_seek_write(&path.display().to_string(), Box::new(out)).map_err(|e| write_error(path, e))
+}
+
 /// Map a `netcdf3` write error to a [`WakelabError`].
 pub fn write_error(path: &std::path::Path, e: netcdf3::WriteError) -> WakelabError {
     WakelabError::NetCdf {
@@ -108,7 +116,7 @@ pub fn write_error(path: &std::path::Path, e: netcdf3::WriteError) -> WakelabErr
 #[cfg(test)]
 mod tests {
     use super::*;
-    use netcdf3::{FileReader, FileWriter, Version};
+    use netcdf3::{FileReader, Version};
 
     #[test]
     fn written_file_reads_back_with_cf_attributes() {
@@ -124,7 +132,7 @@ mod tests {
             global: vec![("title".into(), "test".into())],
         };
         let ds = layout.data_set("t.nc").unwrap();
-        let mut w = FileWriter::open(&path).unwrap();
+        let mut w = buffered_writer(&path).unwrap();
         w.set_def(&ds, Version::Offset64Bit, 0).unwrap();
         w.write_var_f32("y", &[0.0, 1.0, 2.0]).unwrap();
         w.write_record_f32("u", 0, &[1.0, 2.0, 3.0]).unwrap();

@@ -3,7 +3,9 @@
 //! The field is resampled (nearest cell) to the requested picture size, coloured with a
 //! perceptually uniform sequential map (viridis, for magnitudes) or a blue-white-red diverging map
 //! (for signed anomalies, centred on zero), and framed with a colour bar whose end and middle
-//! values are printed with an 8x8 bitmap font, so no font files are needed.
+//! values are printed with an 8x8 bitmap font, so no font files are needed. The colour range
+//! spans the 0.5th to 99.5th percentiles (for a diverging map: +- the 99.5th percentile of |v|),
+//! so a few extreme cells do not wash out the picture; values beyond it take the end colours.
 
 use crate::error::WakelabError;
 use crate::io::atomic::AtomicFile;
@@ -79,22 +81,29 @@ const LABEL_W: u32 = 110;
 const CAPTION_H: u32 = 22;
 
 impl FieldPicture<'_> {
-    /// Colour range: symmetric about zero for a diverging map, min..max otherwise.
+    /// Colour range: +- the 99.5th percentile of |v| for a diverging map, the 0.5th..99.5th
+    /// percentiles otherwise.
     pub fn range(&self) -> (f64, f64) {
-        let (mut lo, mut hi) = (f64::INFINITY, f64::NEG_INFINITY);
-        for &v in self.values.iter().filter(|v| v.is_finite()) {
-            lo = lo.min(v as f64);
-            hi = hi.max(v as f64);
-        }
-        if !lo.is_finite() {
+        let mut finite: Vec<f64> = self
+            .values
+            .iter()
+            .filter(|v| v.is_finite())
+            .map(|&v| v as f64)
+            .collect();
+        if finite.is_empty() {
             return (0.0, 1.0);
         }
+        let quantile = |sorted: &[f64], q: f64| sorted[((sorted.len() - 1) as f64 * q).round() as usize];
         match self.colormap {
             Colormap::Diverging => {
-                let m = lo.abs().max(hi.abs()).max(1e-30);
+                finite.iter_mut().for_each(|v| *v = v.abs());
+                finite.sort_by(f64::total_cmp);
+                let m = quantile(&finite, 0.995).max(1e-30);
                 (-m, m)
             }
             Colormap::Sequential => {
+                finite.sort_by(f64::total_cmp);
+                let (lo, hi) = (quantile(&finite, 0.005), quantile(&finite, 0.995));
                 if hi > lo {
                     (lo, hi)
                 } else {

@@ -1,0 +1,155 @@
+//! The `wakelab` command as a user runs it.
+
+use std::path::Path;
+use std::process::{Command, Output};
+
+fn wakelab(args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_wakelab"))
+        .args(args)
+        .output()
+        .expect("wakelab runs")
+}
+
+fn stdout(o: &Output) -> String {
+    String::from_utf8_lossy(&o.stdout).into_owned()
+}
+
+fn stderr(o: &Output) -> String {
+    String::from_utf8_lossy(&o.stderr).into_owned()
+}
+
+/// A grid small enough to simulate in a second.
+const TINY: &str = r#"
+[grid]
+core_width = 200.0
+depth = 30.0
+core_cells = 60
+depth_cells = 15
+beach_width = 60.0
+beach_cells = 6
+[time]
+duration = 120.0
+surface_interval = 20.0
+output_interval = 60.0
+"#;
+
+#[test]
+fn idp_json_has_every_scalar_the_issue_names() {
+    let o = wakelab(&["idp", "--json"]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let v: serde_json::Value = serde_json::from_str(&stdout(&o)).expect("JSON");
+    for key in [
+        "Re", "Fr", "C_f", "C_D", "theta", "x_0", "y_h", "z_h", "U_f_max", "k_f_max", "R_wave", "U_w_max", "T", "r_h",
+        "U_p_max", "k_p_max", "Q", "r_sh", "V_s_max", "a_r", "y_rh", "z_rh", "U_r_max",
+    ] {
+        assert!(v[key].is_number(), "missing {key}");
+    }
+    // Table 2.1
+    assert!((v["Re"].as_f64().unwrap() / 9.94e8 - 1.0).abs() < 5e-3);
+    assert!((v["Fr"].as_f64().unwrap() / 0.188 - 1.0).abs() < 5e-3);
+}
+
+#[test]
+fn config_show_prints_a_configuration_that_reads_back() {
+    let o = wakelab(&["config", "show", "--preset", "paper"]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let text = stdout(&o);
+    assert!(
+        text.contains("core_cells = 4001") && text.contains("depth_cells = 201"),
+        "{text}"
+    );
+    let dir = tempfile::tempdir().unwrap();
+    let file = dir.path().join("shown.toml");
+    std::fs::write(&file, &text).unwrap();
+    let again = wakelab(&["config", "show", "--config", file.to_str().unwrap()]);
+    assert!(again.status.success(), "{}", stderr(&again));
+    assert_eq!(stdout(&again), text);
+}
+
+#[test]
+fn bad_values_are_refused_before_any_output() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("run");
+    for (toml, field, allowed) in [
+        ("[ship]\nspeed = 45.0\n", "ship.speed", "[0.1, 30]"),
+        ("[grid]\ncore_cells = 2\n", "grid.core_cells", "[8, 20001]"),
+        (
+            "[environment.swell]\namplitude = -1.0\n",
+            "environment.swell.amplitude",
+            "[0, 10]",
+        ),
+        ("[time]\ncfl = 3.0\n", "time.cfl", "[0.01, 0.9]"),
+        ("[ship]\nbeem = 3.0\n", "beem", "unknown field"),
+    ] {
+        let file = dir.path().join("bad.toml");
+        std::fs::write(&file, toml).unwrap();
+        let o = wakelab(&[
+            "run",
+            "--config",
+            file.to_str().unwrap(),
+            "--out",
+            out.to_str().unwrap(),
+            "--quiet",
+        ]);
+        assert!(!o.status.success(), "{toml} was accepted");
+        let err = stderr(&o);
+        assert!(err.contains(field) && err.contains(allowed), "{toml}: {err}");
+        assert!(!out.exists(), "{toml}: output written despite the error");
+    }
+}
+
+fn has_cf_conventions(path: &Path) -> bool {
+    let r = netcdf3::FileReader::open(path).expect("readable NetCDF");
+    r.data_set().get_global_attr_as_string("Conventions").as_deref() == Some("CF-1.8")
+}
+
+#[test]
+fn wake_run_writes_netcdf_pictures_and_the_configuration() {
+    let dir = tempfile::tempdir().unwrap();
+    let cfg = dir.path().join("tiny.toml");
+    std::fs::write(&cfg, TINY).unwrap();
+    let out = dir.path().join("run");
+    let o = wakelab(&[
+        "run",
+        "--config",
+        cfg.to_str().unwrap(),
+        "--out",
+        out.to_str().unwrap(),
+        "--quiet",
+    ]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    for f in ["wake_sections.nc", "wake_surface.nc", "surface_map.nc"] {
+        assert!(has_cf_conventions(&out.join(f)), "{f}");
+    }
+    let mut r = netcdf3::FileReader::open(out.join("wake_sections.nc")).unwrap();
+    let time = r.read_var_f32("time").unwrap();
+    assert_eq!(time, vec![0.0, 60.0, 120.0]);
+    let ds = r.data_set();
+    assert_eq!(ds.get_var_attr_as_string("U", "units").as_deref(), Some("m s-1"));
+    let mut m = netcdf3::FileReader::open(out.join("surface_map.nc")).unwrap();
+    let x = m.read_var_f32("x").unwrap();
+    // x = x_IDP + U_ship t, every map_dx = 25 m from 71 m up to 71 + 7 m/s * 120 s = 911 m
+    assert!(
+        (x[0] - 71.0).abs() < 1e-3 && (x[x.len() - 1] - 896.0).abs() < 1e-3,
+        "{:?}",
+        (x[0], x.last())
+    );
+    for f in [
+        "surface_U.png",
+        "surface_dT.png",
+        "section_U_t00000.png",
+        "config.toml",
+        "idp.json",
+    ] {
+        assert!(out.join(f).is_file(), "{f} missing");
+    }
+    let leftovers: Vec<_> = std::fs::read_dir(&out)
+        .unwrap()
+        .filter_map(|e| e.ok())
+        .filter(|e| e.file_name().to_string_lossy().ends_with(".tmp"))
+        .collect();
+    assert!(leftovers.is_empty());
+    // the run's configuration reads back
+    let shown = wakelab(&["config", "show", "--config", out.join("config.toml").to_str().unwrap()]);
+    assert!(shown.status.success(), "{}", stderr(&shown));
+}

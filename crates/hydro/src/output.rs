@@ -9,7 +9,7 @@ use crate::slices::{CrossSection, SurfaceMap, SLICE_FIELDS};
 use crate::{simulate_wake_with, WakeEvent, WakeSlices};
 use netcdf3::{FileWriter, Version};
 use std::path::{Path, PathBuf};
-use wakelab_core::io::netcdf::{buffered_writer, write_error, CfLayout, CfVariable};
+use wakelab_core::io::netcdf::{buffered_writer, write_error, write_netcdf, CfLayout, CfVariable};
 use wakelab_core::io::picture::{Colormap, FieldPicture};
 use wakelab_core::io::{write_atomically, AtomicFile};
 use wakelab_core::{CrossGrid, WakelabConfig, WakelabError};
@@ -182,7 +182,6 @@ fn write_record(w: &mut FileWriter, path: &Path, i: usize, time: f64, fields: &[
 
 /// Write the (x, y) surface map as NetCDF.
 pub fn write_surface_map(dir: &Path, config: &WakelabConfig, map: &SurfaceMap) -> Result<PathBuf, WakelabError> {
-    let file = AtomicFile::new(dir.join("surface_map.nc"))?;
     let mut vars = vec![
         CfVariable::new(
             "x",
@@ -200,20 +199,15 @@ pub fn write_surface_map(dir: &Path, config: &WakelabConfig, map: &SurfaceMap) -
         variables: vars,
         global: global_attributes(config, "wakelab surface wake map"),
     };
-    let ds = layout.data_set("surface_map.nc")?;
-    let path = file.temporary_path().to_path_buf();
-    let mut w = buffered_writer(&path)?;
-    w.set_def(&ds, Version::Offset64Bit, 0)
-        .map_err(|e| write_error(&path, e))?;
-    w.write_var_f32("x", &to_f32(&map.x))
-        .map_err(|e| write_error(&path, e))?;
-    w.write_var_f32("y", &to_f32(&map.y))
-        .map_err(|e| write_error(&path, e))?;
-    for ((name, _, _), data) in SLICE_FIELDS.iter().zip(&map.fields) {
-        w.write_var_f32(name, data).map_err(|e| write_error(&path, e))?;
-    }
-    w.close().map_err(|e| write_error(&path, e))?;
-    file.commit()
+    let (x, y) = (to_f32(&map.x), to_f32(&map.y));
+    let mut data: Vec<(&str, &[f32])> = vec![("x", &x), ("y", &y)];
+    data.extend(
+        SLICE_FIELDS
+            .iter()
+            .zip(&map.fields)
+            .map(|((n, _, _), d)| (*n, d.as_slice())),
+    );
+    write_netcdf(&dir.join("surface_map.nc"), &layout, &data)
 }
 
 /// Fields drawn in pictures: (name, diverging colour map).
@@ -338,7 +332,6 @@ pub fn write_idp_fields(dir: &Path, config: &WakelabConfig) -> Result<Vec<PathBu
             }
         }
     }
-    let file = AtomicFile::new(dir.join("idp.nc"))?;
     let mut vars = vec![z_var(), y_var()];
     vars.extend(names.iter().map(|(n, u, l)| CfVariable::new(n, &["y", "z"], u, l)));
     let layout = CfLayout {
@@ -347,20 +340,10 @@ pub fn write_idp_fields(dir: &Path, config: &WakelabConfig) -> Result<Vec<PathBu
         variables: vars,
         global: global_attributes(config, "wakelab initial data plane"),
     };
-    let ds = layout.data_set("idp.nc")?;
-    let path = file.temporary_path().to_path_buf();
-    let mut w = buffered_writer(&path)?;
-    w.set_def(&ds, Version::Offset64Bit, 0)
-        .map_err(|e| write_error(&path, e))?;
-    w.write_var_f32("y", &to_f32(&grid.y_centres))
-        .map_err(|e| write_error(&path, e))?;
-    w.write_var_f32("z", &to_f32(&grid.z_centres))
-        .map_err(|e| write_error(&path, e))?;
-    for ((n, _, _), d) in names.iter().zip(&data) {
-        w.write_var_f32(n, d).map_err(|e| write_error(&path, e))?;
-    }
-    w.close().map_err(|e| write_error(&path, e))?;
-    let mut files = vec![file.commit()?];
+    let (yc, zc) = (to_f32(&grid.y_centres), to_f32(&grid.z_centres));
+    let mut columns: Vec<(&str, &[f32])> = vec![("y", &yc), ("z", &zc)];
+    columns.extend(names.iter().zip(&data).map(|((n, _, _), d)| (*n, d.as_slice())));
+    let mut files = vec![write_netcdf(&dir.join("idp.nc"), &layout, &columns)?];
     // pictures of the near field: 60 m either side, top 20 m
     let (ys, zs): (Vec<usize>, Vec<usize>) = (
         (0..ny).filter(|&j| grid.y_centres[j].abs() <= 30.0).collect(),

@@ -24,11 +24,9 @@ pub struct WakeSolver {
     pub setup: Setup,
     state: WakeState,
     derived: Derived,
-    pressure: PressureSolver,
+    projector: Projector,
     tendency: WakeState,
     stage: WakeState,
-    rhs: Array2<f64>,
-    scratch: Array2<f64>,
     shear: Vec<f64>,
     time: f64,
     steps: usize,
@@ -66,16 +64,14 @@ impl WakeSolver {
     /// A solver starting from a given state (for tests and restarts).
     pub fn with_state(config: &WakelabConfig, setup: Setup, state: WakeState) -> Self {
         let (ny, nz) = (setup.ny, setup.nz);
-        let pressure = PressureSolver::new(&setup.grid, setup.lateral);
+        let projector = Projector::new(&setup);
         let derived = Derived::new(ny * nz, setup.somero);
         Self {
             tendency: state.clone(),
             stage: state.clone(),
             state,
             derived,
-            pressure,
-            rhs: Array2::zeros((ny, nz)),
-            scratch: Array2::zeros((nz, ny)),
+            projector,
             shear: vec![0.0; (ny + 1) * (nz + 1)],
             time: 0.0,
             steps: 0,
@@ -115,13 +111,7 @@ impl WakeSolver {
 
     /// Make the current velocity divergence-free (used once on the initial data plane).
     pub fn project_state(&mut self) {
-        project(
-            &self.setup,
-            &self.pressure,
-            &mut self.state,
-            &mut self.rhs,
-            &mut self.scratch,
-        );
+        self.projector.apply(&self.setup, &mut self.state);
     }
 
     /// Largest |div u| over the cells (1/s).
@@ -172,13 +162,7 @@ impl WakeSolver {
         {
             euler_update(slice_mut(stage), slice(base), slice(tend), dt, floor);
         }
-        project(
-            &self.setup,
-            &self.pressure,
-            &mut self.stage,
-            &mut self.rhs,
-            &mut self.scratch,
-        );
+        self.projector.apply(&self.setup, &mut self.stage);
         evaluate_tendency(
             &self.setup,
             &mut self.derived,
@@ -197,13 +181,7 @@ impl WakeSolver {
                 bad.push(name);
             }
         }
-        project(
-            &self.setup,
-            &self.pressure,
-            &mut self.state,
-            &mut self.rhs,
-            &mut self.scratch,
-        );
+        self.projector.apply(&self.setup, &mut self.state);
         self.time += dt;
         self.steps += 1;
         self.last_dt = dt;
@@ -497,6 +475,28 @@ pub fn divergence(s: &Setup, state: &WakeState, out: &mut Array2<f64>) {
                     + (w[j * (nz + 1) + kk] - w[j * (nz + 1) + kk + 1]) / s.dz;
             }
         });
+}
+
+/// The projection onto divergence-free velocity: the pressure solver and its work arrays.
+pub struct Projector {
+    solver: PressureSolver,
+    rhs: Array2<f64>,
+    scratch: Array2<f64>,
+}
+
+impl Projector {
+    pub fn new(s: &Setup) -> Self {
+        Self {
+            solver: PressureSolver::new(&s.grid, s.lateral),
+            rhs: Array2::zeros((s.ny, s.nz)),
+            scratch: Array2::zeros((s.nz, s.ny)),
+        }
+    }
+
+    /// Project the velocity of `state` (see [`project`]).
+    pub fn apply(&mut self, s: &Setup, state: &mut WakeState) {
+        project(s, &self.solver, state, &mut self.rhs, &mut self.scratch);
+    }
 }
 
 /// Project (V, W) onto divergence-free fields: solve D G p = D u*, then u = u* - G p.

@@ -46,30 +46,25 @@ impl ConfigArgs {
     }
 }
 
+/// Options of the commands that run stages.
+#[derive(Args, Debug, Clone)]
+struct RunArgs {
+    #[command(flatten)]
+    config: ConfigArgs,
+    /// Run directory (default: the configuration's output.dir).
+    #[arg(long, value_name = "DIR")]
+    out: Option<PathBuf>,
+    /// No progress bar.
+    #[arg(long)]
+    quiet: bool,
+}
+
 #[derive(Subcommand, Debug)]
 enum Command {
     /// Run the whole study (today: the wake simulation, its NetCDF files and pictures).
-    Run {
-        #[command(flatten)]
-        config: ConfigArgs,
-        /// Run directory (default: the configuration's output.dir).
-        #[arg(long, value_name = "DIR")]
-        out: Option<PathBuf>,
-        /// No progress bar.
-        #[arg(long)]
-        quiet: bool,
-    },
+    Run(RunArgs),
     /// Simulate the ship's wake only (stage 1, spec 2.1) and write its files.
-    Wake {
-        #[command(flatten)]
-        config: ConfigArgs,
-        /// Run directory (default: the configuration's output.dir).
-        #[arg(long, value_name = "DIR")]
-        out: Option<PathBuf>,
-        /// No progress bar.
-        #[arg(long)]
-        quiet: bool,
-    },
+    Wake(RunArgs),
     /// The initial data plane of the ship (spec Eqs. 2.26-2.62): its derived scalars.
     Idp {
         #[command(flatten)]
@@ -107,10 +102,10 @@ fn main() {
 
 fn dispatch(cli: Cli) -> Result<()> {
     match cli.command {
-        Command::Run { config, out, quiet } | Command::Wake { config, out, quiet } => {
-            let cfg = config.load()?;
-            let dir = out.unwrap_or_else(|| PathBuf::from(&cfg.output.dir));
-            run_wake(&cfg, &dir, quiet)
+        Command::Run(args) | Command::Wake(args) => {
+            let cfg = args.config.load()?;
+            let dir = args.out.unwrap_or_else(|| PathBuf::from(&cfg.output.dir));
+            run_wake(&cfg, &dir, args.quiet)
         }
         Command::Idp { config, json, write } => {
             let cfg = config.load()?;

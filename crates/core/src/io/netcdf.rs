@@ -105,6 +105,26 @@ pub fn buffered_writer<'a>(path: &std::path::Path) -> Result<netcdf3::FileWriter
     netcdf3::FileWriter::open_seek_write(&path.display().to_string(), Box::new(out)).map_err(|e| write_error(path, e))
 }
 
+/// Write a file of fixed-size variables atomically: `data` gives every variable's values.
+pub fn write_netcdf(
+    path: &std::path::Path,
+    layout: &CfLayout,
+    data: &[(&str, &[f32])],
+) -> Result<std::path::PathBuf, WakelabError> {
+    let file = crate::io::AtomicFile::new(path)?;
+    let name = path.file_name().unwrap_or_default().to_string_lossy().into_owned();
+    let ds = layout.data_set(&name)?;
+    let tmp = file.temporary_path().to_path_buf();
+    let mut w = buffered_writer(&tmp)?;
+    w.set_def(&ds, netcdf3::Version::Offset64Bit, 0)
+        .map_err(|e| write_error(&tmp, e))?;
+    for (var, values) in data {
+        w.write_var_f32(var, values).map_err(|e| write_error(&tmp, e))?;
+    }
+    w.close().map_err(|e| write_error(&tmp, e))?;
+    file.commit()
+}
+
 /// Map a `netcdf3` write error to a [`WakelabError`].
 pub fn write_error(path: &std::path::Path, e: netcdf3::WriteError) -> WakelabError {
     WakelabError::NetCdf {

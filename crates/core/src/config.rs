@@ -22,6 +22,9 @@ pub struct WakelabConfig {
     pub grid: GridConfig,
     pub time: TimeConfig,
     pub solver: SolverConfig,
+    pub sea: SeaConfig,
+    pub scene: SceneConfig,
+    pub platform: PlatformConfig,
     pub output: OutputConfig,
 }
 
@@ -276,6 +279,65 @@ pub struct SolverConfig {
     pub lateral_boundary: LateralBoundary,
     /// Upper limit on the eddy viscosity nu_t (m^2/s).
     pub max_eddy_viscosity: f64,
+}
+
+/// Background wave spectrum models (spec 2.3).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum SpectrumModel {
+    /// Pierson-Moskowitz (Eq. 2.71) for the long waves joined to the Lyzenga-Bennett power law
+    /// B k^-c (Eq. 2.70) for the short waves.
+    PiersonMoskowitz,
+    /// Elfouhaily et al. (1997) unified directional spectrum.
+    Elfouhaily,
+}
+
+/// The ocean surface stage: wave spectrum, surface film and the random sea surface (spec 2.2-2.3).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct SeaConfig {
+    pub spectrum: SpectrumModel,
+    /// Elfouhaily inverse wave age Omega_c (0.84: fully developed sea).
+    pub inverse_wave_age: f64,
+    /// Lyzenga-Bennett exponent c of the short-wave power law B k^-c of the 2D spectrum.
+    pub short_wave_exponent: f64,
+    /// Wavenumber where the power law takes over from Pierson-Moskowitz, in multiples of k_p.
+    pub short_wave_join: f64,
+    /// Relative spectral width (in k) of the swell component.
+    pub swell_width: f64,
+    /// Directional spread of the swell (degrees, standard deviation).
+    pub swell_spread: f64,
+    /// Dilational elasticity of the surface film at the reference concentration Gamma = 1 (N/m).
+    pub film_elasticity: f64,
+    /// Surface tension of clean sea water tau_w (N/m).
+    pub surface_tension: f64,
+    /// Side of the sampling window of the random surface (pixels, even; Eqs. 2.72-2.76).
+    pub window: usize,
+}
+
+/// The scene imaged by the sensors: a square of `size` x `size` pixels on the sea surface.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct SceneConfig {
+    /// Pixel spacing (m).
+    pub pixel_spacing: f64,
+    /// Pixels per side.
+    pub size: usize,
+    /// Distance behind the stern of the scene centre (m).
+    pub along_track: f64,
+    /// Cross-track offset of the scene centre from the ship's track (m, positive to port).
+    pub cross_track: f64,
+}
+
+/// Viewing geometry of the imaging platform.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct PlatformConfig {
+    /// Incidence angle at the scene centre (degrees).
+    pub incidence: f64,
+    /// Horizontal direction the sensor looks in, degrees counter-clockwise from the ship's heading
+    /// (90: looking towards port, across the track).
+    pub look_direction: f64,
 }
 
 /// Where and what the run writes.
@@ -559,6 +621,48 @@ impl WakelabConfig {
         let so = &self.solver;
         range("solver.beach_damping", so.beach_damping, 0.0, 10.0, "1/s")?;
         positive("solver.max_eddy_viscosity", so.max_eddy_viscosity, 1e-4, 100.0, "m^2/s")?;
+
+        let sea = &self.sea;
+        positive("sea.inverse_wave_age", sea.inverse_wave_age, 0.84, 5.0, "")?;
+        positive("sea.short_wave_exponent", sea.short_wave_exponent, 3.0, 5.0, "")?;
+        positive("sea.short_wave_join", sea.short_wave_join, 1.5, 1000.0, "multiples of k_p")?;
+        positive("sea.swell_width", sea.swell_width, 0.01, 0.5, "")?;
+        positive("sea.swell_spread", sea.swell_spread, 1.0, 60.0, "degrees")?;
+        range("sea.film_elasticity", sea.film_elasticity, 0.0, 0.08, "N/m")?;
+        positive("sea.surface_tension", sea.surface_tension, 0.05, 0.08, "N/m")?;
+        if !(16..=4096).contains(&sea.window) || sea.window % 2 != 0 {
+            return Err(ConfigError::new("sea.window", sea.window, "an even number of pixels in [16, 4096]"));
+        }
+
+        let sc = &self.scene;
+        positive("scene.pixel_spacing", sc.pixel_spacing, 0.1, 1000.0, "m")?;
+        count("scene.size", sc.size, 16, 8192)?;
+        if sea.window > sc.size {
+            return Err(ConfigError::new(
+                "sea.window",
+                sea.window,
+                format!("at most scene.size = {} pixels", sc.size),
+            ));
+        }
+        let half = 0.5 * sc.size as f64 * sc.pixel_spacing;
+        let wake_end = 0.5 * s.length + s.speed * t.duration;
+        if sc.along_track - half < 0.0 || sc.along_track + half > wake_end {
+            return Err(ConfigError::new(
+                "scene.along_track",
+                sc.along_track,
+                format!(
+                    "the scene ({:.0} m long) must lie within the simulated wake, 0..{wake_end:.0} m behind the stern: \
+                     centre in [{half:.0}, {:.0}] m",
+                    2.0 * half,
+                    wake_end - half
+                ),
+            ));
+        }
+        range("scene.cross_track", sc.cross_track, -20_000.0, 20_000.0, "m")?;
+
+        let p = &self.platform;
+        range("platform.incidence", p.incidence, 15.0, 70.0, "degrees")?;
+        range("platform.look_direction", p.look_direction, -360.0, 360.0, "degrees")?;
 
         let o = &self.output;
         if o.dir.trim().is_empty() {

@@ -625,13 +625,23 @@ impl WakelabConfig {
         let sea = &self.sea;
         positive("sea.inverse_wave_age", sea.inverse_wave_age, 0.84, 5.0, "")?;
         positive("sea.short_wave_exponent", sea.short_wave_exponent, 3.0, 5.0, "")?;
-        positive("sea.short_wave_join", sea.short_wave_join, 1.5, 1000.0, "multiples of k_p")?;
+        positive(
+            "sea.short_wave_join",
+            sea.short_wave_join,
+            1.5,
+            1000.0,
+            "multiples of k_p",
+        )?;
         positive("sea.swell_width", sea.swell_width, 0.01, 0.5, "")?;
         positive("sea.swell_spread", sea.swell_spread, 1.0, 60.0, "degrees")?;
         range("sea.film_elasticity", sea.film_elasticity, 0.0, 0.08, "N/m")?;
         positive("sea.surface_tension", sea.surface_tension, 0.05, 0.08, "N/m")?;
         if !(16..=4096).contains(&sea.window) || sea.window % 2 != 0 {
-            return Err(ConfigError::new("sea.window", sea.window, "an even number of pixels in [16, 4096]"));
+            return Err(ConfigError::new(
+                "sea.window",
+                sea.window,
+                "an even number of pixels in [16, 4096]",
+            ));
         }
 
         let sc = &self.scene;

@@ -6,7 +6,8 @@ use wakelab_hydro::output::run_hydro_stage;
 fn tiny() -> WakelabConfig {
     WakelabConfig::from_toml_str(
         "[grid]\ncore_width = 200.0\ndepth = 30.0\ncore_cells = 60\ndepth_cells = 15\nbeach_width = 60.0\nbeach_cells = 6\n\
-         [time]\nduration = 120.0\nsurface_interval = 20.0\noutput_interval = 60.0\n",
+         [time]\nduration = 120.0\nsurface_interval = 20.0\noutput_interval = 60.0\n\
+         [scene]\nsize = 32\nalong_track = 500.0\n[sea]\nwindow = 16\n",
         "test",
     )
     .unwrap()

@@ -97,7 +97,10 @@ mod tests {
             let omega = 2.0 * PI * (9.81 * k + 0.072 * k.powi(3) / RHO_WATER).sqrt() / (2.0 * PI);
             let inextensible = k * (NU * omega / 2.0).sqrt();
             let got = viscous_damping(k) + film_damping(k, 1e4, 0.0, 0.072, 9.81);
-            assert!((got / inextensible - 1.0).abs() < 1e-3, "k={k}: {got} vs {inextensible}");
+            assert!(
+                (got / inextensible - 1.0).abs() < 1e-3,
+                "k={k}: {got} vs {inextensible}"
+            );
         }
         // below the Marangoni resonance (E of a few mN/m at Bragg scales) a weak natural film damps
         // more where it is concentrated

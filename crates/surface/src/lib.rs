@@ -9,6 +9,7 @@
 
 pub mod action;
 pub mod film;
+pub mod output;
 pub mod scene;
 pub mod spectrum;
 pub mod surfactant;
@@ -124,8 +125,11 @@ pub fn simulate_surface(config: &WakelabConfig, map: Option<&SurfaceMap>) -> Sur
                         spectrum.directional(away.kx, away.ky),
                     );
                     let (r_t, r_a) = rayon::join(|| ratio(towards), || ratio(away));
-                    let combined: Vec<f64> =
-                        r_t.iter().zip(&r_a).map(|(a, b)| (f_t * a + f_a * b) / (f_t + f_a)).collect();
+                    let combined: Vec<f64> = r_t
+                        .iter()
+                        .zip(&r_a)
+                        .map(|(a, b)| (f_t * a + f_a * b) / (f_t + f_a))
+                        .collect();
                     BraggModulation {
                         band,
                         wavenumber: towards.magnitude(),

@@ -55,13 +55,7 @@ struct Swell {
 }
 
 impl SeaSpectrum {
-    pub fn new(
-        sea: &SeaConfig,
-        wind_speed: f64,
-        wind_direction_deg: f64,
-        swell: &SwellConfig,
-        gravity: f64,
-    ) -> Self {
+    pub fn new(sea: &SeaConfig, wind_speed: f64, wind_direction_deg: f64, swell: &SwellConfig, gravity: f64) -> Self {
         let swell = swell.angle().map(|direction| Swell {
             k: 2.0 * PI / swell.wavelength,
             direction,
@@ -140,7 +134,11 @@ impl SeaSpectrum {
         let cp = (g / kp).sqrt();
         let c = ((g / k) * (1.0 + (k / km).powi(2))).sqrt();
         let ustar = self.friction_velocity();
-        let gamma = if omega_c < 1.0 { 1.7 } else { 1.7 + 6.0 * omega_c.log10() };
+        let gamma = if omega_c < 1.0 {
+            1.7
+        } else {
+            1.7 + 6.0 * omega_c.log10()
+        };
         let sigma = 0.08 * (1.0 + 4.0 * omega_c.powf(-3.0));
         let big_gamma = (-((k / kp).sqrt() - 1.0).powi(2) / (2.0 * sigma * sigma)).exp();
         let jp = gamma.powf(big_gamma);
@@ -278,9 +276,17 @@ mod tests {
     fn pierson_moskowitz_hs_and_peak_match_closed_forms() {
         for (u, hs) in [(5.0, 0.533), (10.0, 2.133), (15.0, 4.799)] {
             let s = pm(u).summary(50.0);
-            assert!((s.significant_wave_height - hs).abs() / hs < 0.003, "U={u}: Hs {}", s.significant_wave_height);
+            assert!(
+                (s.significant_wave_height - hs).abs() / hs < 0.003,
+                "U={u}: Hs {}",
+                s.significant_wave_height
+            );
             let wp = 0.8772 * 9.81 / u;
-            assert!((s.peak_angular_frequency - wp).abs() / wp < 0.01, "U={u}: wp {}", s.peak_angular_frequency);
+            assert!(
+                (s.peak_angular_frequency - wp).abs() / wp < 0.01,
+                "U={u}: wp {}",
+                s.peak_angular_frequency
+            );
         }
     }
 
@@ -309,6 +315,9 @@ mod tests {
         let without = pm(5.0).summary(50.0);
         let m0 = |hs: f64| (hs / 4.0).powi(2);
         let added = m0(with.significant_wave_height) - m0(without.significant_wave_height);
-        assert!((added - 0.5).abs() < 0.01, "swell of a = 1 m adds a^2/2 = 0.5 m^2, got {added}");
+        assert!(
+            (added - 0.5).abs() < 0.01,
+            "swell of a = 1 m adds a^2/2 = 0.5 m^2, got {added}"
+        );
     }
 }

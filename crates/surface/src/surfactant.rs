@@ -33,7 +33,11 @@ pub fn redistribute_surfactant(map: &SurfaceMap, ship_speed: f64) -> SurfactantF
     let width: Vec<f64> = (0..cols)
         .map(|j| {
             let lo = if j == 0 { y[0] } else { 0.5 * (y[j - 1] + y[j]) };
-            let hi = if j + 1 == cols { y[cols - 1] } else { 0.5 * (y[j] + y[j + 1]) };
+            let hi = if j + 1 == cols {
+                y[cols - 1]
+            } else {
+                0.5 * (y[j] + y[j + 1])
+            };
             (hi - lo).max(1e-9)
         })
         .collect();
@@ -63,8 +67,16 @@ pub fn redistribute_surfactant(map: &SurfaceMap, ship_speed: f64) -> SurfactantF
         // implicit diffusion: W Gamma - dx d/dy(K dGamma/dy) = rhs
         for j in 0..cols {
             let k_face = |a: usize, b: usize| NU + 0.5 * (nut[r * cols + a] + nut[r * cols + b]) as f64;
-            let west = if j > 0 { dx * k_face(j - 1, j) / ((y[j] - y[j - 1]) * width[j]) } else { 0.0 };
-            let east = if j + 1 < cols { dx * k_face(j, j + 1) / ((y[j + 1] - y[j]) * width[j]) } else { 0.0 };
+            let west = if j > 0 {
+                dx * k_face(j - 1, j) / ((y[j] - y[j - 1]) * width[j])
+            } else {
+                0.0
+            };
+            let east = if j + 1 < cols {
+                dx * k_face(j, j + 1) / ((y[j + 1] - y[j]) * width[j])
+            } else {
+                0.0
+            };
             lower[j] = -west;
             upper[j] = -east;
             diag[j] = speed(r, j) + west + east;
@@ -86,7 +98,11 @@ pub fn row_fluxes(map: &SurfaceMap, field: &SurfactantField, ship_speed: f64) ->
             (0..cols)
                 .map(|j| {
                     let lo = if j == 0 { y[0] } else { 0.5 * (y[j - 1] + y[j]) };
-                    let hi = if j + 1 == cols { y[cols - 1] } else { 0.5 * (y[j] + y[j + 1]) };
+                    let hi = if j + 1 == cols {
+                        y[cols - 1]
+                    } else {
+                        0.5 * (y[j] + y[j + 1])
+                    };
                     (ship_speed - u[r * cols + j] as f64) * field.gamma[r * cols + j] * (hi - lo)
                 })
                 .sum()

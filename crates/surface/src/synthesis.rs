@@ -42,7 +42,9 @@ fn heading_frame_k(k_col: f64, k_row: f64) -> (f64, f64) {
 
 /// Square-root Hann weight of Eqs. (2.74)-(2.75) for index m of M.
 pub fn root_hann(m: usize, window: usize) -> f64 {
-    (0.5 - 0.5 * (2.0 * PI * m as f64 / window as f64).cos()).max(0.0).sqrt()
+    (0.5 - 0.5 * (2.0 * PI * m as f64 / window as f64).cos())
+        .max(0.0)
+        .sqrt()
 }
 
 /// Synthesise a `size` x `size` surface with pixel spacing `dx` from `spectrum`.

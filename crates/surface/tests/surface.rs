@@ -121,7 +121,9 @@ fn converging_currents_raise_and_diverging_currents_lower_short_waves() {
         let got = r[r.len() - 1] - 1.0;
         // relaxation-time estimate: dr = -m tau du/dx_heading = m tau s
         let estimate = m * tau * s;
-        eprintln!("strain {s:+e}: N/N0 - 1 = {got:+.5e}, relaxation estimate {estimate:+.5e} (m = {m:.3}, tau = {tau:.3} s)");
+        eprintln!(
+            "strain {s:+e}: N/N0 - 1 = {got:+.5e}, relaxation estimate {estimate:+.5e} (m = {m:.3}, tau = {tau:.3} s)"
+        );
         assert!(got.signum() == s.signum(), "wrong sign");
         assert!((got / estimate - 1.0).abs() < 0.1);
     }
@@ -140,7 +142,10 @@ fn realised_surface_matches_its_spectrum_and_its_seed() {
     eprintln!("surface variance {variance:.5e} m^2 vs resolved spectrum {expected:.5e}");
     assert!((variance / expected - 1.0).abs() < 0.1);
     let b = synthesise_surface(&sea, size, dx, window, 7);
-    assert!(a.elevation == b.elevation && a.slope_x == b.slope_x, "same seed, different surface");
+    assert!(
+        a.elevation == b.elevation && a.slope_x == b.slope_x,
+        "same seed, different surface"
+    );
     let other = synthesise_surface(&sea, size, dx, window, 8);
     assert!(a.elevation != other.elevation);
 }
@@ -199,9 +204,38 @@ fn periodogram_of_the_realised_surface_follows_the_input_spectrum() {
         }
         eprintln!("ring {lo}-{hi} dk: periodogram {realised:.4e}, spectrum {input:.4e}");
         if lo == 20.0 {
-            assert!(realised < 0.005 * total, "leakage into the gap: {realised:e} of {total:e}");
+            assert!(
+                realised < 0.005 * total,
+                "leakage into the gap: {realised:e} of {total:e}"
+            );
         } else {
-            assert!((realised / input - 1.0).abs() < 0.1, "ring {lo}-{hi}: {realised:e} vs {input:e}");
+            assert!(
+                (realised / input - 1.0).abs() < 0.1,
+                "ring {lo}-{hi}: {realised:e} vs {input:e}"
+            );
         }
+    }
+}
+
+#[test]
+fn a_simulated_wake_conserves_film_flux_and_darkens_its_bragg_waves() {
+    let c = WakelabConfig::from_toml_str(
+        "[time]\nduration = 1200.0\n[scene]\nsize = 256\npixel_spacing = 5.0\nalong_track = 3000.0\n",
+        "test",
+    )
+    .unwrap();
+    let map = wakelab_hydro::simulate_wake(&c)
+        .unwrap()
+        .surface_map(&c, c.output.map_dx);
+    let gamma = redistribute_surfactant(&map, c.ship.speed);
+    let flux = row_fluxes(&map, &gamma, c.ship.speed);
+    let worst = flux.iter().fold(0.0f64, |m, f| m.max(((f - flux[0]) / flux[0]).abs()));
+    assert!(worst < 1e-10, "film flux changed by {worst:e}");
+    let scene = simulate_surface(&c, Some(&map));
+    for b in &scene.bragg {
+        let min = b.modulation.iter().cloned().fold(f64::INFINITY, f64::min);
+        // turbulence in the wake damps the short waves; the far field is undisturbed
+        assert!(min < 0.9, "{:?}: minimum N/N0 {min}", b.band);
+        assert!((b.modulation[[0, 0]] - 1.0).abs() < 1e-9);
     }
 }

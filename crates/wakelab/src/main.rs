@@ -61,7 +61,7 @@ struct RunArgs {
 
 #[derive(Subcommand, Debug)]
 enum Command {
-    /// Run the whole study (today: the wake simulation, its NetCDF files and pictures).
+    /// Run the whole study (today: the wake simulation and the sea surface of its scene).
     Run(RunArgs),
     /// Simulate the ship's wake only (stage 1, spec 2.1) and write its files.
     Wake(RunArgs),
@@ -75,6 +75,21 @@ enum Command {
         /// Also write the IDP fields on the grid (idp.nc and pictures) into DIR.
         #[arg(long, value_name = "DIR")]
         write: Option<PathBuf>,
+    },
+    /// The background sea of a wind (and the configured swell): Hs, peak frequency, mean-square
+    /// slopes and the spectral density at the S, C and X Bragg wavenumbers.
+    Spectrum {
+        #[command(flatten)]
+        config: ConfigArgs,
+        /// Wind speed at 10 m (m/s); default: environment.wind.speed.
+        #[arg(long, value_name = "M/S")]
+        wind: Option<f64>,
+        /// Radar incidence angle (degrees); default: platform.incidence.
+        #[arg(long, value_name = "DEG")]
+        incidence: Option<f64>,
+        /// Print JSON.
+        #[arg(long)]
+        json: bool,
     },
     /// Inspect the configuration.
     Config {
@@ -102,10 +117,56 @@ fn main() {
 
 fn dispatch(cli: Cli) -> Result<()> {
     match cli.command {
-        Command::Run(args) | Command::Wake(args) => {
+        Command::Run(args) => {
             let cfg = args.config.load()?;
             let dir = args.out.unwrap_or_else(|| PathBuf::from(&cfg.output.dir));
-            run_wake(&cfg, &dir, args.quiet)
+            let start = Instant::now();
+            let map = run_wake(&cfg, &dir, args.quiet)?;
+            let t_surface = Instant::now();
+            let scene = wakelab_surface::simulate_surface(&cfg, Some(&map));
+            let files = wakelab_surface::output::write_surface_scene(&dir, &cfg, &scene)?;
+            eprintln!(
+                "sea surface: {n} x {n} scene at {:.1} m, {:.1} s",
+                cfg.scene.pixel_spacing,
+                t_surface.elapsed().as_secs_f64(),
+                n = cfg.scene.size
+            );
+            for f in files {
+                eprintln!("wrote {}", f.display());
+            }
+            eprintln!(
+                "study finished in {:.1} s; results in {}",
+                start.elapsed().as_secs_f64(),
+                dir.display()
+            );
+            Ok(())
+        }
+        Command::Wake(args) => {
+            let cfg = args.config.load()?;
+            let dir = args.out.unwrap_or_else(|| PathBuf::from(&cfg.output.dir));
+            run_wake(&cfg, &dir, args.quiet).map(|_| ())
+        }
+        Command::Spectrum {
+            config,
+            wind,
+            incidence,
+            json,
+        } => {
+            let mut cfg = config.load()?;
+            if let Some(w) = wind {
+                cfg.environment.wind.speed = w;
+            }
+            if let Some(i) = incidence {
+                cfg.platform.incidence = i;
+            }
+            cfg.validate()?;
+            let report = spectrum_report(&cfg);
+            if json {
+                println!("{}", serde_json::to_string_pretty(&report)?);
+            } else {
+                print_json_table(&serde_json::to_value(&report)?);
+            }
+            Ok(())
         }
         Command::Idp { config, json, write } => {
             let cfg = config.load()?;
@@ -132,15 +193,93 @@ fn dispatch(cli: Cli) -> Result<()> {
 }
 
 fn print_idp(s: &wakelab_hydro::IdpScalars) {
-    let value = serde_json::to_value(s).expect("serialisable");
+    print_json_table(&serde_json::to_value(s).expect("serialisable"));
+}
+
+/// Print a JSON object as aligned `key = value` lines.
+fn print_json_table(value: &serde_json::Value) {
     if let serde_json::Value::Object(map) = value {
         for (k, v) in map {
-            println!("{k:>10} = {}", v.as_f64().map_or(v.to_string(), |x| format!("{x:.6e}")));
+            match v {
+                serde_json::Value::Array(items) => {
+                    for item in items {
+                        println!("{k}:");
+                        print_json_table(item);
+                    }
+                }
+                _ => println!("{k:>26} = {}", v.as_f64().map_or(v.to_string(), |x| format!("{x:.6e}"))),
+            }
         }
     }
 }
 
-fn run_wake(cfg: &WakelabConfig, dir: &Path, quiet: bool) -> Result<()> {
+/// What `wakelab spectrum` reports.
+#[derive(serde::Serialize)]
+struct SpectrumReport {
+    model: wakelab_core::config::SpectrumModel,
+    wind_speed: f64,
+    wind_direction_deg: f64,
+    swell_amplitude: f64,
+    swell_wavelength: f64,
+    #[serde(flatten)]
+    summary: wakelab_surface::spectrum::SpectrumSummary,
+    incidence_deg: f64,
+    look_direction_deg: f64,
+    bragg: Vec<BraggReport>,
+}
+
+#[derive(serde::Serialize)]
+struct BraggReport {
+    band: &'static str,
+    frequency_hz: f64,
+    bragg_wavenumber: f64,
+    bragg_wavelength_m: f64,
+    /// F(k_B) towards the sensor (m^4).
+    density_towards: f64,
+    /// F(-k_B) away from the sensor (m^4).
+    density_away: f64,
+    /// Omnidirectional Psi(k_B) (m^3).
+    omnidirectional: f64,
+}
+
+fn spectrum_report(cfg: &WakelabConfig) -> SpectrumReport {
+    let sea = wakelab_surface::background_spectrum(cfg);
+    let bragg = wakelab_core::units::RadarBand::ALL
+        .iter()
+        .map(|&band| {
+            let (t, a) = wakelab_surface::bragg_vectors(cfg, band);
+            let k = t.magnitude();
+            BraggReport {
+                band: band.name(),
+                frequency_hz: band.frequency(),
+                bragg_wavenumber: k,
+                bragg_wavelength_m: 2.0 * std::f64::consts::PI / k,
+                density_towards: sea.directional(t.kx, t.ky),
+                density_away: sea.directional(a.kx, a.ky),
+                omnidirectional: sea.wind_omni(k),
+            }
+        })
+        .collect();
+    let env = &cfg.environment;
+    SpectrumReport {
+        model: cfg.sea.spectrum,
+        wind_speed: env.wind.speed,
+        wind_direction_deg: env.wind.direction,
+        swell_amplitude: if env.swell.angle().is_some() {
+            env.swell.amplitude
+        } else {
+            0.0
+        },
+        swell_wavelength: env.swell.wavelength,
+        // slopes of all waves longer than 6 mm (k < 1000 rad/m, the gravity-capillary range)
+        summary: sea.summary(1000.0),
+        incidence_deg: cfg.platform.incidence,
+        look_direction_deg: cfg.platform.look_direction,
+        bragg,
+    }
+}
+
+fn run_wake(cfg: &WakelabConfig, dir: &Path, quiet: bool) -> Result<wakelab_hydro::SurfaceMap> {
     let start = Instant::now();
     std::fs::create_dir_all(dir).with_context(|| format!("creating {}", dir.display()))?;
     write_atomically(dir.join("config.toml"), cfg.to_toml_string().as_bytes())?;
@@ -159,7 +298,7 @@ fn run_wake(cfg: &WakelabConfig, dir: &Path, quiet: bool) -> Result<()> {
     );
     let mut last_steps = (0usize, Instant::now());
     let mut rate = 0.0;
-    let (_, outputs) = wakelab_hydro::output::run_hydro_stage(cfg, dir, &mut |t, steps| {
+    let (run, outputs) = wakelab_hydro::output::run_hydro_stage(cfg, dir, &mut |t, steps| {
         let now = Instant::now();
         let dt = now.duration_since(last_steps.1).as_secs_f64();
         if dt > 0.5 {
@@ -181,5 +320,5 @@ fn run_wake(cfg: &WakelabConfig, dir: &Path, quiet: bool) -> Result<()> {
     for f in &outputs.files {
         eprintln!("wrote {}", f.display());
     }
-    Ok(())
+    Ok(run.surface_map(cfg, cfg.output.map_dx))
 }

@@ -31,6 +31,12 @@ beach_cells = 6
 duration = 120.0
 surface_interval = 20.0
 output_interval = 60.0
+[scene]
+pixel_spacing = 5.0
+size = 64
+along_track = 500.0
+[sea]
+window = 32
 "#;
 
 #[test]
@@ -152,4 +158,61 @@ fn wake_run_writes_netcdf_pictures_and_the_configuration() {
     // the run's configuration reads back
     let shown = wakelab(&["config", "show", "--config", out.join("config.toml").to_str().unwrap()]);
     assert!(shown.status.success(), "{}", stderr(&shown));
+}
+
+#[test]
+fn spectrum_json_reports_pierson_moskowitz_closed_forms_and_bragg_densities() {
+    let dir = tempfile::tempdir().unwrap();
+    let cfg = dir.path().join("pm.toml");
+    // Pierson-Moskowitz with the power law joined far out, no swell
+    std::fs::write(
+        &cfg,
+        "[sea]\nspectrum = \"pierson_moskowitz\"\nshort_wave_join = 1000.0\n[environment.swell]\ndirection = \"calm\"\n",
+    )
+    .unwrap();
+    let o = wakelab(&[
+        "spectrum",
+        "--json",
+        "--config",
+        cfg.to_str().unwrap(),
+        "--wind",
+        "10",
+        "--incidence",
+        "30",
+    ]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let v: serde_json::Value = serde_json::from_str(&stdout(&o)).unwrap();
+    let hs = v["significant_wave_height"].as_f64().unwrap();
+    assert!((hs / 2.133 - 1.0).abs() < 0.005, "Hs {hs}");
+    let wp = v["peak_angular_frequency"].as_f64().unwrap();
+    assert!((wp / (0.8772 * 9.81 / 10.0) - 1.0).abs() < 0.01, "omega_p {wp}");
+    assert!(v["mss_upwind"].as_f64().unwrap() > v["mss_crosswind"].as_f64().unwrap());
+    let bragg = v["bragg"].as_array().unwrap();
+    assert_eq!(bragg.len(), 3);
+    // C band at 30 degrees: the Bragg wavelength equals the radar wavelength, c / 5.3 GHz
+    let c = &bragg[1];
+    assert_eq!(c["band"], "C");
+    assert!((c["bragg_wavelength_m"].as_f64().unwrap() - 299_792_458.0 / 5.3e9).abs() < 1e-9);
+    assert!(c["density_towards"].as_f64().unwrap() > 0.0);
+}
+
+#[test]
+fn a_scene_outside_the_simulated_wake_is_refused() {
+    let dir = tempfile::tempdir().unwrap();
+    let cfg = dir.path().join("far.toml");
+    std::fs::write(&cfg, "[scene]\nalong_track = 40000.0\n").unwrap();
+    let o = wakelab(&[
+        "run",
+        "--config",
+        cfg.to_str().unwrap(),
+        "--quiet",
+        "--out",
+        dir.path().join("r").to_str().unwrap(),
+    ]);
+    assert!(!o.status.success());
+    let err = stderr(&o);
+    assert!(
+        err.contains("scene.along_track") && err.contains("within the simulated wake"),
+        "{err}"
+    );
 }

@@ -78,7 +78,7 @@ const MARGIN: u32 = 10;
 const TITLE_H: u32 = 28;
 const BAR_W: u32 = 18;
 const LABEL_W: u32 = 110;
-const CAPTION_H: u32 = 22;
+const LINE_H: u32 = 12;
 
 impl FieldPicture<'_> {
     /// Colour range: +- the 99.5th percentile of |v| for a diverging map, the 0.5th..99.5th
@@ -117,7 +117,8 @@ impl FieldPicture<'_> {
     pub fn render(&self) -> RgbImage {
         let (w, h) = self.size;
         let total_w = MARGIN + w + MARGIN + BAR_W + 6 + LABEL_W;
-        let total_h = TITLE_H + h + CAPTION_H + MARGIN;
+        let caption = wrap(&self.caption, ((total_w - 2 * MARGIN) / 8) as usize);
+        let total_h = TITLE_H + h + 8 + LINE_H * caption.len() as u32 + MARGIN;
         let mut img = RgbImage::from_pixel(total_w, total_h, Rgb([255, 255, 255]));
         let (lo, hi) = self.range();
         for py in 0..h {
@@ -154,8 +155,17 @@ impl FieldPicture<'_> {
             black,
         );
         draw_text(&mut img, lx, TITLE_H + h - 8, &format_value(lo), 1, black);
-        draw_text(&mut img, lx, TITLE_H + h / 2 + 12, &self.units, 1, black);
-        draw_text(&mut img, MARGIN, TITLE_H + h + 8, &self.caption, 1, black);
+        draw_text(
+            &mut img,
+            lx,
+            TITLE_H + h / 2 + 12,
+            &format!("[{}]", self.units),
+            1,
+            black,
+        );
+        for (i, line) in caption.iter().enumerate() {
+            draw_text(&mut img, MARGIN, TITLE_H + h + 8 + LINE_H * i as u32, line, 1, black);
+        }
         img
     }
 
@@ -171,6 +181,25 @@ impl FieldPicture<'_> {
         file.commit()?;
         Ok(())
     }
+}
+
+/// Split `text` into lines of at most `width` characters at spaces.
+pub fn wrap(text: &str, width: usize) -> Vec<String> {
+    let mut lines = Vec::new();
+    let mut line = String::new();
+    for word in text.split_whitespace() {
+        if !line.is_empty() && line.len() + 1 + word.len() > width {
+            lines.push(std::mem::take(&mut line));
+        }
+        if !line.is_empty() {
+            line.push(' ');
+        }
+        line.push_str(word);
+    }
+    if !line.is_empty() {
+        lines.push(line);
+    }
+    lines
 }
 
 /// Short, readable number for a colour-bar label.
@@ -233,5 +262,10 @@ mod tests {
         // the top-left cell is -1: blue-ish (more blue than red)
         let px = img.get_pixel(MARGIN + 2, TITLE_H + 2);
         assert!(px[2] > px[0]);
+    }
+
+    #[test]
+    fn captions_wrap_at_spaces() {
+        assert_eq!(wrap("a bb ccc dddd", 6), vec!["a bb", "ccc", "dddd"]);
     }
 }

@@ -25,6 +25,8 @@ pub struct WakelabConfig {
     pub sea: SeaConfig,
     pub scene: SceneConfig,
     pub platform: PlatformConfig,
+    pub sar: SarConfig,
+    pub ir: IrConfig,
     pub output: OutputConfig,
 }
 
@@ -340,6 +342,50 @@ pub struct PlatformConfig {
     pub look_direction: f64,
 }
 
+/// SAR polarisation (transmit and receive alike).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum Polarisation {
+    Vv,
+    Hh,
+}
+
+/// The SAR sensor (spec 3.1). With `looks = 0`, `noise_floor = false` and
+/// `velocity_bunching = false` it is the spec's perfect SAR.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct SarConfig {
+    pub polarisation: Polarisation,
+    /// Number of looks of the multiplicative speckle; 0 for none.
+    pub looks: u32,
+    /// Add thermal noise at the noise-equivalent sigma zero `nesz`.
+    pub noise_floor: bool,
+    /// Noise-equivalent sigma zero (dB).
+    pub nesz: f64,
+    /// Displace scatterers in azimuth by their line-of-sight orbital velocity times R/V.
+    pub velocity_bunching: bool,
+    /// Slant range over platform speed R/V (s).
+    pub range_to_velocity: f64,
+}
+
+/// The infrared sensor (spec 3.2, Eq. 3.5 and Algorithm 1).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct IrConfig {
+    /// Sun elevation above the horizon (degrees).
+    pub sun_elevation: f64,
+    /// Direction of the sun, degrees counter-clockwise from the ship's heading.
+    pub sun_azimuth: f64,
+    /// Brightness temperature of the sun's photosphere (K).
+    pub sun_temperature: f64,
+    /// Henyey-Greenstein asymmetry G of the sun's scattering lobe (Eq. 3.19).
+    pub sun_asymmetry: f64,
+    /// Sky brightness temperature at the zenith (K), Eq. (3.20).
+    pub sky_zenith_temperature: f64,
+    /// Sky brightness temperature at the horizon (K), Eq. (3.20).
+    pub sky_horizon_temperature: f64,
+}
+
 /// Where and what the run writes.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
@@ -461,6 +507,16 @@ impl WakelabConfig {
     pub fn from_file(path: &Path) -> Result<Self, WakelabError> {
         let text = std::fs::read_to_string(path).map_err(|e| WakelabError::io(path, e))?;
         Self::from_toml_str(&text, &path.display().to_string())
+    }
+
+    /// A stable identifier of the run's configuration: FNV-1a (64 bit) of its effective TOML.
+    pub fn scene_id(&self) -> String {
+        let mut h: u64 = 0xcbf2_9ce4_8422_2325;
+        for b in self.to_toml_string().bytes() {
+            h ^= b as u64;
+            h = h.wrapping_mul(0x0000_0100_0000_01b3);
+        }
+        format!("{h:016x}")
     }
 
     /// The effective configuration as TOML, which reads back to the same configuration.
@@ -673,6 +729,36 @@ impl WakelabConfig {
         let p = &self.platform;
         range("platform.incidence", p.incidence, 15.0, 70.0, "degrees")?;
         range("platform.look_direction", p.look_direction, -360.0, 360.0, "degrees")?;
+
+        let sar = &self.sar;
+        if sar.looks > 1000 {
+            return Err(ConfigError::new(
+                "sar.looks",
+                sar.looks,
+                "an integer in [0, 1000] (0: no speckle)",
+            ));
+        }
+        range("sar.nesz", sar.nesz, -60.0, 0.0, "dB")?;
+        range("sar.range_to_velocity", sar.range_to_velocity, 0.0, 500.0, "s")?;
+        let ir = &self.ir;
+        range("ir.sun_elevation", ir.sun_elevation, -90.0, 90.0, "degrees")?;
+        range("ir.sun_azimuth", ir.sun_azimuth, -360.0, 360.0, "degrees")?;
+        range("ir.sun_temperature", ir.sun_temperature, 3000.0, 7000.0, "K")?;
+        range("ir.sun_asymmetry", ir.sun_asymmetry, 0.0, 0.999, "")?;
+        range(
+            "ir.sky_zenith_temperature",
+            ir.sky_zenith_temperature,
+            150.0,
+            320.0,
+            "K",
+        )?;
+        range(
+            "ir.sky_horizon_temperature",
+            ir.sky_horizon_temperature,
+            150.0,
+            320.0,
+            "K",
+        )?;
 
         let o = &self.output;
         if o.dir.trim().is_empty() {

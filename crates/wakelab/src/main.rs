@@ -5,8 +5,9 @@ use clap::{Args, Parser, Subcommand};
 use indicatif::{ProgressBar, ProgressStyle};
 use std::path::{Path, PathBuf};
 use std::time::Instant;
-use wakelab_core::config::{Preset, WakelabConfig};
+use wakelab_core::config::{Polarisation, Preset, WakelabConfig};
 use wakelab_core::io::write_atomically;
+use wakelab_core::units::RadarBand;
 
 /// wakelab: simulate a ship's persistent wake from first principles, render what SAR and
 /// infrared sensors would see, and train and fuse the detectors that find it.
@@ -91,10 +92,43 @@ enum Command {
         #[arg(long)]
         json: bool,
     },
+    /// SAR tools.
+    Sar {
+        #[command(subcommand)]
+        action: SarAction,
+    },
     /// Inspect the configuration.
     Config {
         #[command(subcommand)]
         action: ConfigAction,
+    },
+}
+
+#[derive(Subcommand, Debug)]
+enum SarAction {
+    /// sigma0 of the undisturbed sea for a wind, band, polarisation and incidence (spec Eqs.
+    /// 3.1-3.2), to compare against the geophysical model functions you know.
+    Sigma0 {
+        #[command(flatten)]
+        config: ConfigArgs,
+        /// Wind speed at 10 m (m/s); default: environment.wind.speed.
+        #[arg(long, value_name = "M/S")]
+        wind: Option<f64>,
+        /// Band: S, C or X.
+        #[arg(long, default_value = "C")]
+        band: String,
+        /// Polarisation: vv or hh; default: sar.polarisation.
+        #[arg(long)]
+        polarisation: Option<String>,
+        /// Incidence angle (degrees); default: platform.incidence.
+        #[arg(long, value_name = "DEG")]
+        incidence: Option<f64>,
+        /// Look direction relative to the wind direction (degrees; 0: looking down-wind).
+        #[arg(long, value_name = "DEG", default_value_t = 90.0)]
+        look: f64,
+        /// Print JSON.
+        #[arg(long)]
+        json: bool,
     },
 }
 
@@ -124,13 +158,19 @@ fn dispatch(cli: Cli) -> Result<()> {
             let map = run_wake(&cfg, &dir, args.quiet)?;
             let t_surface = Instant::now();
             let scene = wakelab_surface::simulate_surface(&cfg, Some(&map));
-            let files = wakelab_surface::output::write_surface_scene(&dir, &cfg, &scene)?;
+            let mut files = wakelab_surface::output::write_surface_scene(&dir, &cfg, &scene)?;
             eprintln!(
                 "sea surface: {n} x {n} scene at {:.1} m, {:.1} s",
                 cfg.scene.pixel_spacing,
                 t_surface.elapsed().as_secs_f64(),
                 n = cfg.scene.size
             );
+            let t_sensors = Instant::now();
+            for band in RadarBand::ALL {
+                let image = wakelab_sensors::render_sar(&cfg, &scene, band);
+                files.extend(wakelab_sensors::output::write_sar(&dir, &cfg, &scene.grid, &image)?);
+            }
+            eprintln!("SAR images (S, C, X): {:.1} s", t_sensors.elapsed().as_secs_f64());
             for f in files {
                 eprintln!("wrote {}", f.display());
             }
@@ -180,6 +220,62 @@ fn dispatch(cli: Cli) -> Result<()> {
                 for f in wakelab_hydro::output::write_idp_fields(&dir, &cfg)? {
                     eprintln!("wrote {}", f.display());
                 }
+            }
+            Ok(())
+        }
+        Command::Sar {
+            action:
+                SarAction::Sigma0 {
+                    config,
+                    wind,
+                    band,
+                    polarisation,
+                    incidence,
+                    look,
+                    json,
+                },
+        } => {
+            let mut cfg = config.load()?;
+            if let Some(w) = wind {
+                cfg.environment.wind.speed = w;
+            }
+            if let Some(i) = incidence {
+                cfg.platform.incidence = i;
+            }
+            if let Some(p) = polarisation {
+                cfg.sar.polarisation = match p.to_lowercase().as_str() {
+                    "vv" => Polarisation::Vv,
+                    "hh" => Polarisation::Hh,
+                    other => anyhow::bail!("--polarisation {other}: must be vv or hh"),
+                };
+            }
+            cfg.validate()?;
+            let band = match band.to_uppercase().as_str() {
+                "S" => RadarBand::S,
+                "C" => RadarBand::C,
+                "X" => RadarBand::X,
+                other => anyhow::bail!("--band {other}: must be S, C or X"),
+            };
+            let sea = wakelab_surface::background_spectrum(&cfg);
+            let env = &cfg.environment;
+            let eps = wakelab_sensors::permittivity::seawater_permittivity(
+                band.frequency(),
+                env.temperature.at_depth(0.0),
+                env.salinity.at_depth(0.0),
+            );
+            let report = wakelab_sensors::sar::sigma0_of_sea(
+                &sea,
+                band,
+                eps,
+                cfg.sar.polarisation,
+                (env.wind.direction - look).to_radians(),
+                cfg.platform.incidence,
+                cfg.scene.pixel_spacing,
+            );
+            if json {
+                println!("{}", serde_json::to_string_pretty(&report)?);
+            } else {
+                print_json_table(&serde_json::to_value(&report)?);
             }
             Ok(())
         }

@@ -1,6 +1,7 @@
 //! File output shared by every stage: atomic writes, NetCDF (CF) and PNG pictures.
 
 pub mod atomic;
+pub mod geotiff;
 pub mod netcdf;
 pub mod picture;
 

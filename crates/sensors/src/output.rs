@@ -116,3 +116,43 @@ pub fn write_sar(
         &image.info,
     )
 }
+
+/// Write an IR image: radiance in the TIFF, a second TIFF of brightness temperature, and a
+/// quicklook of brightness temperature.
+pub fn write_ir(
+    dir: &Path,
+    config: &WakelabConfig,
+    grid: &SceneGrid,
+    image: &crate::ir::IrImage,
+) -> Result<Vec<PathBuf>, WakelabError> {
+    let radiance: Vec<f32> = image.radiance.iter().map(|&v| v as f32).collect();
+    let bt: Vec<f32> = image.brightness_temperature.iter().map(|&v| v as f32).collect();
+    let stem = format!("ir_{}", image.info.band.to_lowercase());
+    let mut files = write_image(
+        dir,
+        &format!("{stem}_radiance"),
+        config,
+        grid,
+        &radiance,
+        &bt,
+        "brightness_temperature_K",
+        "band radiance",
+        "W m-2 sr-1",
+        &image.info,
+    )?;
+    let n = grid.size();
+    let d = grid.pixel_spacing;
+    let bt_path = dir.join(format!("{stem}_brightness_temperature.tif"));
+    write_float_tiff(
+        &bt_path,
+        &bt,
+        n,
+        n,
+        Placement {
+            top_left: (grid.x[0] - 0.5 * d, grid.y[0] + 0.5 * d),
+            pixel_spacing: d,
+        },
+    )?;
+    files.push(bt_path);
+    Ok(files)
+}

@@ -92,6 +92,27 @@ enum Command {
         #[arg(long)]
         json: bool,
     },
+    /// Infrared optics of sea water: n, kappa, Fresnel reflectances and emissivity at a
+    /// wavelength, and the IR radiance of a flat sea in both bands for the configured geometry.
+    Optics {
+        #[command(flatten)]
+        config: ConfigArgs,
+        /// Wavelength (micrometres).
+        #[arg(long, value_name = "UM", default_value_t = 11.0)]
+        wavelength: f64,
+        /// Practical salinity (PSU); default: the surface salinity.
+        #[arg(long)]
+        salinity: Option<f64>,
+        /// Temperature (deg C); default: the surface temperature.
+        #[arg(long)]
+        temperature: Option<f64>,
+        /// Incidence angle (degrees); default: platform.incidence.
+        #[arg(long, value_name = "DEG")]
+        incidence: Option<f64>,
+        /// Print JSON.
+        #[arg(long)]
+        json: bool,
+    },
     /// SAR tools.
     Sar {
         #[command(subcommand)]
@@ -170,7 +191,14 @@ fn dispatch(cli: Cli) -> Result<()> {
                 let image = wakelab_sensors::render_sar(&cfg, &scene, band);
                 files.extend(wakelab_sensors::output::write_sar(&dir, &cfg, &scene.grid, &image)?);
             }
-            eprintln!("SAR images (S, C, X): {:.1} s", t_sensors.elapsed().as_secs_f64());
+            for band in wakelab_sensors::IrBand::ALL {
+                let image = wakelab_sensors::render_ir(&cfg, &scene, band);
+                files.extend(wakelab_sensors::output::write_ir(&dir, &cfg, &scene.grid, &image)?);
+            }
+            eprintln!(
+                "SAR (S, C, X) and IR (MWIR, LWIR) images: {:.1} s",
+                t_sensors.elapsed().as_secs_f64()
+            );
             for f in files {
                 eprintln!("wrote {}", f.display());
             }
@@ -220,6 +248,67 @@ fn dispatch(cli: Cli) -> Result<()> {
                 for f in wakelab_hydro::output::write_idp_fields(&dir, &cfg)? {
                     eprintln!("wrote {}", f.display());
                 }
+            }
+            Ok(())
+        }
+        Command::Optics {
+            config,
+            wavelength,
+            salinity,
+            temperature,
+            incidence,
+            json,
+        } => {
+            let mut cfg = config.load()?;
+            if let Some(i) = incidence {
+                cfg.platform.incidence = i;
+            }
+            cfg.validate()?;
+            if !(0.2..=200.0).contains(&wavelength) {
+                anyhow::bail!("--wavelength {wavelength}: must be in [0.2, 200] micrometres");
+            }
+            let env = &cfg.environment;
+            let s = salinity.unwrap_or(env.salinity.at_depth(0.0));
+            let t = temperature.unwrap_or(env.temperature.at_depth(0.0));
+            if !(0.0..=42.0).contains(&s) || !(-2.0..=40.0).contains(&t) {
+                anyhow::bail!("--salinity must be in [0, 42] PSU and --temperature in [-2, 40] deg C");
+            }
+            let index = wakelab_sensors::optics::seawater_index(wavelength, s, t);
+            let theta = cfg.platform.incidence.to_radians();
+            let (rho_s, rho_p) =
+                wakelab_sensors::optics::fresnel_reflectance(wakelab_sensors::optics::N_AIR, index, theta);
+            let flat: Vec<serde_json::Value> = wakelab_sensors::IrBand::ALL
+                .iter()
+                .map(|&band| {
+                    let view = wakelab_sensors::ir::IrView::new(&cfg, band);
+                    let terms = view.facet(0.0, 0.0, env.temperature.at_depth(0.0) + 273.15);
+                    let (lo, hi) = band.range();
+                    serde_json::json!({
+                        "band": band.name(),
+                        "wavelength_range_um": [lo, hi],
+                        "radiance": terms.total(),
+                        "brightness_temperature_k": wakelab_sensors::planck::brightness_temperature(lo, hi, terms.total()),
+                        "terms": terms,
+                    })
+                })
+                .collect();
+            let report = serde_json::json!({
+                "wavelength_um": wavelength,
+                "salinity": s,
+                "temperature_c": t,
+                "incidence_deg": cfg.platform.incidence,
+                "n": index.re,
+                "kappa": -index.im,
+                "rho_s": rho_s,
+                "rho_p": rho_p,
+                "rho": 0.5 * (rho_s + rho_p),
+                "emissivity": 1.0 - 0.5 * (rho_s + rho_p),
+                "flat_sea_radiance": flat,
+            });
+            if json {
+                println!("{}", serde_json::to_string_pretty(&report)?);
+            } else {
+                print_json_table(&report);
             }
             Ok(())
         }

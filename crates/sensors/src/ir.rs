@@ -1,0 +1,300 @@
+//! Infrared images, spec 3.2: Algorithm 1 with the radiance balance of Eq. (3.4) reduced to
+//! Eq. (3.5), R = eps R_sea + rho (R_sun + R_sky), per surface facet.
+//!
+//! - Facets (3.2.2): the normal of each pixel's facet from the scene's long-wave slopes; r the
+//!   unit vector to the sensor (the platform's incidence and look direction); the direction the
+//!   reflected light comes from, i = 2 n cos(beta) - r (Eq. 3.6), cos(beta) = r . n.
+//! - eps, rho from the Fresnel equations with the sea-water index at the band centre
+//!   (`optics`); R_sea the band radiance of the surface at T_b(0) + dT (Eq. 3.17, integrated).
+//! - Sun (Eqs. 3.18-3.19): (r_sun / D_sun)^2 L(T_sun) phi(Delta theta_s), phi Henyey-Greenstein,
+//!   Delta theta_s the angle between i and the direction to the sun.
+//! - Sky (Eq. 3.20): a black body at T_sky(gamma), gamma the zenith angle of i (the downwelling
+//!   term the spec writes R_ss,down); below the horizon, T_horizon.
+//! - Atmospheric transmission and path radiance (the other terms of Eq. 3.4) are 1 and 0, as in
+//!   the spec; [`RadianceTerms`] keeps them apart so they can be added.
+
+use crate::optics::{reflectance_and_emissivity, seawater_index};
+use crate::planck::{band_radiance, brightness_temperature};
+use ndarray::Array2;
+use serde::Serialize;
+use std::f64::consts::PI;
+use wakelab_core::WakelabConfig;
+use wakelab_surface::SurfaceScene;
+
+/// Radius of the sun and mean Sun-Earth distance (m).
+pub const SUN_RADIUS: f64 = 6.957e8;
+pub const SUN_DISTANCE: f64 = 1.495_978_707e11;
+
+/// The two infrared bands (erratum 13).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
+pub enum IrBand {
+    /// Mid-wave, 3.7-4.1 um.
+    Mwir,
+    /// Long-wave, 10.5-11.5 um (the spec's 11 um).
+    Lwir,
+}
+
+impl IrBand {
+    pub const ALL: [IrBand; 2] = [IrBand::Mwir, IrBand::Lwir];
+
+    /// Band edges (um).
+    pub fn range(&self) -> (f64, f64) {
+        match self {
+            IrBand::Mwir => (3.7, 4.1),
+            IrBand::Lwir => (10.5, 11.5),
+        }
+    }
+
+    pub fn centre(&self) -> f64 {
+        let (a, b) = self.range();
+        0.5 * (a + b)
+    }
+
+    pub fn name(&self) -> &'static str {
+        match self {
+            IrBand::Mwir => "MWIR",
+            IrBand::Lwir => "LWIR",
+        }
+    }
+}
+
+/// Henyey-Greenstein phase function (1/sr), Eq. (3.19).
+pub fn henyey_greenstein(cos_angle: f64, g: f64) -> f64 {
+    (1.0 - g * g) / (4.0 * PI * (1.0 + g * g - 2.0 * g * cos_angle).powf(1.5))
+}
+
+/// Sky brightness temperature at zenith angle `gamma` (rad), Eq. (3.20).
+pub fn sky_temperature(gamma: f64, zenith: f64, horizon: f64) -> f64 {
+    let g = gamma.clamp(0.0, PI / 2.0);
+    zenith + (horizon - zenith) * (2.0 * g / PI).powf(2.5)
+}
+
+/// The parts of Eq. (3.4) for one facet (W m^-2 sr^-1).
+#[derive(Debug, Clone, Copy, Serialize, PartialEq)]
+pub struct RadianceTerms {
+    pub emissivity: f64,
+    pub reflectance: f64,
+    pub sea: f64,
+    pub sun: f64,
+    pub sky: f64,
+    /// Transmission of the path from the surface to the sensor (1 in the spec's Eq. 3.5).
+    pub transmission: f64,
+    /// Upwelling atmospheric and scattered solar path radiance (0 in Eq. 3.5).
+    pub path: f64,
+}
+
+impl RadianceTerms {
+    /// R = tau (eps R_sea + rho (R_sun + R_sky)) + R_path, Eq. (3.4).
+    pub fn total(&self) -> f64 {
+        self.transmission * (self.emissivity * self.sea + self.reflectance * (self.sun + self.sky)) + self.path
+    }
+}
+
+/// Fixed inputs of one band's IR image.
+pub struct IrView {
+    pub band: IrBand,
+    /// Unit vector from the surface to the sensor, heading frame (x, y, z up).
+    pub to_sensor: [f64; 3],
+    /// Unit vector from the surface to the sun.
+    pub to_sun: [f64; 3],
+    /// Sun band radiance times (r_sun / D_sun)^2 (Eq. 3.18 without the phase function).
+    pub sun_radiance: f64,
+    pub asymmetry: f64,
+    pub sky: (f64, f64),
+    pub index: num_complex::Complex64,
+}
+
+impl IrView {
+    pub fn new(config: &WakelabConfig, band: IrBand) -> Self {
+        let (lo, hi) = band.range();
+        let theta = config.platform.incidence.to_radians();
+        let look = config.platform.look_direction.to_radians();
+        let ir = &config.ir;
+        let (el, az) = (ir.sun_elevation.to_radians(), ir.sun_azimuth.to_radians());
+        let env = &config.environment;
+        Self {
+            band,
+            // the sensor looks along `look`, so it lies in the opposite direction, theta from zenith
+            to_sensor: [-theta.sin() * look.cos(), -theta.sin() * look.sin(), theta.cos()],
+            to_sun: [el.cos() * az.cos(), el.cos() * az.sin(), el.sin()],
+            sun_radiance: (SUN_RADIUS / SUN_DISTANCE).powi(2) * band_radiance(lo, hi, ir.sun_temperature),
+            asymmetry: ir.sun_asymmetry,
+            sky: (ir.sky_zenith_temperature, ir.sky_horizon_temperature),
+            index: seawater_index(band.centre(), env.salinity.at_depth(0.0), env.temperature.at_depth(0.0)),
+        }
+    }
+
+    /// Eq. (3.5) for a facet of heading-frame slopes (dz/dx, dz/dy) at temperature `t_kelvin`.
+    pub fn facet(&self, slope_x: f64, slope_y: f64, t_kelvin: f64) -> RadianceTerms {
+        let (lo, hi) = self.band.range();
+        let norm = (slope_x * slope_x + slope_y * slope_y + 1.0).sqrt();
+        let n = [-slope_x / norm, -slope_y / norm, 1.0 / norm];
+        let r = self.to_sensor;
+        let cos_beta = (n[0] * r[0] + n[1] * r[1] + n[2] * r[2]).clamp(-1.0, 1.0);
+        if cos_beta <= 0.0 {
+            // a facet turned away from the sensor shows nothing of itself
+            return RadianceTerms {
+                emissivity: 0.0,
+                reflectance: 0.0,
+                sea: 0.0,
+                sun: 0.0,
+                sky: 0.0,
+                transmission: 1.0,
+                path: 0.0,
+            };
+        }
+        let (rho, eps) = reflectance_and_emissivity(self.index, cos_beta.acos());
+        // direction the reflected light comes from, Eq. (3.6)
+        let i: [f64; 3] = std::array::from_fn(|k| 2.0 * n[k] * cos_beta - r[k]);
+        let s = self.to_sun;
+        let cos_sun = (i[0] * s[0] + i[1] * s[1] + i[2] * s[2]).clamp(-1.0, 1.0);
+        let sun = if s[2] > 0.0 && i[2] > 0.0 {
+            self.sun_radiance * henyey_greenstein(cos_sun, self.asymmetry)
+        } else {
+            0.0
+        };
+        let gamma = i[2].clamp(-1.0, 1.0).acos();
+        let sky = band_radiance(lo, hi, sky_temperature(gamma, self.sky.0, self.sky.1));
+        RadianceTerms {
+            emissivity: eps,
+            reflectance: rho,
+            sea: band_radiance(lo, hi, t_kelvin),
+            sun,
+            sky,
+            transmission: 1.0,
+            path: 0.0,
+        }
+    }
+}
+
+/// One band's IR image: radiance and brightness temperature.
+#[derive(Debug, Clone)]
+pub struct IrImage {
+    pub band: IrBand,
+    /// Band radiance at the sensor (W m^-2 sr^-1), (rows, cols).
+    pub radiance: Array2<f64>,
+    /// Brightness temperature of that radiance (K).
+    pub brightness_temperature: Array2<f64>,
+    pub info: IrInfo,
+}
+
+/// Scalars of an IR image, for its metadata.
+#[derive(Debug, Clone, Serialize)]
+pub struct IrInfo {
+    pub band: &'static str,
+    pub wavelength_range_um: (f64, f64),
+    pub incidence_deg: f64,
+    pub look_direction_deg: f64,
+    pub sun_elevation_deg: f64,
+    pub sun_azimuth_deg: f64,
+    pub refractive_index: (f64, f64),
+    pub sea_surface_temperature_k: f64,
+    /// The flat, undisturbed sea's terms.
+    pub flat_sea: RadianceTerms,
+}
+
+/// Lookup table of band radiance over temperature, for speed (0.01 K steps, linear).
+struct RadianceTable {
+    t0: f64,
+    step: f64,
+    values: Vec<f64>,
+}
+
+impl RadianceTable {
+    fn new(band: IrBand, t0: f64, t1: f64) -> Self {
+        let step = 0.01;
+        let (lo, hi) = band.range();
+        let n = ((t1 - t0) / step).ceil() as usize + 2;
+        Self {
+            t0,
+            step,
+            values: (0..n).map(|i| band_radiance(lo, hi, t0 + i as f64 * step)).collect(),
+        }
+    }
+
+    fn at(&self, t: f64) -> f64 {
+        let x = ((t - self.t0) / self.step).clamp(0.0, (self.values.len() - 2) as f64);
+        let i = x.floor() as usize;
+        let f = x - i as f64;
+        self.values[i] * (1.0 - f) + self.values[i + 1] * f
+    }
+}
+
+/// Render one IR band of `scene` (Algorithm 1).
+pub fn render_ir(config: &WakelabConfig, scene: &SurfaceScene, band: IrBand) -> IrImage {
+    let view = IrView::new(config, band);
+    let t_surface = config.environment.temperature.at_depth(0.0) + 273.15;
+    let (dmin, dmax) = scene
+        .temperature_anomaly
+        .iter()
+        .fold((0.0f64, 0.0f64), |(a, b), &v| (a.min(v), b.max(v)));
+    let table = RadianceTable::new(band, t_surface + dmin - 1.0, t_surface + dmax + 1.0);
+    let (lo, hi) = band.range();
+    let surface = &scene.surface;
+    let n = scene.grid.size();
+    let mut radiance = Array2::zeros((n, n));
+    ndarray::Zip::from(&mut radiance)
+        .and(&surface.slope_x)
+        .and(&surface.slope_y)
+        .and(&scene.temperature_anomaly)
+        .par_for_each(|out, &sx, &sy, &dt| {
+            // scene slope_x runs astern (-x heading), slope_y along +y
+            let mut terms = view.facet(-sx, sy, t_surface);
+            terms.sea = table.at(t_surface + dt);
+            *out = terms.total();
+        });
+    let bt_table = RadianceTable::new(band, 150.0, 400.0);
+    let brightness = radiance.mapv(|r| invert(&bt_table, r).unwrap_or_else(|| brightness_temperature(lo, hi, r)));
+    let flat = view.facet(0.0, 0.0, t_surface);
+    IrImage {
+        band,
+        radiance,
+        brightness_temperature: brightness,
+        info: IrInfo {
+            band: band.name(),
+            wavelength_range_um: band.range(),
+            incidence_deg: config.platform.incidence,
+            look_direction_deg: config.platform.look_direction,
+            sun_elevation_deg: config.ir.sun_elevation,
+            sun_azimuth_deg: config.ir.sun_azimuth,
+            refractive_index: (view.index.re, -view.index.im),
+            sea_surface_temperature_k: t_surface,
+            flat_sea: flat,
+        },
+    }
+}
+
+/// Brightness temperature by inverting the monotonic radiance table, if `r` is inside it.
+fn invert(table: &RadianceTable, r: f64) -> Option<f64> {
+    let v = &table.values;
+    if r < v[0] || r > v[v.len() - 1] {
+        return None;
+    }
+    let i = v.partition_point(|&x| x < r).clamp(1, v.len() - 1);
+    let f = (r - v[i - 1]) / (v[i] - v[i - 1]);
+    Some(table.t0 + (i as f64 - 1.0 + f) * table.step)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn henyey_greenstein_is_normalised_and_sky_profile_has_its_ends() {
+        // integral over the sphere of phi = 1
+        let g = 0.8;
+        let n = 20_000;
+        let sum: f64 = (0..n)
+            .map(|i| {
+                let th = (i as f64 + 0.5) * PI / n as f64;
+                henyey_greenstein(th.cos(), g) * 2.0 * PI * th.sin() * PI / n as f64
+            })
+            .sum();
+        assert!((sum - 1.0).abs() < 1e-6, "{sum}");
+        assert_eq!(sky_temperature(0.0, 233.15, 293.15), 233.15);
+        assert!((sky_temperature(PI / 2.0, 233.15, 293.15) - 293.15).abs() < 1e-12);
+        // half the contrast about 15 degrees above the horizon (Levesque & St-Germain)
+        let half = sky_temperature(75f64.to_radians(), 233.15, 293.15);
+        assert!((half - 263.15).abs() < 10.0, "{half}");
+    }
+}

@@ -1,1 +1,44 @@
-fn main() {}
+//! All five images (S, C, X, MWIR, LWIR) of a 1024 x 1024 scene, given the surface stage's
+//! output for the `quick` wake (computed once, not timed).
+
+use criterion::{criterion_group, criterion_main, Criterion};
+use wakelab_core::units::RadarBand;
+use wakelab_core::WakelabConfig;
+use wakelab_sensors::{render_ir, render_sar, IrBand};
+
+fn sensors(c: &mut Criterion) {
+    let cfg = WakelabConfig::from_toml_str(
+        "[scene]\nsize = 1024\npixel_spacing = 5.0\nalong_track = 6000.0\n",
+        "bench",
+    )
+    .expect("valid");
+    let run = wakelab_hydro::simulate_wake(&cfg).expect("wake");
+    let map = run.surface_map(&cfg, cfg.output.map_dx);
+    let scene = wakelab_surface::simulate_surface(&cfg, Some(&map));
+    let mut g = c.benchmark_group("sensors_1024");
+    g.sample_size(10);
+    g.bench_function("five_images", |b| {
+        b.iter(|| {
+            let sar: Vec<_> = RadarBand::ALL
+                .iter()
+                .map(|&band| render_sar(&cfg, &scene, band))
+                .collect();
+            let ir: Vec<_> = IrBand::ALL.iter().map(|&band| render_ir(&cfg, &scene, band)).collect();
+            (sar, ir)
+        })
+    });
+    g.bench_function("sar_c_band", |b| b.iter(|| render_sar(&cfg, &scene, RadarBand::C)));
+    g.bench_function("ir_lwir", |b| b.iter(|| render_ir(&cfg, &scene, IrBand::Lwir)));
+    let real = WakelabConfig::from_toml_str(
+        "[scene]\nsize = 1024\npixel_spacing = 5.0\nalong_track = 6000.0\n[sar]\nlooks = 4\nnoise_floor = true\nvelocity_bunching = true\n",
+        "bench",
+    )
+    .expect("valid");
+    g.bench_function("sar_c_band_speckle_noise_bunching", |b| {
+        b.iter(|| render_sar(&real, &scene, RadarBand::C))
+    });
+    g.finish();
+}
+
+criterion_group!(benches, sensors);
+criterion_main!(benches);

@@ -127,6 +127,25 @@ impl IrView {
     /// Eq. (3.5) for a facet of heading-frame slopes (dz/dx, dz/dy) at temperature `t_kelvin`.
     pub fn facet(&self, slope_x: f64, slope_y: f64, t_kelvin: f64) -> RadianceTerms {
         let (lo, hi) = self.band.range();
+        self.facet_with(
+            slope_x,
+            slope_y,
+            band_radiance(lo, hi, t_kelvin),
+            |beta| reflectance_and_emissivity(self.index, beta).0,
+            |gamma| band_radiance(lo, hi, sky_temperature(gamma, self.sky.0, self.sky.1)),
+        )
+    }
+
+    /// [`Self::facet`] with the sea's radiance given and the reflectance (of the local incidence
+    /// beta) and sky radiance (of the zenith angle gamma) supplied by the caller.
+    pub fn facet_with(
+        &self,
+        slope_x: f64,
+        slope_y: f64,
+        sea: f64,
+        reflectance: impl Fn(f64) -> f64,
+        sky: impl Fn(f64) -> f64,
+    ) -> RadianceTerms {
         let norm = (slope_x * slope_x + slope_y * slope_y + 1.0).sqrt();
         let n = [-slope_x / norm, -slope_y / norm, 1.0 / norm];
         let r = self.to_sensor;
@@ -143,7 +162,7 @@ impl IrView {
                 path: 0.0,
             };
         }
-        let (rho, eps) = reflectance_and_emissivity(self.index, cos_beta.acos());
+        let rho = reflectance(cos_beta.acos());
         // direction the reflected light comes from, Eq. (3.6)
         let i: [f64; 3] = std::array::from_fn(|k| 2.0 * n[k] * cos_beta - r[k]);
         let s = self.to_sun;
@@ -153,17 +172,37 @@ impl IrView {
         } else {
             0.0
         };
-        let gamma = i[2].clamp(-1.0, 1.0).acos();
-        let sky = band_radiance(lo, hi, sky_temperature(gamma, self.sky.0, self.sky.1));
         RadianceTerms {
-            emissivity: eps,
+            emissivity: 1.0 - rho,
             reflectance: rho,
-            sea: band_radiance(lo, hi, t_kelvin),
+            sea,
             sun,
-            sky,
+            sky: sky(i[2].clamp(-1.0, 1.0).acos()),
             transmission: 1.0,
             path: 0.0,
         }
+    }
+}
+
+/// A smooth function of an angle in [0, max] tabulated at `n` points, linear in between.
+struct AngleTable {
+    max: f64,
+    values: Vec<f64>,
+}
+
+impl AngleTable {
+    fn new(max: f64, n: usize, f: impl Fn(f64) -> f64) -> Self {
+        Self {
+            max,
+            values: (0..n).map(|i| f(max * i as f64 / (n - 1) as f64)).collect(),
+        }
+    }
+
+    fn at(&self, angle: f64) -> f64 {
+        let x = (angle / self.max).clamp(0.0, 1.0) * (self.values.len() - 1) as f64;
+        let i = (x.floor() as usize).min(self.values.len() - 2);
+        let f = x - i as f64;
+        self.values[i] * (1.0 - f) + self.values[i + 1] * f
     }
 }
 
@@ -232,6 +271,12 @@ pub fn render_ir(config: &WakelabConfig, scene: &SurfaceScene, band: IrBand) -> 
     let (lo, hi) = band.range();
     let surface = &scene.surface;
     let n = scene.grid.size();
+    // reflectance and sky radiance tabulated finely in angle (their errors are below 1e-6 of the
+    // radiance); the sea's radiance from the temperature table
+    let reflectance = AngleTable::new(PI / 2.0, 4096, |beta| reflectance_and_emissivity(view.index, beta).0);
+    let sky = AngleTable::new(PI, 4096, |gamma| {
+        band_radiance(lo, hi, sky_temperature(gamma, view.sky.0, view.sky.1))
+    });
     let mut radiance = Array2::zeros((n, n));
     ndarray::Zip::from(&mut radiance)
         .and(&surface.slope_x)
@@ -239,8 +284,7 @@ pub fn render_ir(config: &WakelabConfig, scene: &SurfaceScene, band: IrBand) -> 
         .and(&scene.temperature_anomaly)
         .par_for_each(|out, &sx, &sy, &dt| {
             // scene slope_x runs astern (-x heading), slope_y along +y
-            let mut terms = view.facet(-sx, sy, t_surface);
-            terms.sea = table.at(t_surface + dt);
+            let terms = view.facet_with(-sx, sy, table.at(t_surface + dt), |b| reflectance.at(b), |g| sky.at(g));
             *out = terms.total();
         });
     let bt_table = RadianceTable::new(band, 150.0, 400.0);
@@ -296,5 +340,21 @@ mod tests {
         // half the contrast about 15 degrees above the horizon (Levesque & St-Germain)
         let half = sky_temperature(75f64.to_radians(), 233.15, 293.15);
         assert!((half - 263.15).abs() < 10.0, "{half}");
+    }
+
+    /// The spec's check of the sky model (Eq. 3.21, Fig. 3.16): Saunders' (1968) fit of measured
+    /// sky radiance over 8.5-12.5 um, N = A - B exp(-C (z - 1)) with A = 3540, B = 2570
+    /// uW cm^-2 sr^-1, C = 0.285, z = sqrt(4.9e5 cos^2 + 1401) - 700 cos, against the Planck
+    /// radiance of Eq. (3.20) with a 20 C horizon and a -40 C zenith.
+    #[test]
+    fn sky_model_follows_saunders_measurements() {
+        for deg in [0.0f64, 30.0, 50.0, 70.0, 80.0] {
+            let cos = deg.to_radians().cos();
+            let z = (4.9e5 * cos * cos + 1401.0).sqrt() - 700.0 * cos;
+            let saunders = (3540.0 - 2570.0 * (-0.285 * (z - 1.0)).exp()) * 1e-6 * 1e4; // W m^-2 sr^-1
+            let model = band_radiance(8.5, 12.5, sky_temperature(deg.to_radians(), 233.15, 293.15));
+            eprintln!("sky at {deg} deg: Saunders {saunders:.2}, Planck model {model:.2} W m^-2 sr^-1");
+            assert!((model / saunders - 1.0).abs() < 0.1, "{deg} deg: {model} vs {saunders}");
+        }
     }
 }

@@ -261,9 +261,12 @@ fn dispatch(cli: Cli) -> Result<()> {
         } => {
             let mut cfg = config.load()?;
             if let Some(i) = incidence {
+                if !(0.0..90.0).contains(&i) {
+                    anyhow::bail!("--incidence {i}: must be in [0, 90) degrees");
+                }
+                // the optics hold at any angle; the flat-sea radiance uses it as the view angle
                 cfg.platform.incidence = i;
             }
-            cfg.validate()?;
             if !(0.2..=200.0).contains(&wavelength) {
                 anyhow::bail!("--wavelength {wavelength}: must be in [0.2, 200] micrometres");
             }

@@ -216,3 +216,58 @@ fn a_scene_outside_the_simulated_wake_is_refused() {
         "{err}"
     );
 }
+
+#[test]
+fn sar_sigma0_and_optics_print_their_json() {
+    let o = wakelab(&[
+        "sar",
+        "sigma0",
+        "--json",
+        "--wind",
+        "10",
+        "--band",
+        "X",
+        "--polarisation",
+        "hh",
+        "--incidence",
+        "40",
+    ]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let v: serde_json::Value = serde_json::from_str(&stdout(&o)).unwrap();
+    assert_eq!(v["band"], "X");
+    assert_eq!(v["polarisation"], "HH");
+    let db = v["sigma0_db"].as_f64().unwrap();
+    assert!(db < -10.0 && db > -40.0, "{db}");
+    assert!(
+        (v["sigma0"].as_f64().unwrap() - v["sigma0_bragg"].as_f64().unwrap() - v["sigma0_specular"].as_f64().unwrap())
+            .abs()
+            < 1e-15
+    );
+
+    let o = wakelab(&[
+        "optics",
+        "--json",
+        "--wavelength",
+        "10",
+        "--salinity",
+        "0",
+        "--temperature",
+        "27",
+        "--incidence",
+        "0",
+    ]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let v: serde_json::Value = serde_json::from_str(&stdout(&o)).unwrap();
+    // pure water at 10 um (Hale & Querry 1973): n = 1.218, kappa = 0.0508
+    assert!((v["n"].as_f64().unwrap() - 1.218).abs() < 1e-3);
+    assert!((v["kappa"].as_f64().unwrap() - 0.0508).abs() < 1e-4);
+    for key in ["rho_s", "rho_p", "rho", "emissivity"] {
+        assert!(v[key].is_number(), "{key}");
+    }
+    let sum = v["rho"].as_f64().unwrap() + v["emissivity"].as_f64().unwrap();
+    assert!((sum - 1.0).abs() < 1e-12);
+    assert_eq!(v["flat_sea_radiance"].as_array().unwrap().len(), 2);
+
+    let bad = wakelab(&["sar", "sigma0", "--band", "K"]);
+    assert!(!bad.status.success() && stderr(&bad).contains("--band K"));
+}

@@ -480,6 +480,15 @@ impl WakelabConfig {
 
     /// As [`Self::from_toml_str`], with `preset` (from the command line) replacing the file's.
     pub fn from_toml_str_with_preset(text: &str, origin: &str, preset: Option<Preset>) -> Result<Self, WakelabError> {
+        let config = Self::from_toml_str_unvalidated(text, origin, preset)?;
+        config.validate()?;
+        Ok(config)
+    }
+
+    /// Layer and parse like [`Self::from_toml_str_with_preset`] (unknown keys are still errors)
+    /// without range checks: for templates, such as a study's base, whose every derived
+    /// configuration is validated on its own.
+    pub fn from_toml_str_unvalidated(text: &str, origin: &str, preset: Option<Preset>) -> Result<Self, WakelabError> {
         let parse_err = |message: String| WakelabError::Parse {
             path: origin.to_string(),
             message,
@@ -499,7 +508,6 @@ impl WakelabConfig {
         let config: WakelabConfig = toml::Value::Table(table)
             .try_into()
             .map_err(|e: toml::de::Error| parse_err(e.to_string()))?;
-        config.validate()?;
         Ok(config)
     }
 

@@ -377,3 +377,20 @@ pub fn write_idp_fields(dir: &Path, config: &WakelabConfig) -> Result<Vec<PathBu
     }
     Ok(files)
 }
+
+/// Read a surface map written by [`write_surface_map`].
+pub fn read_surface_map(path: &Path) -> Result<SurfaceMap, WakelabError> {
+    let err = |e: netcdf3::ReadError| WakelabError::NetCdf {
+        path: path.display().to_string(),
+        message: format!("{e:?}"),
+    };
+    let mut r = netcdf3::FileReader::open(path).map_err(err)?;
+    let to64 = |v: Vec<f32>| v.into_iter().map(f64::from).collect::<Vec<f64>>();
+    let x = to64(r.read_var_f32("x").map_err(err)?);
+    let y = to64(r.read_var_f32("y").map_err(err)?);
+    let fields = SLICE_FIELDS
+        .iter()
+        .map(|(name, _, _)| r.read_var_f32(name).map_err(err))
+        .collect::<Result<Vec<_>, _>>()?;
+    Ok(SurfaceMap { x, y, fields })
+}

@@ -1,0 +1,443 @@
+//! wakelab-data: stage 4 of the pipeline (spec chapter 4 opening, Fig. 4.3, Algorithm 2): a
+//! parametric study rendered into a labelled dataset on disk.
+//!
+//! [`run_study`] renders every wake/no-wake pair of a [`Study`] (in parallel, resumable: a scene
+//! is done when its `scene.json` exists, written last and atomically) and [`write_manifest`]
+//! gathers the finished scenes into `manifest.json`, `manifest.csv` and `splits.json`. The
+//! expensive hydro run is done once per distinct (ship, environment, grid, time) and cached on
+//! disk under `cache/`, keyed by a hash of exactly those inputs.
+
+pub mod render;
+pub mod slurm;
+pub mod study;
+
+use ndarray_npy::write_npy;
+use rayon::prelude::*;
+use render::render_pair;
+use serde::{Deserialize, Serialize};
+use std::collections::BTreeMap;
+use std::path::{Path, PathBuf};
+use std::sync::Mutex;
+use std::time::Instant;
+use study::{Combination, ScenePair, Study};
+use wakelab_core::io::geotiff::{quantile, write_quicklook};
+use wakelab_core::io::write_atomically;
+use wakelab_core::{WakelabConfig, WakelabError};
+use wakelab_hydro::SurfaceMap;
+
+/// One scene of the dataset (a row of the manifest).
+#[derive(Debug, Clone, Serialize, Deserialize, PartialEq)]
+pub struct SceneRecord {
+    pub id: String,
+    pub pair: usize,
+    /// 1: a ship wake is in the scene; 0: the matching scene without a ship.
+    pub label: u8,
+    /// The label under the study's `min_visibility` policy, per band.
+    pub label_by_band: BTreeMap<String, u8>,
+    /// Contrast-to-clutter ratio of the wake region per band (see `render`).
+    pub visibility: BTreeMap<String, f64>,
+    pub seed: u64,
+    pub environment: String,
+    #[serde(flatten)]
+    pub parameters: Combination,
+    /// Paths relative to the dataset directory.
+    pub images: BTreeMap<String, String>,
+    pub masks: BTreeMap<String, String>,
+    /// "train" or "test" (filled in by the manifest).
+    #[serde(default)]
+    pub split: String,
+}
+
+/// Wall time per stage (s), summed over the scenes rendered in this run.
+#[derive(Debug, Clone, Default, Serialize)]
+pub struct StageTimes {
+    pub hydro: f64,
+    pub surface_and_sensors: f64,
+    pub writing: f64,
+    pub scenes_rendered: usize,
+    pub scenes_skipped: usize,
+}
+
+/// Which part of the study this process renders: pairs with `index % count == shard`.
+#[derive(Debug, Clone, Copy)]
+pub struct Shard {
+    pub shard: usize,
+    pub count: usize,
+}
+
+/// Indices of the pairs a shard renders (every pair in exactly one shard).
+pub fn shard_indices(total: usize, shard: Shard) -> Vec<usize> {
+    (0..total).filter(|i| i % shard.count == shard.shard).collect()
+}
+
+/// FNV-1a 64-bit hash of text.
+fn fnv(text: &str) -> u64 {
+    let mut h: u64 = 0xcbf2_9ce4_8422_2325;
+    for b in text.bytes() {
+        h ^= b as u64;
+        h = h.wrapping_mul(0x0000_0100_0000_01b3);
+    }
+    h
+}
+
+/// The inputs of the hydro stage (ship, environment without the wind, grid, time, solver).
+pub fn hydro_key(config: &WakelabConfig) -> String {
+    #[derive(Serialize)]
+    struct Key<'a> {
+        ship: &'a wakelab_core::config::ShipConfig,
+        environment: wakelab_core::config::EnvironmentConfig,
+        grid: &'a wakelab_core::config::GridConfig,
+        time: &'a wakelab_core::config::TimeConfig,
+        solver: &'a wakelab_core::config::SolverConfig,
+        map_dx: f64,
+    }
+    let mut environment = config.environment.clone();
+    environment.wind.speed = 0.0;
+    environment.wind.direction = 0.0;
+    let key = Key {
+        ship: &config.ship,
+        environment,
+        grid: &config.grid,
+        time: &config.time,
+        solver: &config.solver,
+        map_dx: config.output.map_dx,
+    };
+    format!("{:016x}", fnv(&serde_json::to_string(&key).expect("serialisable")))
+}
+
+/// The surface map of a hydro case, from the cache or simulated (and cached).
+fn hydro_map(dir: &Path, config: &WakelabConfig) -> Result<SurfaceMap, WakelabError> {
+    let case = dir.join("cache").join(format!("hydro-{}", hydro_key(config)));
+    let file = case.join("surface_map.nc");
+    if file.exists() {
+        return wakelab_hydro::output::read_surface_map(&file);
+    }
+    std::fs::create_dir_all(&case).map_err(|e| WakelabError::io(&case, e))?;
+    let run = wakelab_hydro::simulate_wake(config)?;
+    let map = run.surface_map(config, config.output.map_dx);
+    wakelab_hydro::output::write_surface_map(&case, config, &map)?;
+    // read back what was cached, so a first run and a resumed run use identical f32 values
+    wakelab_hydro::output::read_surface_map(&file)
+}
+
+/// Progress reports of a study run.
+pub enum Progress {
+    Hydro { done: usize, total: usize },
+    Scene { done: usize, total: usize },
+}
+
+/// Render the pairs of `study` selected by `shard` into `dir`, skipping finished scenes.
+/// `stop_after` ends the run after that many newly rendered pairs (to test resuming).
+pub fn run_study(
+    study: &Study,
+    dir: &Path,
+    shard: Option<Shard>,
+    stop_after: Option<usize>,
+    progress: &(dyn Fn(Progress) + Sync),
+) -> Result<StageTimes, WakelabError> {
+    let pairs = study.pairs()?;
+    let selected: Vec<usize> = match shard {
+        Some(s) => shard_indices(pairs.len(), s),
+        None => (0..pairs.len()).collect(),
+    };
+    std::fs::create_dir_all(dir).map_err(|e| WakelabError::io(dir, e))?;
+    let todo: Vec<&ScenePair> = selected
+        .iter()
+        .map(|&i| &pairs[i])
+        .filter(|p| {
+            let (w, n) = p.ids();
+            !(scene_done(dir, &w) && scene_done(dir, &n))
+        })
+        .collect();
+    let mut times = StageTimes {
+        scenes_skipped: 2 * (selected.len() - todo.len()),
+        ..Default::default()
+    };
+    let todo: Vec<&ScenePair> = match stop_after {
+        Some(k) => todo.into_iter().take(k).collect(),
+        None => todo,
+    };
+    // one hydro run per distinct key, in order
+    let mut maps: BTreeMap<String, SurfaceMap> = BTreeMap::new();
+    let keys: Vec<String> = {
+        let mut k: Vec<String> = todo.iter().map(|p| hydro_key(&p.config)).collect();
+        k.dedup();
+        let mut seen = std::collections::BTreeSet::new();
+        k.retain(|x| seen.insert(x.clone()));
+        k
+    };
+    let t0 = Instant::now();
+    for (i, key) in keys.iter().enumerate() {
+        let pair = todo
+            .iter()
+            .find(|p| &hydro_key(&p.config) == key)
+            .expect("key of a pair");
+        maps.insert(key.clone(), hydro_map(dir, &pair.config)?);
+        progress(Progress::Hydro {
+            done: i + 1,
+            total: keys.len(),
+        });
+    }
+    times.hydro = t0.elapsed().as_secs_f64();
+    let done = Mutex::new(0usize);
+    let render_time = Mutex::new((0.0f64, 0.0f64));
+    todo.par_iter()
+        .map(|pair| -> Result<(), WakelabError> {
+            let t = Instant::now();
+            let map = &maps[&hydro_key(&pair.config)];
+            let bands = render_pair(pair, map, &study.study.bands);
+            let rendered = t.elapsed().as_secs_f64();
+            let t = Instant::now();
+            write_pair(dir, study, pair, &bands)?;
+            let written = t.elapsed().as_secs_f64();
+            {
+                let mut rt = render_time.lock().expect("lock");
+                rt.0 += rendered;
+                rt.1 += written;
+            }
+            let mut d = done.lock().expect("lock");
+            *d += 1;
+            progress(Progress::Scene {
+                done: *d,
+                total: todo.len(),
+            });
+            Ok(())
+        })
+        .collect::<Result<Vec<()>, _>>()?;
+    let (r, w) = *render_time.lock().expect("lock");
+    times.surface_and_sensors = r;
+    times.writing = w;
+    times.scenes_rendered = 2 * todo.len();
+    Ok(times)
+}
+
+fn scene_dir(dir: &Path, id: &str) -> PathBuf {
+    dir.join("scenes").join(id)
+}
+
+fn scene_done(dir: &Path, id: &str) -> bool {
+    scene_dir(dir, id).join("scene.json").exists()
+}
+
+/// Write both scenes of a pair: images, quicklooks and masks first, `scene.json` last.
+fn write_pair(dir: &Path, study: &Study, pair: &ScenePair, bands: &[render::BandPair]) -> Result<(), WakelabError> {
+    let (wake_id, no_wake_id) = pair.ids();
+    for (id, is_wake) in [(&wake_id, true), (&no_wake_id, false)] {
+        let sdir = scene_dir(dir, id);
+        std::fs::create_dir_all(&sdir).map_err(|e| WakelabError::io(&sdir, e))?;
+        let mut images = BTreeMap::new();
+        let mut masks = BTreeMap::new();
+        let mut visibility = BTreeMap::new();
+        let mut label_by_band = BTreeMap::new();
+        for b in bands {
+            let image = if is_wake { &b.wake } else { &b.no_wake };
+            let npy = sdir.join(format!("{}.npy", b.band));
+            write_npy_atomically(&npy, image)?;
+            let mask = if is_wake { b.mask.clone() } else { b.mask.mapv(|_| 0u8) };
+            let mask_path = sdir.join(format!("mask_{}.npy", b.band));
+            write_npy_atomically(&mask_path, &mask)?;
+            let (rows, cols) = image.dim();
+            let display: Vec<f32> = if b.band.len() == 1 {
+                image
+                    .iter()
+                    .map(|&v| (10.0 * (v.max(1e-30) as f64).log10()) as f32)
+                    .collect()
+            } else {
+                image.iter().copied().collect()
+            };
+            // both scenes of a pair share the wake scene's stretch, so they compare by eye
+            let wake_display: Vec<f32> = if b.band.len() == 1 {
+                b.wake
+                    .iter()
+                    .map(|&v| (10.0 * (v.max(1e-30) as f64).log10()) as f32)
+                    .collect()
+            } else {
+                b.wake.iter().copied().collect()
+            };
+            let (lo, hi) = (quantile(&wake_display, 0.02), quantile(&wake_display, 0.98));
+            write_quicklook(&sdir.join(format!("{}.png", b.band)), &display, rows, cols, lo, hi)?;
+            let rel = |p: &Path| p.strip_prefix(dir).expect("inside the dataset").display().to_string();
+            images.insert(b.band.to_string(), rel(&npy));
+            masks.insert(b.band.to_string(), rel(&mask_path));
+            let v = if is_wake { b.visibility.0 } else { b.visibility.1 };
+            visibility.insert(b.band.to_string(), v);
+            label_by_band.insert(b.band.to_string(), u8::from(is_wake && v >= study.study.min_visibility));
+        }
+        let record = SceneRecord {
+            id: id.clone(),
+            pair: pair.index,
+            label: u8::from(is_wake),
+            label_by_band,
+            visibility,
+            seed: pair.seed,
+            environment: pair.environment_key(),
+            parameters: pair.combination.clone(),
+            images,
+            masks,
+            split: String::new(),
+        };
+        write_atomically(
+            sdir.join("scene.json"),
+            serde_json::to_string_pretty(&record).expect("serialisable").as_bytes(),
+        )?;
+    }
+    Ok(())
+}
+
+fn write_npy_atomically<A: ndarray_npy::WritableElement>(
+    path: &Path,
+    a: &ndarray::Array2<A>,
+) -> Result<(), WakelabError> {
+    let file = wakelab_core::io::AtomicFile::new(path)?;
+    write_npy(file.temporary_path(), a).map_err(|e| WakelabError::Image {
+        path: path.display().to_string(),
+        message: e.to_string(),
+    })?;
+    file.commit()?;
+    Ok(())
+}
+
+/// Gather every finished scene of `study` in `dir` into the manifest (JSON and CSV) and the
+/// train/test split; returns the records. Pairs go wholly to one side, so both sides are 50/50
+/// wake and no-wake; with `grouped_split` whole environments go to one side.
+pub fn write_manifest(study: &Study, dir: &Path) -> Result<Vec<SceneRecord>, WakelabError> {
+    let pairs = study.pairs()?;
+    let mut records = Vec::new();
+    for pair in &pairs {
+        let (w, n) = pair.ids();
+        for id in [w, n] {
+            let path = scene_dir(dir, &id).join("scene.json");
+            if let Ok(text) = std::fs::read_to_string(&path) {
+                let r: SceneRecord = serde_json::from_str(&text).map_err(|e| WakelabError::Parse {
+                    path: path.display().to_string(),
+                    message: e.to_string(),
+                })?;
+                records.push(r);
+            }
+        }
+    }
+    // split by group: hash-ordered groups fill the test side up to test_fraction of the pairs
+    let group_of = |r: &SceneRecord| {
+        if study.study.grouped_split {
+            r.environment.clone()
+        } else {
+            format!("pair {}", r.pair)
+        }
+    };
+    let mut groups: BTreeMap<String, usize> = BTreeMap::new();
+    for r in records.iter().filter(|r| r.label == 1) {
+        *groups.entry(group_of(r)).or_default() += 1;
+    }
+    let mut order: Vec<(u64, String, usize)> = groups
+        .into_iter()
+        .map(|(g, n)| (fnv(&format!("{}:{g}", pairs.len())), g, n))
+        .collect();
+    order.sort();
+    let total: usize = order.iter().map(|o| o.2).sum();
+    let target = (study.study.test_fraction * total as f64).round() as usize;
+    let mut test_groups = std::collections::BTreeSet::new();
+    let mut in_test = 0;
+    for (_, g, n) in &order {
+        if in_test >= target {
+            break;
+        }
+        test_groups.insert(g.clone());
+        in_test += n;
+    }
+    for r in &mut records {
+        r.split = if test_groups.contains(&group_of(r)) {
+            "test"
+        } else {
+            "train"
+        }
+        .into();
+    }
+    write_atomically(
+        dir.join("manifest.json"),
+        serde_json::to_string_pretty(&records).expect("serialisable").as_bytes(),
+    )?;
+    write_atomically(
+        dir.join("manifest.csv"),
+        manifest_csv(&records, &study.study.bands).as_bytes(),
+    )?;
+    let split: BTreeMap<&str, Vec<&str>> = ["train", "test"]
+        .into_iter()
+        .map(|s| {
+            (
+                s,
+                records.iter().filter(|r| r.split == s).map(|r| r.id.as_str()).collect(),
+            )
+        })
+        .collect();
+    write_atomically(
+        dir.join("splits.json"),
+        serde_json::to_string_pretty(&split).expect("serialisable").as_bytes(),
+    )?;
+    Ok(records)
+}
+
+/// The manifest as CSV, one row per scene.
+fn manifest_csv(records: &[SceneRecord], bands: &[String]) -> String {
+    let mut header: Vec<String> = [
+        "id",
+        "pair",
+        "label",
+        "split",
+        "seed",
+        "wind_speed",
+        "wind_direction",
+        "swell_amplitude",
+        "swell_wavelength",
+        "swell_direction",
+        "stratification",
+        "ship_speed",
+        "along_track",
+        "incidence",
+        "look_direction",
+        "polarisation",
+        "pixel_spacing",
+        "image_size",
+    ]
+    .iter()
+    .map(|s| s.to_string())
+    .collect();
+    for b in bands {
+        header.push(format!("visibility_{b}"));
+        header.push(format!("label_{b}"));
+        header.push(format!("image_{b}"));
+        header.push(format!("mask_{b}"));
+    }
+    let mut out = header.join(",") + "\n";
+    for r in records {
+        let p = &r.parameters;
+        let direction = serde_json::to_value(p.swell_direction).expect("serialisable");
+        let mut row: Vec<String> = vec![
+            r.id.clone(),
+            r.pair.to_string(),
+            r.label.to_string(),
+            r.split.clone(),
+            r.seed.to_string(),
+            p.wind_speed.to_string(),
+            p.wind_direction.to_string(),
+            p.swell_amplitude.to_string(),
+            p.swell_wavelength.to_string(),
+            direction.as_str().map_or(direction.to_string(), str::to_string),
+            format!("{:?}", p.stratification).to_lowercase(),
+            p.ship_speed.to_string(),
+            p.along_track.to_string(),
+            p.incidence.to_string(),
+            p.look_direction.to_string(),
+            format!("{:?}", p.polarisation).to_lowercase(),
+            p.pixel_spacing.to_string(),
+            p.image_size.to_string(),
+        ];
+        for b in bands {
+            row.push(format!("{:.6}", r.visibility.get(b).copied().unwrap_or(0.0)));
+            row.push(r.label_by_band.get(b).copied().unwrap_or(0).to_string());
+            row.push(r.images.get(b).cloned().unwrap_or_default());
+            row.push(r.masks.get(b).cloned().unwrap_or_default());
+        }
+        out += &(row.join(",") + "\n");
+    }
+    out
+}

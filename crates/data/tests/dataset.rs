@@ -1,0 +1,208 @@
+//! The dataset stage end to end on small studies.
+
+use std::collections::BTreeMap;
+use std::path::Path;
+use wakelab_data::study::Study;
+use wakelab_data::{run_study, shard_indices, write_manifest, Shard};
+
+fn quiet(_: wakelab_data::Progress) {}
+
+/// A small study: `axes` lines added to 64 x 64 scenes 3 km behind the ship on a 20-minute wake.
+fn study(axes: &str, seeds: usize) -> Study {
+    Study::from_toml_str(
+        &format!(
+            r#"
+[study]
+name = "test"
+combine = "product"
+seeds = {seeds}
+test_fraction = 0.5
+grouped_split = false
+min_visibility = 0.0
+mixed_layer_depth = 20.0
+bands = ["C", "LWIR"]
+[axes]
+image_size = [64]
+pixel_spacing = [10.0]
+along_track = [3000.0]
+{axes}
+[base]
+preset = "quick"
+[base.time]
+duration = 1200.0
+"#
+        ),
+        "test",
+    )
+    .unwrap()
+}
+
+/// Every file under `dir` (but the hydro cache and timing) with its bytes.
+fn files(dir: &Path) -> BTreeMap<String, Vec<u8>> {
+    let mut out = BTreeMap::new();
+    let mut stack = vec![dir.to_path_buf()];
+    while let Some(d) = stack.pop() {
+        for e in std::fs::read_dir(&d).unwrap() {
+            let p = e.unwrap().path();
+            let rel = p.strip_prefix(dir).unwrap().display().to_string();
+            if rel.starts_with("cache") || rel == "timing.json" {
+                continue;
+            }
+            if p.is_dir() {
+                stack.push(p);
+            } else {
+                out.insert(rel, std::fs::read(&p).unwrap());
+            }
+        }
+    }
+    out
+}
+
+#[test]
+fn killing_and_resuming_gives_the_same_bytes_as_one_run() {
+    let s = study("wind_speed = [5.0, 8.0]", 2);
+    let (one, resumed) = (tempfile::tempdir().unwrap(), tempfile::tempdir().unwrap());
+    run_study(&s, one.path(), None, None, &quiet).unwrap();
+    write_manifest(&s, one.path()).unwrap();
+    // stop after one pair, leave a half-written scene behind, stop again, then finish
+    run_study(&s, resumed.path(), None, Some(1), &quiet).unwrap();
+    let half = resumed.path().join("scenes/000003-w");
+    std::fs::create_dir_all(&half).unwrap();
+    std::fs::write(half.join("C.npy"), b"half a file").unwrap();
+    let t = run_study(&s, resumed.path(), None, Some(1), &quiet).unwrap();
+    assert_eq!(t.scenes_skipped, 2);
+    run_study(&s, resumed.path(), None, None, &quiet).unwrap();
+    write_manifest(&s, resumed.path()).unwrap();
+    let (a, b) = (files(one.path()), files(resumed.path()));
+    assert_eq!(a.keys().collect::<Vec<_>>(), b.keys().collect::<Vec<_>>());
+    for (name, bytes) in &a {
+        assert!(bytes == &b[name], "{name} differs after resuming");
+    }
+    let manifest: Vec<serde_json::Value> = serde_json::from_slice(&a["manifest.json"]).unwrap();
+    assert_eq!(manifest.len(), 8);
+    // balanced: each side of the split holds as many wake as no-wake scenes
+    for side in ["train", "test"] {
+        let labels: Vec<u64> = manifest
+            .iter()
+            .filter(|r| r["split"] == side)
+            .map(|r| r["label"].as_u64().unwrap())
+            .collect();
+        assert!(!labels.is_empty());
+        assert_eq!(
+            labels.iter().sum::<u64>() * 2,
+            labels.len() as u64,
+            "{side} is not 50/50"
+        );
+    }
+}
+
+#[test]
+fn shards_cover_every_pair_once_and_their_merge_equals_one_run() {
+    for n in 1..6 {
+        let mut seen: Vec<usize> = (0..n)
+            .flat_map(|k| shard_indices(17, Shard { shard: k, count: n }))
+            .collect();
+        seen.sort();
+        assert_eq!(seen, (0..17).collect::<Vec<_>>());
+    }
+    let s = study("wind_speed = [5.0, 8.0]", 1);
+    let (one, sharded) = (tempfile::tempdir().unwrap(), tempfile::tempdir().unwrap());
+    run_study(&s, one.path(), None, None, &quiet).unwrap();
+    write_manifest(&s, one.path()).unwrap();
+    for k in 0..2 {
+        run_study(&s, sharded.path(), Some(Shard { shard: k, count: 2 }), None, &quiet).unwrap();
+    }
+    write_manifest(&s, sharded.path()).unwrap();
+    assert_eq!(files(one.path()), files(sharded.path()));
+}
+
+#[test]
+fn wake_and_no_wake_scenes_differ_only_where_the_wake_is() {
+    let s = study("", 1);
+    let dir = tempfile::tempdir().unwrap();
+    run_study(&s, dir.path(), None, None, &quiet).unwrap();
+    let load = |id: &str, what: &str| -> ndarray::Array2<f32> {
+        ndarray_npy::read_npy(dir.path().join(format!("scenes/{id}/{what}.npy"))).unwrap()
+    };
+    let mask: ndarray::Array2<u8> = ndarray_npy::read_npy(dir.path().join("scenes/000000-w/mask_C.npy")).unwrap();
+    assert!(mask.iter().any(|&m| m == 1), "no wake in the mask");
+    let (w, n) = (load("000000-w", "C"), load("000000-n", "C"));
+    // outside the mask the Bragg waves differ by less than the 5 % mask threshold
+    for ((a, b), m) in w.iter().zip(n.iter()).zip(mask.iter()) {
+        if *m == 0 {
+            assert!(((a - b) / b).abs() < 0.05, "{a} vs {b} outside the wake");
+        }
+    }
+    let ir_mask: ndarray::Array2<u8> = ndarray_npy::read_npy(dir.path().join("scenes/000000-w/mask_LWIR.npy")).unwrap();
+    let (w, n) = (load("000000-w", "LWIR"), load("000000-n", "LWIR"));
+    for ((a, b), m) in w.iter().zip(n.iter()).zip(ir_mask.iter()) {
+        if *m == 0 {
+            assert!((a - b).abs() < 0.02, "{a} K vs {b} K outside the wake");
+        }
+    }
+    let no_mask: ndarray::Array2<u8> = ndarray_npy::read_npy(dir.path().join("scenes/000000-n/mask_C.npy")).unwrap();
+    assert!(no_mask.iter().all(|&m| m == 0));
+}
+
+#[test]
+fn following_seas_show_the_persistent_wake_better_than_calm_seas() {
+    // 16 km behind the ship (40 minutes), where the swell's vortex force keeps the wake alive
+    let s = Study::from_toml_str(
+        r#"
+[study]
+name = "persistence"
+combine = "product"
+seeds = 1
+test_fraction = 0.0
+grouped_split = false
+min_visibility = 0.0
+mixed_layer_depth = 20.0
+bands = ["C"]
+[axes]
+swell_direction = ["following", "calm"]
+along_track = [16000.0]
+image_size = [128]
+pixel_spacing = [10.0]
+[base]
+preset = "quick"
+"#,
+        "test",
+    )
+    .unwrap();
+    let dir = tempfile::tempdir().unwrap();
+    run_study(&s, dir.path(), None, None, &quiet).unwrap();
+    let records = write_manifest(&s, dir.path()).unwrap();
+    let vis = |dir: &str| {
+        records
+            .iter()
+            .find(|r| r.label == 1 && serde_json::to_value(r.parameters.swell_direction).unwrap() == dir)
+            .unwrap()
+            .visibility["C"]
+    };
+    let (following, calm) = (vis("following"), vis("calm"));
+    eprintln!("C-band visibility 16 km behind the ship: following {following:.3}, calm {calm:.3}");
+    assert!(following > calm);
+}
+
+#[test]
+fn bad_study_files_are_refused_before_any_work() {
+    let base = |axes: &str, bands: &str| {
+        format!(
+            "[study]\nname = \"bad\"\ncombine = \"product\"\nseeds = 1\ntest_fraction = 0.2\ngrouped_split = false\n\
+             min_visibility = 0.0\nmixed_layer_depth = 20.0\nbands = {bands}\n[axes]\n{axes}\n[base]\npreset = \"quick\"\n"
+        )
+    };
+    for (text, field) in [
+        (base("", "[\"C\", \"K\"]"), "study.bands"),
+        (base("wind_speed = [-3.0]", "[\"C\"]"), "axes.wind_speed"),
+        (base("incidence = []", "[\"C\"]"), "axes.incidence"),
+        (
+            base("image_size = [8192]\npixel_spacing = [10.0]", "[\"C\"]"),
+            "axes.along_track",
+        ),
+        (base("wind_sped = [3.0]", "[\"C\"]"), "wind_sped"),
+    ] {
+        let err = Study::from_toml_str(&text, "bad.toml").unwrap_err().to_string();
+        assert!(err.contains(field), "expected {field} in: {err}");
+    }
+}

@@ -142,6 +142,17 @@ fn wake_and_no_wake_scenes_differ_only_where_the_wake_is() {
     }
     let no_mask: ndarray::Array2<u8> = ndarray_npy::read_npy(dir.path().join("scenes/000000-n/mask_C.npy")).unwrap();
     assert!(no_mask.iter().all(|&m| m == 0));
+    // the label policy: with a visibility threshold above every wake's, no band calls it a wake
+    let records = write_manifest(&s, dir.path()).unwrap();
+    let wake = records.iter().find(|r| r.label == 1).unwrap();
+    assert!(wake.label_by_band.values().all(|&l| l == 1));
+    let mut strict = s.clone();
+    strict.study.min_visibility = 1000.0;
+    let strict_dir = tempfile::tempdir().unwrap();
+    run_study(&strict, strict_dir.path(), None, None, &quiet).unwrap();
+    let records = write_manifest(&strict, strict_dir.path()).unwrap();
+    let wake = records.iter().find(|r| r.label == 1).unwrap();
+    assert!(wake.label_by_band.values().all(|&l| l == 0));
 }
 
 #[test]

@@ -271,3 +271,116 @@ fn sar_sigma0_and_optics_print_their_json() {
     let bad = wakelab(&["sar", "sigma0", "--band", "K"]);
     assert!(!bad.status.success() && stderr(&bad).contains("--band K"));
 }
+
+#[test]
+fn dataset_refuses_bad_studies_before_work_and_emits_a_slurm_array() {
+    let dir = tempfile::tempdir().unwrap();
+    let bad = dir.path().join("bad.toml");
+    std::fs::write(
+        &bad,
+        "[study]\nname = \"b\"\ncombine = \"product\"\nseeds = 1\ntest_fraction = 0.1\ngrouped_split = false\n\
+         min_visibility = 0.0\nmixed_layer_depth = 20.0\nbands = [\"C\"]\n[axes]\nwind_speed = [-1.0]\n",
+    )
+    .unwrap();
+    let out = dir.path().join("ds");
+    let o = wakelab(&[
+        "dataset",
+        "--study",
+        bad.to_str().unwrap(),
+        "--out",
+        out.to_str().unwrap(),
+        "--quiet",
+    ]);
+    assert!(!o.status.success());
+    assert!(stderr(&o).contains("axes.wind_speed"), "{}", stderr(&o));
+    assert!(!out.exists());
+
+    let o = wakelab(&[
+        "dataset",
+        "--study",
+        "default",
+        "--out",
+        out.to_str().unwrap(),
+        "--emit-slurm",
+        "--tasks",
+        "4",
+    ]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let script = std::fs::read_to_string(out.join("wakelab_dataset.slurm")).unwrap();
+    assert!(
+        script.contains("--array=0-3") && script.contains("SLURM_ARRAY_TASK_ID/4"),
+        "{script}"
+    );
+    assert!(script.contains("--dependency=afterok") && script.contains("--merge"));
+
+    let o = wakelab(&["dataset", "--out", out.to_str().unwrap(), "--shard", "4/4"]);
+    assert!(!o.status.success() && stderr(&o).contains("--shard 4/4"));
+}
+
+/// The Slurm script run against a stand-in `sbatch` that executes the array tasks one after the
+/// other and then the merge job: the result must equal a single-machine run, byte for byte.
+#[test]
+fn the_slurm_script_reproduces_a_single_machine_run() {
+    let dir = tempfile::tempdir().unwrap();
+    let study = dir.path().join("study.toml");
+    std::fs::write(
+        &study,
+        "[study]\nname = \"s\"\ncombine = \"product\"\nseeds = 1\ntest_fraction = 0.5\ngrouped_split = false\n\
+         min_visibility = 0.0\nmixed_layer_depth = 20.0\nbands = [\"X\", \"MWIR\"]\n\
+         [axes]\nwind_speed = [5.0, 8.0, 11.0]\nimage_size = [32]\npixel_spacing = [10.0]\nalong_track = [2000.0]\n\
+         [base]\npreset = \"quick\"\n[base.time]\nduration = 600.0\n",
+    )
+    .unwrap();
+    let bin = dir.path().join("bin");
+    std::fs::create_dir_all(&bin).unwrap();
+    let sbatch = bin.join("sbatch");
+    std::fs::write(
+        &sbatch,
+        "#!/bin/bash\narray=\"\"; wrap=\"\"\nfor a in \"$@\"; do case \"$a\" in --array=*) array=\"${a#--array=}\";; --wrap=*) wrap=\"${a#--wrap=}\";; esac; done\n\
+         if [ -n \"$array\" ]; then for i in $(seq ${array%-*} ${array#*-}); do SLURM_ARRAY_TASK_ID=$i bash -c \"$wrap\" || exit 1; done; echo 42; else bash -c \"$wrap\"; fi\n",
+    )
+    .unwrap();
+    use std::os::unix::fs::PermissionsExt;
+    std::fs::set_permissions(&sbatch, std::fs::Permissions::from_mode(0o755)).unwrap();
+    let (single, array) = (dir.path().join("single"), dir.path().join("array"));
+    let o = wakelab(&[
+        "dataset",
+        "--study",
+        study.to_str().unwrap(),
+        "--out",
+        single.to_str().unwrap(),
+        "--quiet",
+    ]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let o = wakelab(&[
+        "dataset",
+        "--study",
+        study.to_str().unwrap(),
+        "--out",
+        array.to_str().unwrap(),
+        "--emit-slurm",
+        "--tasks",
+        "2",
+    ]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let path = format!("{}:{}", bin.display(), std::env::var("PATH").unwrap_or_default());
+    let run = Command::new("bash")
+        .arg(array.join("wakelab_dataset.slurm"))
+        .env("PATH", path)
+        .output()
+        .unwrap();
+    assert!(run.status.success(), "{}", String::from_utf8_lossy(&run.stderr));
+    for f in [
+        "manifest.json",
+        "manifest.csv",
+        "splits.json",
+        "scenes/000002-w/X.npy",
+        "scenes/000001-n/mask_MWIR.npy",
+    ] {
+        assert_eq!(
+            std::fs::read(single.join(f)).unwrap(),
+            std::fs::read(array.join(f)).unwrap(),
+            "{f}"
+        );
+    }
+}

@@ -52,7 +52,8 @@ pub struct SceneRecord {
 #[derive(Debug, Clone, Default, Serialize)]
 pub struct StageTimes {
     pub hydro: f64,
-    pub surface_and_sensors: f64,
+    pub surface: f64,
+    pub sensors: f64,
     pub writing: f64,
     pub scenes_rendered: usize,
     pub scenes_skipped: usize,
@@ -180,20 +181,19 @@ pub fn run_study(
     }
     times.hydro = t0.elapsed().as_secs_f64();
     let done = Mutex::new(0usize);
-    let render_time = Mutex::new((0.0f64, 0.0f64));
+    let render_time = Mutex::new((0.0f64, 0.0f64, 0.0f64));
     todo.par_iter()
         .map(|pair| -> Result<(), WakelabError> {
-            let t = Instant::now();
             let map = &maps[&hydro_key(&pair.config)];
-            let bands = render_pair(pair, map, &study.study.bands);
-            let rendered = t.elapsed().as_secs_f64();
+            let (bands, surface, sensors) = render_pair(pair, map, &study.study.bands);
             let t = Instant::now();
             write_pair(dir, study, pair, &bands)?;
             let written = t.elapsed().as_secs_f64();
             {
                 let mut rt = render_time.lock().expect("lock");
-                rt.0 += rendered;
-                rt.1 += written;
+                rt.0 += surface;
+                rt.1 += sensors;
+                rt.2 += written;
             }
             let mut d = done.lock().expect("lock");
             *d += 1;
@@ -204,9 +204,10 @@ pub fn run_study(
             Ok(())
         })
         .collect::<Result<Vec<()>, _>>()?;
-    let (r, w) = *render_time.lock().expect("lock");
-    times.surface_and_sensors = r;
-    times.writing = w;
+    let (surface, sensors, writing) = *render_time.lock().expect("lock");
+    times.surface = surface;
+    times.sensors = sensors;
+    times.writing = writing;
     times.scenes_rendered = 2 * todo.len();
     Ok(times)
 }

@@ -70,12 +70,16 @@ pub fn visibility(image: &Array2<f32>, mask: &Array2<u8>) -> f64 {
     (mw - ms).abs() / var.sqrt()
 }
 
-/// Render a pair in `bands` from the wake's surface map.
-pub fn render_pair(pair: &ScenePair, map: &SurfaceMap, bands: &[String]) -> Vec<BandPair> {
+/// Render a pair in `bands` from the wake's surface map; also returns the seconds spent in the
+/// surface stage and in the sensors.
+pub fn render_pair(pair: &ScenePair, map: &SurfaceMap, bands: &[String]) -> (Vec<BandPair>, f64, f64) {
     let cfg = &pair.config;
+    let t = std::time::Instant::now();
     let with: SurfaceScene = simulate_surface(cfg, Some(map));
     let without: SurfaceScene = simulate_surface(cfg, None);
-    bands
+    let surface = t.elapsed().as_secs_f64();
+    let t = std::time::Instant::now();
+    let out = bands
         .iter()
         .map(|name| {
             if let Some(b) = sar_band(name) {
@@ -92,7 +96,8 @@ pub fn render_pair(pair: &ScenePair, map: &SurfaceMap, bands: &[String]) -> Vec<
                 finish(b.name(), wake, no_wake, mask, "brightness temperature (K)")
             }
         })
-        .collect()
+        .collect();
+    (out, surface, t.elapsed().as_secs_f64())
 }
 
 fn finish(

@@ -114,6 +114,19 @@ fn shards_cover_every_pair_once_and_their_merge_equals_one_run() {
     }
     write_manifest(&s, sharded.path()).unwrap();
     assert_eq!(files(one.path()), files(sharded.path()));
+    // a grouped split keeps each environment (here: each wind speed) on one side
+    let mut grouped = s.clone();
+    grouped.study.grouped_split = true;
+    let records = write_manifest(&grouped, one.path()).unwrap();
+    for r in &records {
+        let same_env = records.iter().filter(|o| o.environment == r.environment);
+        assert!(
+            same_env.clone().all(|o| o.split == r.split),
+            "{} spans both sides",
+            r.environment
+        );
+    }
+    assert!(records.iter().any(|r| r.split == "test") && records.iter().any(|r| r.split == "train"));
 }
 
 #[test]

@@ -625,12 +625,13 @@ fn run_dataset(
         bar.finish_and_clear();
         let wall = start.elapsed().as_secs_f64();
         eprintln!(
-            "rendered {} scenes ({} already done) in {wall:.1} s: {:.1} scenes/min; hydro {:.1} s, surface + sensors {:.1} core-s, writing {:.1} core-s",
+            "rendered {} scenes ({} already done) in {wall:.1} s: {:.1} scenes/min; hydro {:.1} s, then per core: surface {:.1} s, sensors {:.1} s, writing {:.1} s",
             times.scenes_rendered,
             times.scenes_skipped,
             times.scenes_rendered as f64 / wall * 60.0,
             times.hydro,
-            times.surface_and_sensors,
+            times.surface,
+            times.sensors,
             times.writing
         );
         write_atomically(

@@ -384,3 +384,75 @@ fn the_slurm_script_reproduces_a_single_machine_run() {
         );
     }
 }
+
+/// A dataset run killed (SIGKILL) at several moments and resumed each time ends byte-identical to
+/// an uninterrupted run.
+#[test]
+fn a_killed_dataset_run_resumes_to_the_same_bytes() {
+    let dir = tempfile::tempdir().unwrap();
+    let study = dir.path().join("study.toml");
+    std::fs::write(
+        &study,
+        "[study]\nname = \"k\"\ncombine = \"product\"\nseeds = 3\ntest_fraction = 0.25\ngrouped_split = false\n\
+         min_visibility = 0.0\nmixed_layer_depth = 20.0\nbands = [\"S\", \"C\", \"X\", \"MWIR\", \"LWIR\"]\n\
+         [axes]\nwind_speed = [4.0, 6.0, 9.0]\nimage_size = [96]\npixel_spacing = [10.0]\nalong_track = [2000.0]\n\
+         [base]\npreset = \"quick\"\n[base.time]\nduration = 600.0\n",
+    )
+    .unwrap();
+    let (whole, killed) = (dir.path().join("whole"), dir.path().join("killed"));
+    let args = |out: &Path| {
+        vec![
+            "dataset".to_string(),
+            "--study".into(),
+            study.display().to_string(),
+            "--out".into(),
+            out.display().to_string(),
+            "--quiet".into(),
+        ]
+    };
+    let o = Command::new(env!("CARGO_BIN_EXE_wakelab"))
+        .args(args(&whole))
+        .output()
+        .unwrap();
+    assert!(o.status.success(), "{}", stderr(&o));
+    for delay_ms in [300u64, 700, 1100, 1500] {
+        let mut child = Command::new(env!("CARGO_BIN_EXE_wakelab"))
+            .args(args(&killed))
+            .spawn()
+            .unwrap();
+        std::thread::sleep(std::time::Duration::from_millis(delay_ms));
+        let _ = child.kill();
+        let _ = child.wait();
+    }
+    let o = Command::new(env!("CARGO_BIN_EXE_wakelab"))
+        .args(args(&killed))
+        .output()
+        .unwrap();
+    assert!(o.status.success(), "{}", stderr(&o));
+    for f in ["manifest.json", "manifest.csv", "splits.json"] {
+        assert_eq!(
+            std::fs::read(whole.join(f)).unwrap(),
+            std::fs::read(killed.join(f)).unwrap(),
+            "{f}"
+        );
+    }
+    let manifest: Vec<serde_json::Value> =
+        serde_json::from_slice(&std::fs::read(whole.join("manifest.json")).unwrap()).unwrap();
+    assert_eq!(manifest.len(), 18);
+    for r in &manifest {
+        for band in ["S", "C", "X", "MWIR", "LWIR"] {
+            let p = r["images"][band].as_str().unwrap();
+            assert_eq!(
+                std::fs::read(whole.join(p)).unwrap(),
+                std::fs::read(killed.join(p)).unwrap(),
+                "{p}"
+            );
+        }
+    }
+    let leftovers = std::fs::read_dir(killed.join("scenes"))
+        .unwrap()
+        .flat_map(|d| std::fs::read_dir(d.unwrap().path()).unwrap())
+        .filter(|e| e.as_ref().unwrap().file_name().to_string_lossy().ends_with(".tmp"))
+        .count();
+    assert_eq!(leftovers, 0, "temporary files left behind");
+}

@@ -29,18 +29,7 @@ pub fn redistribute_surfactant(map: &SurfaceMap, ship_speed: f64) -> SurfactantF
     let v = map.field("V");
     let nut = map.field("nu_t");
     let y = &map.y;
-    // cell edges half-way between the map's columns
-    let width: Vec<f64> = (0..cols)
-        .map(|j| {
-            let lo = if j == 0 { y[0] } else { 0.5 * (y[j - 1] + y[j]) };
-            let hi = if j + 1 == cols {
-                y[cols - 1]
-            } else {
-                0.5 * (y[j] + y[j + 1])
-            };
-            (hi - lo).max(1e-9)
-        })
-        .collect();
+    let width = column_widths(y);
     let mut gamma = vec![1.0; rows * cols];
     let mut lower = vec![0.0; cols];
     let mut diag = vec![0.0; cols];
@@ -91,21 +80,29 @@ pub fn redistribute_surfactant(map: &SurfaceMap, ship_speed: f64) -> SurfactantF
 pub fn row_fluxes(map: &SurfaceMap, field: &SurfactantField, ship_speed: f64) -> Vec<f64> {
     let cols = field.cols;
     let u = map.field("U");
-    let y = &map.y;
+    let width = column_widths(&map.y);
     (0..field.rows)
         .into_par_iter()
         .map(|r| {
             (0..cols)
-                .map(|j| {
-                    let lo = if j == 0 { y[0] } else { 0.5 * (y[j - 1] + y[j]) };
-                    let hi = if j + 1 == cols {
-                        y[cols - 1]
-                    } else {
-                        0.5 * (y[j] + y[j + 1])
-                    };
-                    (ship_speed - u[r * cols + j] as f64) * field.gamma[r * cols + j] * (hi - lo)
-                })
+                .map(|j| (ship_speed - u[r * cols + j] as f64) * field.gamma[r * cols + j] * width[j])
                 .sum()
+        })
+        .collect()
+}
+
+/// Width of each column's cell: edges half-way between neighbouring columns, the map's ends.
+fn column_widths(y: &[f64]) -> Vec<f64> {
+    let cols = y.len();
+    (0..cols)
+        .map(|j| {
+            let lo = if j == 0 { y[0] } else { 0.5 * (y[j - 1] + y[j]) };
+            let hi = if j + 1 == cols {
+                y[cols - 1]
+            } else {
+                0.5 * (y[j] + y[j + 1])
+            };
+            (hi - lo).max(1e-9)
         })
         .collect()
 }

@@ -45,6 +45,19 @@ impl ConfigArgs {
         };
         Ok(WakelabConfig::from_toml_str_with_preset(&text, &origin, self.preset)?)
     }
+
+    /// The configuration with the command line's --wind and --incidence applied, validated.
+    fn load_with(&self, wind: Option<f64>, incidence: Option<f64>) -> Result<WakelabConfig> {
+        let mut cfg = self.load()?;
+        if let Some(w) = wind {
+            cfg.environment.wind.speed = w;
+        }
+        if let Some(i) = incidence {
+            cfg.platform.incidence = i;
+        }
+        cfg.validate()?;
+        Ok(cfg)
+    }
 }
 
 /// Options of the commands that run stages.
@@ -245,14 +258,7 @@ fn dispatch(cli: Cli) -> Result<()> {
             incidence,
             json,
         } => {
-            let mut cfg = config.load()?;
-            if let Some(w) = wind {
-                cfg.environment.wind.speed = w;
-            }
-            if let Some(i) = incidence {
-                cfg.platform.incidence = i;
-            }
-            cfg.validate()?;
+            let cfg = config.load_with(wind, incidence)?;
             let report = spectrum_report(&cfg);
             if json {
                 println!("{}", serde_json::to_string_pretty(&report)?);
@@ -361,13 +367,7 @@ fn dispatch(cli: Cli) -> Result<()> {
                     json,
                 },
         } => {
-            let mut cfg = config.load()?;
-            if let Some(w) = wind {
-                cfg.environment.wind.speed = w;
-            }
-            if let Some(i) = incidence {
-                cfg.platform.incidence = i;
-            }
+            let mut cfg = config.load_with(wind, incidence)?;
             if let Some(p) = polarisation {
                 cfg.sar.polarisation = match p.to_lowercase().as_str() {
                     "vv" => Polarisation::Vv,

@@ -1,0 +1,198 @@
+//! Command-line arguments.
+
+use crate::Result;
+use anyhow::Context;
+use clap::{Args, Parser, Subcommand};
+use std::path::PathBuf;
+use wakelab_core::config::{Preset, WakelabConfig};
+
+/// wakelab: simulate a ship's persistent wake from first principles, render what SAR and
+/// infrared sensors would see, and train and fuse the detectors that find it.
+///
+/// Start with `wakelab run`: it runs the pipeline on the embedded default configuration (the
+/// wake simulation, the sea surface of one scene and its SAR and infrared images) and writes
+/// everything into runs/default/; `wakelab dataset` renders a whole parametric study. `wakelab config show` prints every setting; copy it to a file, change what you
+/// need and pass it back with --config.
+#[derive(Parser, Debug)]
+#[command(name = "wakelab", version, about, long_about, propagate_version = true)]
+pub struct Cli {
+    #[command(subcommand)]
+    pub command: Command,
+}
+
+#[derive(Args, Debug, Clone)]
+pub struct ConfigArgs {
+    /// TOML configuration file; values it leaves out keep their embedded defaults.
+    #[arg(long, short, value_name = "FILE")]
+    pub config: Option<PathBuf>,
+    /// Grid and time preset: `quick` (coarse, seconds) or `paper` (the spec's grid, minutes).
+    /// Overrides the file's `preset`.
+    #[arg(long, value_name = "NAME")]
+    pub preset: Option<Preset>,
+}
+
+impl ConfigArgs {
+    pub fn load(&self) -> Result<WakelabConfig> {
+        let (text, origin) = match &self.config {
+            Some(path) => (
+                std::fs::read_to_string(path).with_context(|| format!("reading {}", path.display()))?,
+                path.display().to_string(),
+            ),
+            None => (String::new(), "<embedded default>".to_string()),
+        };
+        Ok(WakelabConfig::from_toml_str_with_preset(&text, &origin, self.preset)?)
+    }
+
+    /// The configuration with the command line's --wind and --incidence applied, validated.
+    pub fn load_with(&self, wind: Option<f64>, incidence: Option<f64>) -> Result<WakelabConfig> {
+        let mut cfg = self.load()?;
+        if let Some(w) = wind {
+            cfg.environment.wind.speed = w;
+        }
+        if let Some(i) = incidence {
+            cfg.platform.incidence = i;
+        }
+        cfg.validate()?;
+        Ok(cfg)
+    }
+}
+
+/// Options of the commands that run stages.
+#[derive(Args, Debug, Clone)]
+pub struct RunArgs {
+    #[command(flatten)]
+    pub config: ConfigArgs,
+    /// Run directory (default: the configuration's output.dir).
+    #[arg(long, value_name = "DIR")]
+    pub out: Option<PathBuf>,
+    /// No progress bar.
+    #[arg(long)]
+    pub quiet: bool,
+}
+
+#[derive(Subcommand, Debug)]
+pub enum Command {
+    /// Run the pipeline on one configuration: wake, sea surface of the scene, SAR and IR images.
+    Run(RunArgs),
+    /// Simulate the ship's wake only (stage 1, spec 2.1) and write its files.
+    Wake(RunArgs),
+    /// The initial data plane of the ship (spec Eqs. 2.26-2.62): its derived scalars.
+    Idp {
+        #[command(flatten)]
+        config: ConfigArgs,
+        /// Print the scalars as JSON.
+        #[arg(long)]
+        json: bool,
+        /// Also write the IDP fields on the grid (idp.nc and pictures) into DIR.
+        #[arg(long, value_name = "DIR")]
+        write: Option<PathBuf>,
+    },
+    /// The background sea of a wind (and the configured swell): Hs, peak frequency, mean-square
+    /// slopes and the spectral density at the S, C and X Bragg wavenumbers.
+    Spectrum {
+        #[command(flatten)]
+        config: ConfigArgs,
+        /// Wind speed at 10 m (m/s); default: environment.wind.speed.
+        #[arg(long, value_name = "M/S")]
+        wind: Option<f64>,
+        /// Radar incidence angle (degrees); default: platform.incidence.
+        #[arg(long, value_name = "DEG")]
+        incidence: Option<f64>,
+        /// Print JSON.
+        #[arg(long)]
+        json: bool,
+    },
+    /// Infrared optics of sea water: n, kappa, Fresnel reflectances and emissivity at a
+    /// wavelength, and the IR radiance of a flat sea in both bands for the configured geometry.
+    Optics {
+        #[command(flatten)]
+        config: ConfigArgs,
+        /// Wavelength (micrometres).
+        #[arg(long, value_name = "UM", default_value_t = 11.0)]
+        wavelength: f64,
+        /// Practical salinity (PSU); default: the surface salinity.
+        #[arg(long)]
+        salinity: Option<f64>,
+        /// Temperature (deg C); default: the surface temperature.
+        #[arg(long)]
+        temperature: Option<f64>,
+        /// Incidence angle (degrees); default: platform.incidence.
+        #[arg(long, value_name = "DEG")]
+        incidence: Option<f64>,
+        /// Print JSON.
+        #[arg(long)]
+        json: bool,
+    },
+    /// Render a parametric study into a labelled dataset (stage 4): wake and no-wake scenes in
+    /// every band, wake masks, visibility, manifest (CSV, JSON) and train/test splits.
+    Dataset {
+        /// Study file (TOML), or `default` / `paper` for the embedded studies.
+        #[arg(long, value_name = "FILE", default_value = "default")]
+        study: String,
+        /// Dataset directory.
+        #[arg(long, value_name = "DIR")]
+        out: PathBuf,
+        /// Render only pairs with index % N == K, given as K/N (one Slurm array task).
+        #[arg(long, value_name = "K/N")]
+        shard: Option<String>,
+        /// Only gather finished scenes into the manifest and splits.
+        #[arg(long)]
+        merge: bool,
+        /// Write a Slurm job-array script into DIR instead of rendering.
+        #[arg(long)]
+        emit_slurm: bool,
+        /// Array tasks of the Slurm script.
+        #[arg(long, default_value_t = 16)]
+        tasks: usize,
+        /// No progress bar.
+        #[arg(long)]
+        quiet: bool,
+    },
+    /// SAR tools.
+    Sar {
+        #[command(subcommand)]
+        action: SarAction,
+    },
+    /// Inspect the configuration.
+    Config {
+        #[command(subcommand)]
+        action: ConfigAction,
+    },
+}
+
+#[derive(Subcommand, Debug)]
+pub enum SarAction {
+    /// sigma0 of the undisturbed sea for a wind, band, polarisation and incidence (spec Eqs.
+    /// 3.1-3.2), to compare against the geophysical model functions you know.
+    Sigma0 {
+        #[command(flatten)]
+        config: ConfigArgs,
+        /// Wind speed at 10 m (m/s); default: environment.wind.speed.
+        #[arg(long, value_name = "M/S")]
+        wind: Option<f64>,
+        /// Band: S, C or X.
+        #[arg(long, default_value = "C")]
+        band: String,
+        /// Polarisation: vv or hh; default: sar.polarisation.
+        #[arg(long)]
+        polarisation: Option<String>,
+        /// Incidence angle (degrees); default: platform.incidence.
+        #[arg(long, value_name = "DEG")]
+        incidence: Option<f64>,
+        /// Look direction relative to the wind direction (degrees; 0: looking down-wind).
+        #[arg(long, value_name = "DEG", default_value_t = 90.0)]
+        look: f64,
+        /// Print JSON.
+        #[arg(long)]
+        json: bool,
+    },
+}
+
+#[derive(Subcommand, Debug)]
+pub enum ConfigAction {
+    /// Print the effective configuration as TOML (a valid --config file).
+    Show {
+        #[command(flatten)]
+        config: ConfigArgs,
+    },
+}

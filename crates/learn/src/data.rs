@@ -1,0 +1,143 @@
+//! Reading a wakelab dataset for learning (spec 4.2, Algorithm 2): images of a band normalised to
+//! zero mean and unit variance, random 90-degree rotations, and Monte Carlo balanced train/test
+//! samples.
+
+use ndarray::Array2;
+use rand::{RngExt, SeedableRng};
+use rand_chacha::ChaCha8Rng;
+use std::path::{Path, PathBuf};
+use wakelab_core::WakelabError;
+use wakelab_data::SceneRecord;
+
+/// A dataset directory and its manifest.
+pub struct Dataset {
+    pub dir: PathBuf,
+    pub records: Vec<SceneRecord>,
+}
+
+impl Dataset {
+    /// Open `dir/manifest.json`.
+    pub fn open(dir: &Path) -> Result<Self, WakelabError> {
+        let path = dir.join("manifest.json");
+        let text = std::fs::read_to_string(&path).map_err(|e| WakelabError::io(&path, e))?;
+        let records: Vec<SceneRecord> = serde_json::from_str(&text).map_err(|e| WakelabError::Parse {
+            path: path.display().to_string(),
+            message: e.to_string(),
+        })?;
+        Ok(Self {
+            dir: dir.to_path_buf(),
+            records,
+        })
+    }
+
+    /// The image of scene `i` in `band`, normalised to zero mean and unit variance.
+    pub fn image(&self, i: usize, band: &str) -> Result<Array2<f32>, WakelabError> {
+        let r = &self.records[i];
+        let rel = r.images.get(band).ok_or_else(|| WakelabError::Parse {
+            path: self.dir.join("manifest.json").display().to_string(),
+            message: format!(
+                "scene {} has no band {band} (bands: {:?})",
+                r.id,
+                r.images.keys().collect::<Vec<_>>()
+            ),
+        })?;
+        let path = self.dir.join(rel);
+        let image: Array2<f32> = ndarray_npy::read_npy(&path).map_err(|e| WakelabError::Image {
+            path: path.display().to_string(),
+            message: e.to_string(),
+        })?;
+        Ok(normalise(image))
+    }
+}
+
+/// Zero mean, unit variance (a constant image becomes all zeros).
+pub fn normalise(mut image: Array2<f32>) -> Array2<f32> {
+    let n = image.len() as f64;
+    let mean = image.iter().map(|&v| v as f64).sum::<f64>() / n;
+    let var = image.iter().map(|&v| (v as f64 - mean).powi(2)).sum::<f64>() / n;
+    let scale = if var > 0.0 { 1.0 / var.sqrt() } else { 0.0 };
+    image.mapv_inplace(|v| ((v as f64 - mean) * scale) as f32);
+    image
+}
+
+/// Rotate a square image by `quarter_turns` x 90 degrees counter-clockwise.
+pub fn rotate_quarter(image: &Array2<f32>, quarter_turns: u8) -> Array2<f32> {
+    let n = image.nrows();
+    let mut out = image.clone();
+    for _ in 0..quarter_turns % 4 {
+        let prev = out.clone();
+        out = Array2::from_shape_fn((n, n), |(r, c)| prev[[c, n - 1 - r]]);
+    }
+    out
+}
+
+/// Algorithm 2's Monte Carlo split: `test_per_class` wake and as many no-wake scenes drawn at
+/// random (seeded) for testing, `train_per_class` of each of the rest for training; indices into
+/// `labels`. Errors if a class has too few scenes.
+pub fn balanced_split(
+    labels: &[u8],
+    train_per_class: usize,
+    test_per_class: usize,
+    seed: u64,
+) -> Result<(Vec<usize>, Vec<usize>), WakelabError> {
+    let mut rng = ChaCha8Rng::seed_from_u64(seed);
+    let mut train = Vec::new();
+    let mut test = Vec::new();
+    for class in [1u8, 0] {
+        let mut idx: Vec<usize> = (0..labels.len()).filter(|&i| labels[i] == class).collect();
+        if idx.len() < train_per_class + test_per_class {
+            return Err(WakelabError::Config(wakelab_core::ConfigError::new(
+                "train/test sizes",
+                format!("{train_per_class} + {test_per_class} per class"),
+                format!("at most {} scenes of class {class} in the dataset", idx.len()),
+            )));
+        }
+        // Fisher-Yates shuffle
+        for i in (1..idx.len()).rev() {
+            let j = rng.random_range(0..=i);
+            idx.swap(i, j);
+        }
+        test.extend_from_slice(&idx[..test_per_class]);
+        train.extend_from_slice(&idx[test_per_class..test_per_class + train_per_class]);
+    }
+    train.sort();
+    test.sort();
+    Ok((train, test))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn normalised_images_have_zero_mean_and_unit_variance() {
+        let img = Array2::from_shape_fn((8, 8), |(r, c)| (r * 3 + c) as f32 * 0.7 + 5.0);
+        let n = normalise(img);
+        let mean = n.iter().map(|&v| v as f64).sum::<f64>() / 64.0;
+        let var = n.iter().map(|&v| (v as f64 - mean).powi(2)).sum::<f64>() / 64.0;
+        assert!(mean.abs() < 1e-6 && (var - 1.0).abs() < 1e-5);
+        assert!(normalise(Array2::from_elem((4, 4), 3.0)).iter().all(|&v| v == 0.0));
+    }
+
+    #[test]
+    fn four_quarter_turns_are_the_identity() {
+        let img = Array2::from_shape_fn((5, 5), |(r, c)| (r * 5 + c) as f32);
+        let once = rotate_quarter(&img, 1);
+        // counter-clockwise: the top row becomes the left column, read bottom to top
+        assert_eq!(once[[4, 0]], img[[0, 0]]);
+        assert_eq!(once[[0, 0]], img[[0, 4]]);
+        assert_eq!(rotate_quarter(&img, 4), img);
+        assert_eq!(rotate_quarter(&rotate_quarter(&img, 3), 1), img);
+    }
+
+    #[test]
+    fn monte_carlo_split_is_balanced_disjoint_and_seeded() {
+        let labels: Vec<u8> = (0..40).map(|i| (i % 2) as u8).collect();
+        let (train, test) = balanced_split(&labels, 15, 4, 9).unwrap();
+        assert_eq!((train.len(), test.len()), (30, 8));
+        assert_eq!(test.iter().filter(|&&i| labels[i] == 1).count(), 4);
+        assert!(train.iter().all(|i| !test.contains(i)));
+        assert_eq!(balanced_split(&labels, 15, 4, 9).unwrap(), (train, test));
+        assert!(balanced_split(&labels, 18, 4, 9).is_err());
+    }
+}

@@ -2,30 +2,7 @@
 
 use ndarray::Array2;
 use rustfft::num_complex::Complex64;
-use rustfft::FftPlanner;
-
-/// 2D FFT (forward or inverse, unnormalised) of an n x n array in place.
-fn fft_2d(data: &mut [Complex64], n: usize, inverse: bool) {
-    let mut planner = FftPlanner::new();
-    let fft = if inverse {
-        planner.plan_fft_inverse(n)
-    } else {
-        planner.plan_fft_forward(n)
-    };
-    for row in data.chunks_mut(n) {
-        fft.process(row);
-    }
-    let mut col = vec![Complex64::new(0.0, 0.0); n];
-    for c in 0..n {
-        for r in 0..n {
-            col[r] = data[r * n + c];
-        }
-        fft.process(&mut col);
-        for r in 0..n {
-            data[r * n + c] = col[r];
-        }
-    }
-}
+use wakelab_surface::fourier::fft_2d;
 
 /// Line-of-sight orbital velocity (m/s, away from the sensor) of the long waves in `elevation`
 /// (rows to -y, columns to -x of the heading frame, spacing `dx`), by linear deep-water theory:

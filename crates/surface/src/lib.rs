@@ -9,6 +9,7 @@
 
 pub mod action;
 pub mod film;
+pub mod fourier;
 pub mod output;
 pub mod scene;
 pub mod spectrum;

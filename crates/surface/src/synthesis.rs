@@ -13,6 +13,7 @@
 //! Each window draws from a ChaCha8 stream seeded by (seed, window index): the same seed gives the
 //! same surface, bit for bit, in any thread order.
 
+use crate::fourier::fft_2d_with;
 use crate::spectrum::SeaSpectrum;
 use ndarray::Array2;
 use rand::{RngExt, SeedableRng};
@@ -100,7 +101,7 @@ pub fn synthesise_surface(spectrum: &SeaSpectrum, size: usize, dx: f64, window: 
             }
             let mut scratch = vec![Complex64::new(0.0, 0.0); fft.get_inplace_scratch_len()];
             fields.map(|mut f| {
-                inverse_fft_2d(&mut f, m, fft.as_ref(), &mut scratch);
+                fft_2d_with(&mut f, m, fft.as_ref(), &mut scratch);
                 f.iter()
                     .enumerate()
                     .map(|(i, z)| z.re * window_weight[i / m] * window_weight[i % m])
@@ -136,23 +137,6 @@ pub fn synthesise_surface(spectrum: &SeaSpectrum, size: usize, dx: f64, window: 
         slope_x,
         slope_y,
         dx,
-    }
-}
-
-/// In-place 2D inverse DFT (unnormalised, e^{+i k x}) of an m x m array.
-fn inverse_fft_2d(data: &mut [Complex64], m: usize, fft: &dyn rustfft::Fft<f64>, scratch: &mut [Complex64]) {
-    for row in data.chunks_mut(m) {
-        fft.process_with_scratch(row, scratch);
-    }
-    let mut column = vec![Complex64::new(0.0, 0.0); m];
-    for c in 0..m {
-        for r in 0..m {
-            column[r] = data[r * m + c];
-        }
-        fft.process_with_scratch(&mut column, scratch);
-        for r in 0..m {
-            data[r * m + c] = column[r];
-        }
     }
 }
 

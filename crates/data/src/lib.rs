@@ -114,8 +114,7 @@ fn hydro_map(dir: &Path, config: &WakelabConfig) -> Result<SurfaceMap, WakelabEr
         return wakelab_hydro::output::read_surface_map(&file);
     }
     std::fs::create_dir_all(&case).map_err(|e| WakelabError::io(&case, e))?;
-    let run = wakelab_hydro::simulate_wake(config)?;
-    let map = run.surface_map(config, config.output.map_dx);
+    let map = wakelab_hydro::simulate_surface_map(config)?;
     wakelab_hydro::output::write_surface_map(&case, config, &map)?;
     // read back what was cached, so a first run and a resumed run use identical f32 values
     wakelab_hydro::output::read_surface_map(&file)

@@ -31,6 +31,8 @@ pub struct BandPair {
     pub visibility: (f64, f64),
     /// What the images hold.
     pub quantity: &'static str,
+    /// A SAR band (sigma0) rather than an IR band (brightness temperature).
+    pub radar: bool,
 }
 
 fn sar_band(name: &str) -> Option<RadarBand> {
@@ -87,13 +89,13 @@ pub fn render_pair(pair: &ScenePair, map: &SurfaceMap, bands: &[String]) -> (Vec
                 let mask = m.mapv(|v| u8::from((v - 1.0).abs() > MASK_MODULATION));
                 let wake = render_sar(cfg, &with, b).sigma0.mapv(|v| v as f32);
                 let no_wake = render_sar(cfg, &without, b).sigma0.mapv(|v| v as f32);
-                finish(b.name(), wake, no_wake, mask, "sigma0 (linear)")
+                finish(b.name(), wake, no_wake, mask, "sigma0 (linear)", true)
             } else {
                 let b = ir_band(name).expect("validated band");
                 let mask = with.temperature_anomaly.mapv(|v| u8::from(v.abs() > MASK_TEMPERATURE));
                 let wake = render_ir(cfg, &with, b).brightness_temperature.mapv(|v| v as f32);
                 let no_wake = render_ir(cfg, &without, b).brightness_temperature.mapv(|v| v as f32);
-                finish(b.name(), wake, no_wake, mask, "brightness temperature (K)")
+                finish(b.name(), wake, no_wake, mask, "brightness temperature (K)", false)
             }
         })
         .collect();
@@ -106,6 +108,7 @@ fn finish(
     no_wake: Array2<f32>,
     mask: Array2<u8>,
     quantity: &'static str,
+    radar: bool,
 ) -> BandPair {
     let visibility = (visibility(&wake, &mask), visibility(&no_wake, &mask));
     BandPair {
@@ -115,6 +118,7 @@ fn finish(
         mask,
         visibility,
         quantity,
+        radar,
     }
 }
 

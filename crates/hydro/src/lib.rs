@@ -78,6 +78,12 @@ pub fn initial_data_plane(config: &WakelabConfig) -> InitialDataPlane {
     )
 }
 
+/// Run the configured case and return its surface map at `output.map_dx` (what the surface stage
+/// reads).
+pub fn simulate_surface_map(config: &WakelabConfig) -> Result<SurfaceMap, WakelabError> {
+    Ok(simulate_wake(config)?.surface_map(config, config.output.map_dx))
+}
+
 /// Run the configured case and keep every slice in memory.
 pub fn simulate_wake(config: &WakelabConfig) -> Result<WakeSlices, WakelabError> {
     let mut sections = Vec::new();

@@ -12,8 +12,7 @@ fn sensors(c: &mut Criterion) {
         "bench",
     )
     .expect("valid");
-    let run = wakelab_hydro::simulate_wake(&cfg).expect("wake");
-    let map = run.surface_map(&cfg, cfg.output.map_dx);
+    let map = wakelab_hydro::simulate_surface_map(&cfg).expect("wake");
     let scene = wakelab_surface::simulate_surface(&cfg, Some(&map));
     let mut g = c.benchmark_group("sensors_1024");
     g.sample_size(10);

@@ -11,9 +11,7 @@ fn a_cold_surface_wake_is_dark_by_the_emissivity_times_its_temperature_drop() {
         "test",
     )
     .unwrap();
-    let map = wakelab_hydro::simulate_wake(&c)
-        .unwrap()
-        .surface_map(&c, c.output.map_dx);
+    let map = wakelab_hydro::simulate_surface_map(&c).unwrap();
     let scene = simulate_surface(&c, Some(&map));
     let calm = simulate_surface(&c, None);
     let y = &scene.grid.y;

@@ -28,9 +28,7 @@ fn strip_statistics(img: &ndarray::Array2<f64>, y: &[f64]) -> (f64, f64, f64) {
 #[test]
 fn a_wake_in_following_seas_shows_in_c_band_and_no_ship_shows_nothing() {
     let c = config("[environment.swell]\ndirection = \"following\"\n");
-    let map = wakelab_hydro::simulate_wake(&c)
-        .unwrap()
-        .surface_map(&c, c.output.map_dx);
+    let map = wakelab_hydro::simulate_surface_map(&c).unwrap();
     let with = simulate_surface(&c, Some(&map));
     let without = simulate_surface(&c, None);
     let y = with.grid.y.clone();

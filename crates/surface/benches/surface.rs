@@ -11,8 +11,7 @@ fn surface(c: &mut Criterion) {
         "bench",
     )
     .expect("valid");
-    let run = wakelab_hydro::simulate_wake(&cfg).expect("wake");
-    let map = run.surface_map(&cfg, cfg.output.map_dx);
+    let map = wakelab_hydro::simulate_surface_map(&cfg).expect("wake");
     let mut g = c.benchmark_group("surface_stage_1024");
     g.sample_size(10);
     g.bench_function("whole_stage_with_wake", |b| {

@@ -211,9 +211,7 @@ fn a_simulated_wake_conserves_film_flux_and_darkens_its_bragg_waves() {
         "test",
     )
     .unwrap();
-    let map = wakelab_hydro::simulate_wake(&c)
-        .unwrap()
-        .surface_map(&c, c.output.map_dx);
+    let map = wakelab_hydro::simulate_surface_map(&c).unwrap();
     let gamma = redistribute_surfactant(&map, c.ship.speed);
     let flux = row_fluxes(&map, &gamma, c.ship.speed);
     let worst = flux.iter().fold(0.0f64, |m, f| m.max(((f - flux[0]) / flux[0]).abs()));

@@ -43,6 +43,8 @@ pub enum WakelabError {
     NetCdf { path: String, message: String },
     #[error("image error on {path}: {message}")]
     Image { path: String, message: String },
+    #[error("model file {path}: {message}")]
+    Model { path: String, message: String },
 }
 
 impl WakelabError {

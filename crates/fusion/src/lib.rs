@@ -4,4 +4,5 @@
 //! probability.
 
 pub mod bayes;
+pub mod decision;
 pub mod dempster;

@@ -48,6 +48,40 @@ impl Dataset {
         })?;
         Ok(normalise(image))
     }
+
+    /// The wake mask of scene `i` in `band` (1 on the wake, 0 elsewhere; all 0 without a ship).
+    pub fn mask(&self, i: usize, band: &str) -> Result<Array2<f32>, WakelabError> {
+        let r = &self.records[i];
+        let missing = || WakelabError::Parse {
+            path: self.dir.join("manifest.json").display().to_string(),
+            message: format!("scene {} has no mask for band {band}", r.id),
+        };
+        let path = self.dir.join(r.masks.get(band).ok_or_else(missing)?);
+        let mask: Array2<u8> = ndarray_npy::read_npy(&path).map_err(|e| WakelabError::Image {
+            path: path.display().to_string(),
+            message: e.to_string(),
+        })?;
+        Ok(mask.mapv(|v| (v > 0) as u8 as f32))
+    }
+
+    /// The label of scene `i` for a set of bands: the band's own label (the study's visibility
+    /// policy) for one band, whether a ship is in the scene for several.
+    pub fn label(&self, i: usize, bands: &[String]) -> u8 {
+        let r = &self.records[i];
+        match bands {
+            [band] => r.label_by_band.get(band).copied().unwrap_or(r.label),
+            _ => r.label,
+        }
+    }
+
+    /// Bands every scene has an image in.
+    pub fn bands(&self) -> Vec<String> {
+        wakelab_data::study::BANDS
+            .iter()
+            .filter(|b| !self.records.is_empty() && self.records.iter().all(|r| r.images.contains_key(**b)))
+            .map(|b| b.to_string())
+            .collect()
+    }
 }
 
 /// Zero mean, unit variance (a constant image becomes all zeros).

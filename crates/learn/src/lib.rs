@@ -1,9 +1,17 @@
-//! wakelab-learn: stage 5 of the pipeline (spec 4.1-4.3, Algorithm 2). This first part holds
-//! what every classifier shares: the evaluation metrics (Eq. 4.3 and beyond), the dataset
-//! reader with the spec's normalisation and augmentation, the Monte Carlo train/test sampling of
-//! Algorithm 2, and a synthetic line-versus-noise task to develop models on. The models and
-//! their training (burn) build on it.
+//! wakelab-learn: stage 5 of the pipeline (spec 4.1-4.3, Algorithm 2): the CNN classifiers
+//! "base", "cls" and "unet" (Table 4.1) and the U-Net (Tables 4.2-4.3) in burn, their training
+//! recipes, Algorithm 2's repeated Monte Carlo evaluation with the metrics of Eq. (4.3) and
+//! beyond, trained detectors on disk (safetensors), and detection on a user's own image.
+//!
+//! The backend is a run-time choice ([`device::parse_device`]): burn's pure-Rust `flex` CPU
+//! backend by default, `wgpu` and `cuda` behind the cargo features of the same names.
 
 pub mod data;
+pub mod detect;
+pub mod device;
+pub mod evaluate;
 pub mod metrics;
+pub mod models;
+pub mod store;
 pub mod synthetic;
+pub mod train;

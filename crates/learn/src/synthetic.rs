@@ -11,6 +11,8 @@ use std::f64::consts::PI;
 pub struct Sample {
     pub image: Array2<f32>,
     pub label: u8,
+    /// 1 within 1.5 pixels of the line, 0 elsewhere (all 0 without a line).
+    pub mask: Array2<f32>,
 }
 
 /// Standard normal variate by Box-Muller.
@@ -29,6 +31,7 @@ pub fn line_versus_noise(count: usize, size: usize, contrast: f64, seed: u64) ->
         .map(|i| {
             let label = (i % 2 == 0) as u8;
             let mut image = Array2::from_shape_fn((size, size), |_| gaussian(&mut rng) as f32);
+            let mut mask = Array2::zeros((size, size));
             if label == 1 {
                 let angle = rng.random_range(0.0..PI);
                 let (cx, cy) = (
@@ -40,9 +43,22 @@ pub fn line_versus_noise(count: usize, size: usize, contrast: f64, seed: u64) ->
                     // distance of the pixel centre from the line
                     let d = ((col as f64 + 0.5 - cx) * s - (r as f64 + 0.5 - cy) * c).abs();
                     *v += (contrast * (-d * d / 0.5).exp()) as f32;
+                    mask[[r, col]] = (d < 1.5) as u8 as f32;
                 }
             }
-            Sample { image, label }
+            Sample { image, label, mask }
+        })
+        .collect()
+}
+
+/// The samples as single-channel training examples.
+pub fn examples(samples: &[Sample]) -> Vec<crate::train::Example> {
+    samples
+        .iter()
+        .map(|s| crate::train::Example {
+            image: s.image.clone().insert_axis(ndarray::Axis(0)),
+            label: s.label,
+            mask: Some(s.mask.clone()),
         })
         .collect()
 }

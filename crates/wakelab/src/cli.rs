@@ -148,6 +148,51 @@ pub enum Command {
         #[arg(long)]
         quiet: bool,
     },
+    /// Train one detector (spec 4.1) on a dataset's training split, save it (safetensors, with a
+    /// PyTorch-layout export) and test it on the test split.
+    Train {
+        #[command(flatten)]
+        learn: crate::learn::LearnArgs,
+        /// Architecture: base, cls or unet (Table 4.1).
+        #[arg(long, default_value = "base")]
+        arch: String,
+        /// Model file (default: OUT/BANDS_ARCH.safetensors).
+        #[arg(long, value_name = "FILE")]
+        model: Option<PathBuf>,
+    },
+    /// Algorithm 2 on a dataset: repeated Monte Carlo train/test splits, every output kept, MCC,
+    /// accuracy, F1 and ROC AUC per band and architecture (Tables 4.4-4.6).
+    Eval {
+        #[command(flatten)]
+        learn: crate::learn::LearnArgs,
+        /// Architectures, comma-separated.
+        #[arg(long, default_value = "base,cls,unet")]
+        arch: String,
+        /// Repetitions of Algorithm 2 (spec: 5).
+        #[arg(long, default_value_t = 5)]
+        repetitions: usize,
+        /// Print the metrics as JSON.
+        #[arg(long)]
+        json: bool,
+    },
+    /// Run a saved single-band detector on an image (npy, TIFF or PNG) of any size: prints the
+    /// wake probability; with a "unet" detector, --mask writes the U-Net's wake mask as a PNG.
+    Detect {
+        /// The image.
+        image: PathBuf,
+        /// Detector file written by `train` or `eval`.
+        #[arg(long, value_name = "FILE")]
+        model: PathBuf,
+        /// Write the wake mask (PNG) here.
+        #[arg(long, value_name = "FILE")]
+        mask: Option<PathBuf>,
+        /// Backend: cpu, or wgpu / cuda in builds with those features.
+        #[arg(long, default_value = "cpu")]
+        device: String,
+        /// Print JSON.
+        #[arg(long)]
+        json: bool,
+    },
     /// SAR tools.
     Sar {
         #[command(subcommand)]

@@ -456,3 +456,121 @@ fn a_killed_dataset_run_resumes_to_the_same_bytes() {
         .count();
     assert_eq!(leftovers, 0, "temporary files left behind");
 }
+
+/// train, eval and detect on a small rendered dataset: files, metrics keys, the saved model used
+/// on a plain image, and clear refusals of bad input.
+#[test]
+fn train_eval_and_detect_on_a_small_dataset() {
+    let dir = tempfile::tempdir().unwrap();
+    let study = dir.path().join("study.toml");
+    std::fs::write(
+        &study,
+        "[study]\nname = \"l\"\ncombine = \"product\"\nseeds = 2\ntest_fraction = 0.34\ngrouped_split = false\n\
+         min_visibility = 0.0\nmixed_layer_depth = 20.0\nbands = [\"X\"]\n\
+         [axes]\nwind_speed = [5.0, 8.0, 11.0]\nimage_size = [32]\npixel_spacing = [10.0]\nalong_track = [2000.0]\n\
+         [base]\npreset = \"quick\"\n[base.time]\nduration = 600.0\n",
+    )
+    .unwrap();
+    let data = dir.path().join("data");
+    let d = data.to_str().unwrap();
+    let o = wakelab(&["dataset", "--study", study.to_str().unwrap(), "--out", d, "--quiet"]);
+    assert!(o.status.success(), "{}", stderr(&o));
+
+    let model = dir.path().join("x_unet.safetensors");
+    let o = wakelab(&[
+        "train",
+        d,
+        "--arch",
+        "unet",
+        "--bands",
+        "X",
+        "--epochs",
+        "2",
+        "--unet-epochs",
+        "1",
+        "--quiet",
+        "--model",
+        model.to_str().unwrap(),
+    ]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    assert!(stdout(&o).contains("test split (4 scenes): MCC"), "{}", stdout(&o));
+    assert!(model.exists() && dir.path().join("x_unet.pytorch.safetensors").exists());
+    assert!(data.join("learn/X_unet_curve.csv").exists());
+
+    let o = wakelab(&[
+        "eval",
+        d,
+        "--arch",
+        "base,cls",
+        "--bands",
+        "X",
+        "--epochs",
+        "2",
+        "--repetitions",
+        "2",
+        "--quiet",
+        "--json",
+    ]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let metrics: serde_json::Value = serde_json::from_str(&stdout(&o)).unwrap();
+    assert_eq!(metrics.as_array().unwrap().len(), 2);
+    for key in [
+        "bands",
+        "architecture",
+        "mcc",
+        "mcc_spread",
+        "accuracy",
+        "accuracy_spread",
+        "f1",
+        "roc_auc",
+        "tp",
+        "fn",
+    ] {
+        assert!(metrics[0].get(key).is_some(), "no {key} in {}", metrics[0]);
+    }
+    let outputs = std::fs::read_to_string(data.join("learn/outputs.csv")).unwrap();
+    assert!(
+        outputs.starts_with("bands,architecture,repetition,split,scene,label,output"),
+        "{outputs}"
+    );
+    // the study's test share, 4 of 12 scenes: 2 architectures x 2 repetitions x (2 wake + 2 no-wake)
+    assert_eq!(outputs.lines().filter(|l| l.contains(",test,")).count(), 2 * 2 * 4);
+    assert_eq!(outputs.lines().filter(|l| l.contains(",train,")).count(), 2 * 2 * 8);
+    assert!(data.join("learn/models/X_cls.safetensors").exists());
+
+    // detect on a plain image larger than the model's input: tiles, probability, mask PNG
+    let image = data.join("scenes/000000-w/X.npy");
+    let mask = dir.path().join("mask.png");
+    let o = wakelab(&[
+        "detect",
+        image.to_str().unwrap(),
+        "--model",
+        model.to_str().unwrap(),
+        "--mask",
+        mask.to_str().unwrap(),
+        "--json",
+    ]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let det: serde_json::Value = serde_json::from_str(&stdout(&o)).unwrap();
+    let p = det["probability"].as_f64().unwrap();
+    assert!((0.0..=1.0).contains(&p));
+    assert!(image::open(&mask).unwrap().width() == 32);
+
+    for (args, needle) in [
+        (
+            vec!["eval", d, "--arch", "resnet"],
+            "--arch resnet: must be base, cls or unet",
+        ),
+        (vec!["eval", d, "--device", "tpu"], "--device"),
+        (vec!["eval", d, "--bands", "Q"], "one of the dataset's bands"),
+        (vec!["eval", d, "--repetitions", "0"], "repetitions"),
+        (
+            vec!["detect", image.to_str().unwrap(), "--model", study.to_str().unwrap()],
+            "not a safetensors file",
+        ),
+    ] {
+        let o = wakelab(&args);
+        assert!(!o.status.success());
+        assert!(stderr(&o).contains(needle), "{args:?}: {}", stderr(&o));
+    }
+}

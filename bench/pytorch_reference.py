@@ -1,0 +1,112 @@
+"""PyTorch reference for wakelab's learning benchmark (issue: speed beside a reference).
+
+The same networks as wakelab-learn (spec Tables 4.1-4.3), the same recipes (SGD lr 1e-3, L2 0.1 on
+BCE for "base"; Adam lr 1e-4, weight decay 1e-4 on 0.7 BCE + 0.3 log-Dice for the U-Net), timed
+per training step on the CPU with 2 threads. Prints one JSON object: images per second.
+
+Run through bench/learning_vs_pytorch.sh, which installs torch into a throwaway venv; torch is
+never a dependency of wakelab.
+"""
+import json
+import sys
+import time
+
+import torch
+from torch import nn
+
+torch.set_num_threads(int(sys.argv[1]) if len(sys.argv) > 1 else 2)
+torch.manual_seed(0)
+
+
+class Classifier(nn.Module):
+    def __init__(self, channels, size):
+        super().__init__()
+        layers = []
+        for i, o in [(channels, 10), (10, 20), (20, 30)]:
+            layers += [nn.Conv2d(i, o, 3), nn.BatchNorm2d(o), nn.ReLU(inplace=True), nn.MaxPool2d(2)]
+        self.features = nn.Sequential(*layers)
+        side = size
+        for _ in range(3):
+            side = (side - 2) // 2
+        self.head = nn.Sequential(nn.Linear(30 * side * side, 70), nn.Linear(70, 30), nn.Linear(30, 1))
+
+    def forward(self, x):
+        return self.head(self.features(x).flatten(1)).flatten()
+
+
+def double_conv(i, o):
+    return nn.Sequential(nn.Conv2d(i, o, 3, padding=1), nn.ReLU(inplace=True), nn.Conv2d(o, o, 3, padding=1), nn.ReLU(inplace=True))
+
+
+class UNet(nn.Module):
+    def __init__(self, channels):
+        super().__init__()
+        self.d0, self.d1, self.d2, self.b = double_conv(channels, 64), double_conv(64, 128), double_conv(128, 256), double_conv(256, 512)
+        self.u2, self.u1, self.u0 = double_conv(768, 256), double_conv(384, 128), double_conv(192, 64)
+        self.out = nn.Conv2d(64, 1, 1)
+        self.pool = nn.MaxPool2d(2)
+        self.up = nn.Upsample(scale_factor=2, mode="bilinear", align_corners=True)
+
+    def forward(self, x):
+        l0 = self.d0(x)
+        l1 = self.d1(self.pool(l0))
+        l2 = self.d2(self.pool(l1))
+        x = self.b(self.pool(l2))
+        x = self.u2(torch.cat([self.up(x), l2], 1))
+        x = self.u1(torch.cat([self.up(x), l1], 1))
+        x = self.u0(torch.cat([self.up(x), l0], 1))
+        return self.out(x)
+
+
+def unet_loss(logits, masks):
+    bce = nn.functional.binary_cross_entropy_with_logits(logits, masks)
+    p = torch.sigmoid(logits).flatten(1)
+    y = masks.flatten(1)
+    dice = (2 * (p * y).sum(1) + 1) / (p.sum(1) + y.sum(1) + 1)
+    return 0.7 * bce - 0.3 * torch.log(dice).mean()
+
+
+def time_steps(step, warmup, steps):
+    for _ in range(warmup):
+        step()
+    start = time.perf_counter()
+    for _ in range(steps):
+        step()
+    return (time.perf_counter() - start) / steps
+
+
+def main():
+    results = {"torch": torch.__version__, "threads": torch.get_num_threads()}
+    # "base" at 256 x 256, batch 8
+    model = Classifier(1, 256)
+    opt = torch.optim.SGD(model.parameters(), lr=1e-3, weight_decay=0.1)
+    x = torch.randn(8, 1, 256, 256)
+    y = torch.tensor([1.0, 0.0] * 4)
+
+    def base_step():
+        opt.zero_grad()
+        loss = nn.functional.binary_cross_entropy_with_logits(model(x), y)
+        loss.backward()
+        opt.step()
+
+    t = time_steps(base_step, 3, 20)
+    results["base_256_batch8"] = {"seconds_per_step": t, "images_per_second": 8 / t}
+    # U-Net at 128 x 128, batch 4
+    unet = UNet(1)
+    opt = torch.optim.Adam(unet.parameters(), lr=1e-4, weight_decay=1e-4)
+    x = torch.randn(4, 1, 128, 128)
+    m = (torch.rand(4, 1, 128, 128) > 0.9).float()
+
+    def unet_step():
+        opt.zero_grad()
+        loss = unet_loss(unet(x), m)
+        loss.backward()
+        opt.step()
+
+    t = time_steps(unet_step, 2, 8)
+    results["unet_128_batch4"] = {"seconds_per_step": t, "images_per_second": 4 / t}
+    print(json.dumps(results))
+
+
+if __name__ == "__main__":
+    main()

@@ -1,0 +1,37 @@
+//! The backend, chosen at run time (`--device`): the model code is the same on every one.
+
+use burn::tensor::Device;
+use wakelab_core::{ConfigError, WakelabError};
+
+/// Device names this build accepts.
+pub fn available_devices() -> Vec<&'static str> {
+    let mut names = vec!["cpu"];
+    if cfg!(feature = "wgpu") {
+        names.push("wgpu");
+    }
+    if cfg!(feature = "cuda") {
+        names.push("cuda");
+    }
+    names
+}
+
+/// `cpu` (burn's pure-Rust `flex` backend, multi-threaded), `wgpu` (Vulkan/Metal/DX12; built with
+/// `--features wgpu`) or `cuda` (`--features cuda`, needs the CUDA toolkit).
+pub fn parse_device(name: &str) -> Result<Device, WakelabError> {
+    match name {
+        "cpu" | "flex" => Ok(Device::flex()),
+        #[cfg(feature = "wgpu")]
+        "wgpu" => Ok(Device::wgpu(Default::default())),
+        #[cfg(feature = "cuda")]
+        "cuda" => Ok(Device::cuda(0)),
+        other => Err(ConfigError::new(
+            "--device",
+            other,
+            format!(
+                "one of {:?} (wgpu and cuda need wakelab built with `--features wgpu` or `--features cuda`)",
+                available_devices()
+            ),
+        )
+        .into()),
+    }
+}

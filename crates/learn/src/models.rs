@@ -1,0 +1,291 @@
+//! The spec's networks, layer for layer: the CNN classifier of Table 4.1 (architectures "base",
+//! "cls" and "unet" of 4.1) and the U-Net of Tables 4.2-4.3. The code has no backend parameter:
+//! the device a model is built on decides where it runs.
+
+use burn::module::{Module, ModuleVisitor, Param};
+use burn::nn::conv::{Conv2d, Conv2dConfig};
+use burn::nn::pool::{MaxPool2d, MaxPool2dConfig};
+use burn::nn::{BatchNorm, BatchNormConfig, Linear, LinearConfig, PaddingConfig2d, Relu};
+use burn::tensor::module::interpolate;
+use burn::tensor::ops::{InterpolateMode, InterpolateOptions};
+use burn::tensor::{activation, Device, Tensor};
+use serde::{Deserialize, Serialize};
+use std::sync::Mutex;
+
+/// The classifier architectures of spec 4.1.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord, Serialize, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum Architecture {
+    /// One channel per band: the image itself.
+    Base,
+    /// The control: the bands' images and a copy of the first (4.1, 5.2), so the input is as
+    /// wide as "unet"'s.
+    Cls,
+    /// The bands' images and the mask a U-Net trained on the same bands draws on them.
+    Unet,
+}
+
+impl Architecture {
+    pub const ALL: [Architecture; 3] = [Architecture::Base, Architecture::Cls, Architecture::Unet];
+
+    pub fn name(self) -> &'static str {
+        match self {
+            Architecture::Base => "base",
+            Architecture::Cls => "cls",
+            Architecture::Unet => "unet",
+        }
+    }
+
+    /// Input channels of the classifier for `bands` image channels (Table 4.1's `inChannels`):
+    /// one more than the bands for "cls" and "unet" (4.1; 5.2 for several bands).
+    pub fn classifier_channels(self, bands: usize) -> usize {
+        match self {
+            Architecture::Base => bands,
+            Architecture::Cls | Architecture::Unet => bands + 1,
+        }
+    }
+
+    pub fn parse(text: &str) -> Option<Self> {
+        Self::ALL.into_iter().find(|a| a.name() == text)
+    }
+}
+
+impl std::fmt::Display for Architecture {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(self.name())
+    }
+}
+
+/// Side of the feature map after one (Conv2d 3x3, valid -> MaxPool 2) stage of Table 4.1.
+fn stage_output(size: usize) -> usize {
+    (size - 2) / 2
+}
+
+/// Smallest input side the classifier accepts (three stages leave at least one pixel).
+pub const MIN_CLASSIFIER_SIZE: usize = 22;
+
+/// Flatten size after the three stages (erratum 1: computed from the input size, 476,280 for
+/// 1024 x 1024, not the printed 47,628).
+pub fn flatten_size(input_size: usize) -> usize {
+    let side = stage_output(stage_output(stage_output(input_size)));
+    30 * side * side
+}
+
+/// The CNN classifier of Table 4.1: three (Conv2d 3x3 -> BatchNorm2d -> ReLU -> MaxPool2d 2)
+/// stages with 10, 20 and 30 channels, a flatten, and Linear 70 -> 30 -> 1. Table 4.1 lists no
+/// activation between the three linear layers, and none is added here. `forward` returns the
+/// logit; the sigmoid of 4.1 is `probability`.
+#[derive(Module, Debug)]
+pub struct WakeClassifier {
+    conv1: Conv2d,
+    norm1: BatchNorm,
+    conv2: Conv2d,
+    norm2: BatchNorm,
+    conv3: Conv2d,
+    norm3: BatchNorm,
+    pool: MaxPool2d,
+    relu: Relu,
+    linear1: Linear,
+    linear2: Linear,
+    linear3: Linear,
+}
+
+impl WakeClassifier {
+    /// A freshly initialised classifier for `channels` x `input_size` x `input_size` inputs
+    /// (PyTorch's default initialisation: Kaiming-uniform with gain 1/sqrt(3)).
+    pub fn new(channels: usize, input_size: usize, device: &Device) -> Self {
+        assert!(
+            input_size >= MIN_CLASSIFIER_SIZE,
+            "input size {input_size} below {MIN_CLASSIFIER_SIZE}"
+        );
+        let conv = |i, o| Conv2dConfig::new([i, o], [3, 3]).init(device);
+        Self {
+            conv1: conv(channels, 10),
+            norm1: BatchNormConfig::new(10).init(device),
+            conv2: conv(10, 20),
+            norm2: BatchNormConfig::new(20).init(device),
+            conv3: conv(20, 30),
+            norm3: BatchNormConfig::new(30).init(device),
+            pool: MaxPool2dConfig::new([2, 2]).init(),
+            relu: Relu::new(),
+            linear1: LinearConfig::new(flatten_size(input_size), 70).init(device),
+            linear2: LinearConfig::new(70, 30).init(device),
+            linear3: LinearConfig::new(30, 1).init(device),
+        }
+    }
+
+    /// Logits, shape [batch].
+    pub fn forward(&self, images: Tensor<4>) -> Tensor<1> {
+        let stage =
+            |x, conv: &Conv2d, norm: &BatchNorm| self.pool.forward(self.relu.forward(norm.forward(conv.forward(x))));
+        let x = stage(images, &self.conv1, &self.norm1);
+        let x = stage(x, &self.conv2, &self.norm2);
+        let x = stage(x, &self.conv3, &self.norm3);
+        let x: Tensor<2> = x.flatten(1, 3);
+        let x = self.linear3.forward(self.linear2.forward(self.linear1.forward(x)));
+        x.flatten(0, 1)
+    }
+
+    /// The wake probability o_i of 4.1 (sigmoid of the logit).
+    pub fn probability(&self, images: Tensor<4>) -> Tensor<1> {
+        activation::sigmoid(self.forward(images))
+    }
+}
+
+/// Table 4.3: Conv2d 3x3 (padding 1) -> ReLU -> Conv2d 3x3 (padding 1) -> ReLU.
+#[derive(Module, Debug)]
+pub struct DoubleConv {
+    first: Conv2d,
+    second: Conv2d,
+    relu: Relu,
+}
+
+impl DoubleConv {
+    fn new(input: usize, output: usize, device: &Device) -> Self {
+        let conv = |i, o| {
+            Conv2dConfig::new([i, o], [3, 3])
+                .with_padding(PaddingConfig2d::Explicit(1, 1, 1, 1))
+                .init(device)
+        };
+        Self {
+            first: conv(input, output),
+            second: conv(output, output),
+            relu: Relu::new(),
+        }
+    }
+
+    fn forward(&self, x: Tensor<4>) -> Tensor<4> {
+        self.relu
+            .forward(self.second.forward(self.relu.forward(self.first.forward(x))))
+    }
+}
+
+/// The U-Net of Table 4.2: 64-128-256-512 double convolutions with max pooling down, bilinear
+/// upsampling (scale 2, aligned corners) and skip concatenations up, and a 1x1 output
+/// convolution. Returns logits (Table 4.2 has no sigmoid); `mask` applies it.
+#[derive(Module, Debug)]
+pub struct UNet {
+    down0: DoubleConv,
+    down1: DoubleConv,
+    down2: DoubleConv,
+    bottom: DoubleConv,
+    up2: DoubleConv,
+    up1: DoubleConv,
+    up0: DoubleConv,
+    output: Conv2d,
+    pool: MaxPool2d,
+}
+
+/// The U-Net's input side must be a multiple of this (three poolings).
+pub const UNET_SIZE_MULTIPLE: usize = 8;
+
+impl UNet {
+    pub fn new(channels: usize, device: &Device) -> Self {
+        Self {
+            down0: DoubleConv::new(channels, 64, device),
+            down1: DoubleConv::new(64, 128, device),
+            down2: DoubleConv::new(128, 256, device),
+            bottom: DoubleConv::new(256, 512, device),
+            up2: DoubleConv::new(512 + 256, 256, device),
+            up1: DoubleConv::new(256 + 128, 128, device),
+            up0: DoubleConv::new(128 + 64, 64, device),
+            output: Conv2dConfig::new([64, 1], [1, 1]).init(device),
+            pool: MaxPool2dConfig::new([2, 2]).init(),
+        }
+    }
+
+    /// Per-pixel logits, shape [batch, 1, h, w].
+    pub fn forward(&self, images: Tensor<4>) -> Tensor<4> {
+        let up = |x: Tensor<4>| {
+            let [_, _, h, w] = x.dims();
+            interpolate(
+                x,
+                InterpolateOptions::new(InterpolateMode::Bilinear)
+                    .with_align_corners(true)
+                    .with_output_size([2 * h, 2 * w]),
+            )
+        };
+        let l0 = self.down0.forward(images);
+        let l1 = self.down1.forward(self.pool.forward(l0.clone()));
+        let l2 = self.down2.forward(self.pool.forward(l1.clone()));
+        let x = self.bottom.forward(self.pool.forward(l2.clone()));
+        let x = self.up2.forward(Tensor::cat(vec![up(x), l2], 1));
+        let x = self.up1.forward(Tensor::cat(vec![up(x), l1], 1));
+        let x = self.up0.forward(Tensor::cat(vec![up(x), l0], 1));
+        self.output.forward(x)
+    }
+
+    /// The wake mask: per-pixel probabilities in [0, 1].
+    pub fn mask(&self, images: Tensor<4>) -> Tensor<4> {
+        activation::sigmoid(self.forward(images))
+    }
+}
+
+/// burn's random initialisation draws from one process-wide generator per backend; this lock
+/// makes "seed, then initialise" atomic when several models are built at once (tests, threads).
+static INIT_LOCK: Mutex<()> = Mutex::new(());
+
+/// Touches every parameter so that lazily initialised ones draw their values now.
+struct Materialise;
+
+impl ModuleVisitor for Materialise {
+    fn visit_float<const D: usize>(&mut self, param: &Param<Tensor<D>>) {
+        let _ = param.val();
+    }
+}
+
+/// Build a module with its random initial weights drawn from `seed`: the same seed gives the
+/// same weights, bit for bit.
+pub fn init_seeded<M: Module>(seed: u64, device: &Device, build: impl FnOnce(&Device) -> M) -> M {
+    let _guard = INIT_LOCK.lock().unwrap_or_else(|e| e.into_inner());
+    device.seed(seed);
+    let module = build(device);
+    module.visit(&mut Materialise);
+    module
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn flatten_size_follows_the_input_size_as_in_erratum_1() {
+        // 1024 -> 1022 -> 511 -> 509 -> 254 -> 252 -> 126: 30 x 126 x 126
+        assert_eq!(flatten_size(1024), 476_280);
+        assert_eq!(flatten_size(128), 30 * 14 * 14);
+        assert_eq!(flatten_size(MIN_CLASSIFIER_SIZE), 30);
+    }
+
+    #[test]
+    fn outputs_have_the_expected_shapes() {
+        let device = Device::flex();
+        let classifier = WakeClassifier::new(2, 32, &device);
+        let x = Tensor::<4>::zeros([3, 2, 32, 32], &device);
+        assert_eq!(classifier.forward(x).dims(), [3]);
+        let unet = UNet::new(1, &device);
+        let x = Tensor::<4>::zeros([2, 1, 16, 16], &device);
+        assert_eq!(unet.forward(x).dims(), [2, 1, 16, 16]);
+    }
+
+    #[test]
+    fn parameter_counts_match_the_tables() {
+        let device = Device::flex();
+        // Table 4.1 with one input channel at 128 x 128; each BatchNorm2d(n) holds gamma, beta
+        // and the running mean and variance (PyTorch's buffers): 4 n values
+        let conv = |i: usize, o: usize| o * i * 9 + o;
+        let expected =
+            conv(1, 10) + 40 + conv(10, 20) + 80 + conv(20, 30) + 120 + (5880 * 70 + 70) + (70 * 30 + 30) + 31;
+        assert_eq!(WakeClassifier::new(1, 128, &device).num_params(), expected);
+        // Tables 4.2-4.3: the usual 7.76 M parameters of this U-Net with one input channel
+        let double = |i: usize, o: usize| conv(i, o) + conv(o, o);
+        let expected = double(1, 64)
+            + double(64, 128)
+            + double(128, 256)
+            + double(256, 512)
+            + double(768, 256)
+            + double(384, 128)
+            + double(192, 64)
+            + 65;
+        assert_eq!(UNet::new(1, &device).num_params(), expected);
+    }
+}

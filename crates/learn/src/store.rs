@@ -1,0 +1,207 @@
+//! Trained detectors on disk: safetensors with what the network is in its metadata (architecture,
+//! bands, channels, input size, threshold), checked before any weight is read, and an export in
+//! PyTorch's layout (`*.pytorch.safetensors`: linear weights transposed, BatchNorm's
+//! gamma/beta named weight/bias) for users on the PyTorch side.
+
+use crate::models::{Architecture, UNet, WakeClassifier};
+use burn::module::Module;
+use burn::store::{BurnToPyTorchAdapter, ModuleSnapshot, SafetensorsStore};
+use burn::tensor::Device;
+use serde::{Deserialize, Serialize};
+use std::collections::BTreeMap;
+use std::path::Path;
+use wakelab_core::io::write_atomically;
+use wakelab_core::WakelabError;
+
+/// A trained detector: the classifier and, for the "unet" architecture, the U-Net whose mask it
+/// reads.
+#[derive(Module, Debug)]
+pub struct Detector {
+    pub classifier: WakeClassifier,
+    pub segmenter: Option<UNet>,
+}
+
+/// What a saved detector is; stored as safetensors metadata under `wakelab.*` keys.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct ModelInfo {
+    pub architecture: Architecture,
+    /// Bands the input channels come from, in order.
+    pub bands: Vec<String>,
+    /// Side of the square input images (pixels).
+    pub input_size: usize,
+    /// Decision threshold on the wake probability.
+    pub threshold: f64,
+}
+
+impl ModelInfo {
+    fn to_metadata(&self) -> BTreeMap<String, String> {
+        BTreeMap::from([
+            ("wakelab.format".to_string(), "wakelab-detector-1".to_string()),
+            ("wakelab.architecture".to_string(), self.architecture.name().to_string()),
+            ("wakelab.bands".to_string(), self.bands.join(",")),
+            ("wakelab.input_size".to_string(), self.input_size.to_string()),
+            ("wakelab.threshold".to_string(), self.threshold.to_string()),
+            ("wakelab.version".to_string(), env!("CARGO_PKG_VERSION").to_string()),
+        ])
+    }
+
+    fn from_metadata(meta: &BTreeMap<String, String>, path: &Path) -> Result<Self, WakelabError> {
+        let err = |message: String| WakelabError::Model {
+            path: path.display().to_string(),
+            message,
+        };
+        let get = |key: &str| {
+            meta.get(key)
+                .ok_or_else(|| err(format!("no `{key}` in the metadata: not a wakelab detector file")))
+        };
+        if get("wakelab.format")? != "wakelab-detector-1" {
+            return Err(err(format!("unknown format {}", get("wakelab.format")?)));
+        }
+        let architecture = Architecture::parse(get("wakelab.architecture")?)
+            .ok_or_else(|| err(format!("unknown architecture {}", meta["wakelab.architecture"])))?;
+        Ok(Self {
+            architecture,
+            bands: get("wakelab.bands")?.split(',').map(str::to_string).collect(),
+            input_size: get("wakelab.input_size")?
+                .parse()
+                .map_err(|e| err(format!("input_size: {e}")))?,
+            threshold: get("wakelab.threshold")?
+                .parse()
+                .map_err(|e| err(format!("threshold: {e}")))?,
+        })
+    }
+
+    /// Image channels the detector reads (one per band).
+    pub fn image_channels(&self) -> usize {
+        self.bands.len()
+    }
+}
+
+fn store_error(path: &Path, e: impl std::fmt::Display) -> WakelabError {
+    WakelabError::Model {
+        path: path.display().to_string(),
+        message: e.to_string(),
+    }
+}
+
+/// The `__metadata__` of a safetensors file (its header is an 8-byte little-endian length and a
+/// JSON object).
+pub fn read_metadata(path: &Path) -> Result<BTreeMap<String, String>, WakelabError> {
+    let bytes = std::fs::read(path).map_err(|e| WakelabError::io(path, e))?;
+    metadata_of(&bytes).map_err(|m| store_error(path, m))
+}
+
+fn metadata_of(bytes: &[u8]) -> Result<BTreeMap<String, String>, String> {
+    let not = || "not a safetensors file".to_string();
+    let len = u64::from_le_bytes(bytes.get(..8).ok_or_else(not)?.try_into().map_err(|_| not())?) as usize;
+    let header = bytes.get(8..8usize.checked_add(len).ok_or_else(not)?).ok_or_else(not)?;
+    let json: serde_json::Value = serde_json::from_slice(header).map_err(|_| not())?;
+    Ok(json
+        .get("__metadata__")
+        .and_then(|m| m.as_object())
+        .map(|m| {
+            m.iter()
+                .filter_map(|(k, v)| v.as_str().map(|s| (k.clone(), s.to_string())))
+                .collect()
+        })
+        .unwrap_or_default())
+}
+
+/// JSON text of `v` with every object's keys sorted.
+fn canonical_json(v: &serde_json::Value) -> String {
+    match v {
+        serde_json::Value::Object(map) => {
+            let mut keys: Vec<&String> = map.keys().collect();
+            keys.sort();
+            let items: Vec<String> = keys
+                .into_iter()
+                .map(|k| format!("{}:{}", serde_json::Value::String(k.clone()), canonical_json(&map[k])))
+                .collect();
+            format!("{{{}}}", items.join(","))
+        }
+        serde_json::Value::Array(items) => {
+            format!("[{}]", items.iter().map(canonical_json).collect::<Vec<_>>().join(","))
+        }
+        other => other.to_string(),
+    }
+}
+
+/// The same safetensors file with its header's keys sorted: the writer keeps metadata in a hash
+/// map, whose order changes from run to run, and the same weights must give the same bytes.
+/// Data offsets count from the end of the header, so a rewritten header moves nothing.
+fn canonical_safetensors(bytes: Vec<u8>) -> Result<Vec<u8>, String> {
+    let not = || "not a safetensors file".to_string();
+    let len = u64::from_le_bytes(bytes.get(..8).ok_or_else(not)?.try_into().map_err(|_| not())?) as usize;
+    let end = 8usize.checked_add(len).filter(|&e| e <= bytes.len()).ok_or_else(not)?;
+    let header: serde_json::Value = serde_json::from_slice(&bytes[8..end]).map_err(|_| not())?;
+    let mut text = canonical_json(&header).into_bytes();
+    // the format pads the header with spaces to a multiple of 8 bytes
+    while text.len() % 8 != 0 {
+        text.push(b' ');
+    }
+    let mut out = Vec::with_capacity(8 + text.len() + bytes.len() - end);
+    out.extend_from_slice(&(text.len() as u64).to_le_bytes());
+    out.extend_from_slice(&text);
+    out.extend_from_slice(&bytes[end..]);
+    Ok(out)
+}
+
+fn with_metadata(mut store: SafetensorsStore, info: &ModelInfo) -> SafetensorsStore {
+    for (k, v) in info.to_metadata() {
+        store = store.metadata(k, v);
+    }
+    store
+}
+
+/// Save `detector` to `path` (written to a temporary file, then renamed), and its PyTorch-layout
+/// export beside it. Returns both paths.
+pub fn save_detector(
+    detector: &Detector,
+    info: &ModelInfo,
+    path: &Path,
+) -> Result<(std::path::PathBuf, std::path::PathBuf), WakelabError> {
+    let mut store = with_metadata(SafetensorsStore::from_bytes(None), info);
+    detector.save_into(&mut store).map_err(|e| store_error(path, e))?;
+    let bytes = store.get_bytes().map_err(|e| store_error(path, e))?;
+    let main = write_atomically(path, &canonical_safetensors(bytes).map_err(|e| store_error(path, e))?)?;
+    let export = path.with_extension("pytorch.safetensors");
+    let mut store = with_metadata(SafetensorsStore::from_bytes(None), info).with_to_adapter(BurnToPyTorchAdapter);
+    detector.save_into(&mut store).map_err(|e| store_error(&export, e))?;
+    let bytes = store.get_bytes().map_err(|e| store_error(&export, e))?;
+    let export = write_atomically(
+        &export,
+        &canonical_safetensors(bytes).map_err(|e| store_error(&export, e))?,
+    )?;
+    Ok((main, export))
+}
+
+/// Load a detector. `expect` (architecture, input size), when given, must match the file's
+/// metadata: a file of another architecture or input size is refused with an error saying both.
+pub fn load_detector(
+    path: &Path,
+    expect: Option<(Architecture, usize)>,
+    device: &Device,
+) -> Result<(Detector, ModelInfo), WakelabError> {
+    let bytes = std::fs::read(path).map_err(|e| WakelabError::io(path, e))?;
+    let meta = metadata_of(&bytes).map_err(|m| store_error(path, m))?;
+    let info = ModelInfo::from_metadata(&meta, path)?;
+    if let Some((architecture, size)) = expect {
+        if info.architecture != architecture || info.input_size != size {
+            return Err(store_error(
+                path,
+                format!(
+                    "holds a \"{}\" model for {} x {} inputs; expected \"{}\" for {} x {}",
+                    info.architecture, info.input_size, info.input_size, architecture, size, size
+                ),
+            ));
+        }
+    }
+    let channels = info.architecture.classifier_channels(info.image_channels());
+    let mut detector = Detector {
+        classifier: WakeClassifier::new(channels, info.input_size, device),
+        segmenter: (info.architecture == Architecture::Unet).then(|| UNet::new(info.image_channels(), device)),
+    };
+    let mut store = SafetensorsStore::from_bytes(Some(bytes));
+    detector.load_from(&mut store).map_err(|e| store_error(path, e))?;
+    Ok((detector, info))
+}

@@ -1,0 +1,398 @@
+//! Training (spec 4.1, "Training and Experiment"): the classifiers by SGD (lr 1e-3, L2 0.1) on
+//! binary cross entropy, the U-Net by Adam (lr 1e-4, weight decay 1e-4) on 0.7 BCE + 0.3 log-Dice
+//! (Eq. 4.1, erratum 9), both with inputs rotated at random by multiples of 90 degrees.
+
+use crate::data::rotate_quarter;
+use crate::models::{init_seeded, UNet, WakeClassifier};
+use burn::module::Module;
+use burn::nn::loss::BinaryCrossEntropyLossConfig;
+use burn::optim::decay::WeightDecayConfig;
+use burn::optim::{AdamConfig, GradientsParams, ModuleOptimizer, SgdConfig};
+use burn::tensor::{activation, Device, Int, Tensor, TensorData};
+use ndarray::{Array2, Array3, Axis};
+use rand::{RngExt, SeedableRng};
+use rand_chacha::ChaCha8Rng;
+use serde::{Deserialize, Serialize};
+use std::time::Instant;
+
+/// One training or test input: `channels` x h x w (already normalised), its label and, for the
+/// U-Net, its wake mask (0 or 1 per pixel).
+#[derive(Debug, Clone)]
+pub struct Example {
+    pub image: Array3<f32>,
+    pub label: u8,
+    pub mask: Option<Array2<f32>>,
+}
+
+impl Example {
+    pub fn channels(&self) -> usize {
+        self.image.shape()[0]
+    }
+    pub fn size(&self) -> usize {
+        self.image.shape()[1]
+    }
+}
+
+/// The training recipe of one network.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Recipe {
+    pub epochs: usize,
+    pub batch_size: usize,
+    pub learning_rate: f64,
+    /// L2 penalty added to the gradient (PyTorch's `weight_decay`).
+    pub weight_decay: f64,
+    /// Random 90-degree rotations of every training input.
+    pub rotate: bool,
+}
+
+impl Recipe {
+    /// The classifiers' recipe of 4.1: SGD, lr 1e-3, L2 0.1, 60 epochs (batch size not given in
+    /// the spec: 8).
+    pub fn classifier() -> Self {
+        Self {
+            epochs: 60,
+            batch_size: 8,
+            learning_rate: 1e-3,
+            weight_decay: 0.1,
+            rotate: true,
+        }
+    }
+
+    /// The U-Net's recipe of 4.1: Adam, lr 1e-4, weight decay 1e-4, 60 epochs (batch size 4).
+    pub fn unet() -> Self {
+        Self {
+            epochs: 60,
+            batch_size: 4,
+            learning_rate: 1e-4,
+            weight_decay: 1e-4,
+            rotate: true,
+        }
+    }
+}
+
+/// What one epoch did.
+#[derive(Debug, Clone, Serialize)]
+pub struct EpochRecord {
+    pub epoch: usize,
+    pub loss: f64,
+    /// Share of training inputs classified right during the epoch (classifiers; pixels for the
+    /// U-Net) at threshold 0.5.
+    pub accuracy: f64,
+    pub images_per_second: f64,
+    pub seconds: f64,
+}
+
+/// A stack of examples as one [batch, channels, h, w] tensor, each rotated by its quarter turns.
+pub fn batch_images(examples: &[&Example], turns: &[u8], device: &Device) -> Tensor<4> {
+    let (c, n) = (examples[0].channels(), examples[0].size());
+    let mut data = Vec::with_capacity(examples.len() * c * n * n);
+    for (e, &k) in examples.iter().zip(turns) {
+        for channel in e.image.outer_iter() {
+            let channel = channel.to_owned();
+            if k == 0 {
+                data.extend(channel.iter().copied());
+            } else {
+                data.extend(rotate_quarter(&channel, k).iter().copied());
+            }
+        }
+    }
+    Tensor::from_data(TensorData::new(data, [examples.len(), c, n, n]), device)
+}
+
+pub fn batch_masks(examples: &[&Example], turns: &[u8], device: &Device) -> Tensor<4, Int> {
+    let n = examples[0].size();
+    let mut data: Vec<i64> = Vec::with_capacity(examples.len() * n * n);
+    for (e, &k) in examples.iter().zip(turns) {
+        let zeros;
+        let mask = match &e.mask {
+            Some(m) => m,
+            None => {
+                zeros = Array2::zeros((n, n));
+                &zeros
+            }
+        };
+        data.extend(rotate_quarter(mask, k).iter().map(|&v| (v > 0.5) as i64));
+    }
+    Tensor::from_data(TensorData::new(data, [examples.len(), 1, n, n]), device)
+}
+
+fn check_examples(examples: &[Example]) -> (usize, usize) {
+    assert!(!examples.is_empty(), "no training examples");
+    let (c, n) = (examples[0].channels(), examples[0].size());
+    assert!(
+        examples
+            .iter()
+            .all(|e| e.channels() == c && e.size() == n && e.image.shape()[2] == n),
+        "training examples differ in shape"
+    );
+    (c, n)
+}
+
+/// The order and rotations of one epoch, drawn from the recipe's seed.
+fn epoch_plan(count: usize, seed: u64, epoch: usize, rotate: bool) -> (Vec<usize>, Vec<u8>) {
+    let mut rng = ChaCha8Rng::seed_from_u64(seed ^ (epoch as u64 + 1).wrapping_mul(0x9E37_79B9_7F4A_7C15));
+    let mut order: Vec<usize> = (0..count).collect();
+    for i in (1..count).rev() {
+        order.swap(i, rng.random_range(0..=i));
+    }
+    let turns = (0..count)
+        .map(|_| if rotate { rng.random_range(0..4u8) } else { 0 })
+        .collect();
+    (order, turns)
+}
+
+/// Binary cross entropy on logits (Eq. 4.1, PyTorch's `BCEWithLogitsLoss`), mean over elements.
+pub fn bce_with_logits<const D: usize>(logits: Tensor<D>, targets: Tensor<D, Int>) -> Tensor<1> {
+    BinaryCrossEntropyLossConfig::new()
+        .with_logits(true)
+        .init(&logits.device())
+        .forward(logits, targets)
+}
+
+/// The U-Net's loss (4.1, erratum 9): 0.7 BCE-with-logits + 0.3 (-ln Dice), Dice the
+/// Sorensen-Dice coefficient (2 |X.Y| + 1) / (|X| + |Y| + 1) of each image's sigmoid output X and
+/// mask Y (the 1 keeps wake-free masks defined), averaged over the batch.
+pub fn unet_loss(logits: Tensor<4>, masks: Tensor<4, Int>) -> Tensor<1> {
+    let bce = bce_with_logits(logits.clone(), masks.clone());
+    let p: Tensor<2> = activation::sigmoid(logits).flatten(1, 3);
+    let y: Tensor<2> = masks.float().flatten(1, 3);
+    let intersection = (p.clone() * y.clone()).sum_dim(1);
+    let dice = (intersection * 2.0 + 1.0) / (p.sum_dim(1) + y.sum_dim(1) + 1.0);
+    bce * 0.7 + dice.log().neg().mean() * 0.3
+}
+
+fn scalar(t: Tensor<1>) -> f64 {
+    t.into_data().try_to_vec::<f32>().expect("f32 tensor")[0] as f64
+}
+
+/// A classifier being trained by SGD (4.1): one `step` per batch.
+pub struct ClassifierTrainer {
+    model: Option<WakeClassifier>,
+    optimiser: ModuleOptimizer,
+    learning_rate: f64,
+    device: Device,
+}
+
+impl ClassifierTrainer {
+    /// A fresh classifier on the autodiff form of `device`, its weights drawn from `seed`.
+    pub fn new(channels: usize, size: usize, recipe: &Recipe, seed: u64, device: &Device) -> Self {
+        let device = device.clone().autodiff();
+        Self {
+            model: Some(init_seeded(seed, &device, |d| WakeClassifier::new(channels, size, d))),
+            optimiser: SgdConfig::new()
+                .with_weight_decay(Some(WeightDecayConfig::new(recipe.weight_decay as f32)))
+                .init(),
+            learning_rate: recipe.learning_rate,
+            device,
+        }
+    }
+
+    /// The device batches must be on.
+    pub fn device(&self) -> &Device {
+        &self.device
+    }
+
+    /// One SGD step on a batch; returns the batch's mean loss and how many it classified right.
+    pub fn step(&mut self, images: Tensor<4>, labels: &[i64]) -> (f64, usize) {
+        let model = self.model.take().expect("model present between steps");
+        let targets = Tensor::<1, Int>::from_data(TensorData::new(labels.to_vec(), [labels.len()]), &self.device);
+        let logits = model.forward(images);
+        let outputs = logits.clone().into_data().try_to_vec::<f32>().expect("f32 logits");
+        let right = outputs
+            .iter()
+            .zip(labels)
+            .filter(|(o, &l)| (**o > 0.0) == (l == 1))
+            .count();
+        let loss = bce_with_logits(logits, targets);
+        let value = scalar(loss.clone());
+        let grads = GradientsParams::from_grads(loss.backward(), &model);
+        self.model = Some(self.optimiser.step(self.learning_rate, model, grads));
+        (value, right)
+    }
+
+    /// The trained classifier, for inference.
+    pub fn finish(self) -> WakeClassifier {
+        self.model.expect("model present").valid()
+    }
+}
+
+/// The U-Net being trained by Adam (4.1) with PyTorch's epsilon 1e-8, as the spec's training had.
+pub struct UNetTrainer {
+    model: Option<UNet>,
+    optimiser: ModuleOptimizer,
+    learning_rate: f64,
+    device: Device,
+}
+
+impl UNetTrainer {
+    pub fn new(channels: usize, recipe: &Recipe, seed: u64, device: &Device) -> Self {
+        let device = device.clone().autodiff();
+        Self {
+            model: Some(init_seeded(seed, &device, |d| UNet::new(channels, d))),
+            optimiser: AdamConfig::new()
+                .with_epsilon(1e-8)
+                .with_weight_decay(Some(WeightDecayConfig::new(recipe.weight_decay as f32)))
+                .init(),
+            learning_rate: recipe.learning_rate,
+            device,
+        }
+    }
+
+    pub fn device(&self) -> &Device {
+        &self.device
+    }
+
+    /// One Adam step; returns the batch's mean loss and how many pixels it classified right.
+    pub fn step(&mut self, images: Tensor<4>, masks: Tensor<4, Int>) -> (f64, f64) {
+        let model = self.model.take().expect("model present between steps");
+        let logits = model.forward(images);
+        let agree = logits
+            .clone()
+            .greater_elem(0.0)
+            .int()
+            .equal(masks.clone())
+            .float()
+            .sum();
+        let right = scalar(agree);
+        let loss = unet_loss(logits, masks);
+        let value = scalar(loss.clone());
+        let grads = GradientsParams::from_grads(loss.backward(), &model);
+        self.model = Some(self.optimiser.step(self.learning_rate, model, grads));
+        (value, right)
+    }
+
+    pub fn finish(self) -> UNet {
+        self.model.expect("model present").valid()
+    }
+}
+
+/// Train a classifier (Table 4.1) on `examples` with the SGD recipe; `seed` fixes the initial
+/// weights, the order of the batches and the rotations. `device` is a plain device; training
+/// runs on its autodiff form. `on_epoch` sees every epoch's record.
+pub fn train_classifier(
+    examples: &[Example],
+    recipe: &Recipe,
+    seed: u64,
+    device: &Device,
+    on_epoch: &mut dyn FnMut(&EpochRecord),
+) -> WakeClassifier {
+    let (channels, size) = check_examples(examples);
+    let mut trainer = ClassifierTrainer::new(channels, size, recipe, seed, device);
+    for epoch in 0..recipe.epochs {
+        let start = Instant::now();
+        let (order, turns) = epoch_plan(examples.len(), seed, epoch, recipe.rotate);
+        let (mut loss_sum, mut right) = (0.0, 0usize);
+        for chunk in order.chunks(recipe.batch_size.max(1)) {
+            let batch: Vec<&Example> = chunk.iter().map(|&i| &examples[i]).collect();
+            let turns: Vec<u8> = chunk.iter().map(|&i| turns[i]).collect();
+            let labels: Vec<i64> = batch.iter().map(|e| e.label as i64).collect();
+            let images = batch_images(&batch, &turns, trainer.device());
+            let (loss, r) = trainer.step(images, &labels);
+            loss_sum += loss * batch.len() as f64;
+            right += r;
+        }
+        let seconds = start.elapsed().as_secs_f64();
+        on_epoch(&EpochRecord {
+            epoch: epoch + 1,
+            loss: loss_sum / examples.len() as f64,
+            accuracy: right as f64 / examples.len() as f64,
+            images_per_second: examples.len() as f64 / seconds.max(1e-9),
+            seconds,
+        });
+    }
+    trainer.finish()
+}
+
+/// Train the U-Net (Tables 4.2-4.3) on the examples' masks with the Adam recipe.
+pub fn train_unet(
+    examples: &[Example],
+    recipe: &Recipe,
+    seed: u64,
+    device: &Device,
+    on_epoch: &mut dyn FnMut(&EpochRecord),
+) -> UNet {
+    let (channels, size) = check_examples(examples);
+    let mut trainer = UNetTrainer::new(channels, recipe, seed, device);
+    let pixels = (size * size) as f64;
+    for epoch in 0..recipe.epochs {
+        let start = Instant::now();
+        let (order, turns) = epoch_plan(examples.len(), seed, epoch, recipe.rotate);
+        let (mut loss_sum, mut right) = (0.0, 0.0);
+        for chunk in order.chunks(recipe.batch_size.max(1)) {
+            let batch: Vec<&Example> = chunk.iter().map(|&i| &examples[i]).collect();
+            let turns: Vec<u8> = chunk.iter().map(|&i| turns[i]).collect();
+            let images = batch_images(&batch, &turns, trainer.device());
+            let masks = batch_masks(&batch, &turns, trainer.device());
+            let (loss, r) = trainer.step(images, masks);
+            loss_sum += loss * batch.len() as f64;
+            right += r;
+        }
+        let seconds = start.elapsed().as_secs_f64();
+        on_epoch(&EpochRecord {
+            epoch: epoch + 1,
+            loss: loss_sum / examples.len() as f64,
+            accuracy: right / (examples.len() as f64 * pixels),
+            images_per_second: examples.len() as f64 / seconds.max(1e-9),
+            seconds,
+        });
+    }
+    trainer.finish()
+}
+
+/// Wake probabilities o_i of a trained classifier, in the examples' order.
+pub fn classify(model: &WakeClassifier, examples: &[Example], batch_size: usize, device: &Device) -> Vec<f64> {
+    let all: Vec<&Example> = examples.iter().collect();
+    let mut out = Vec::with_capacity(examples.len());
+    for chunk in all.chunks(batch_size.max(1)) {
+        let images = batch_images(chunk, &vec![0; chunk.len()], device);
+        let p = model
+            .probability(images)
+            .into_data()
+            .try_to_vec::<f32>()
+            .expect("f32 outputs");
+        out.extend(p.into_iter().map(|v| v as f64));
+    }
+    out
+}
+
+/// The U-Net's wake masks (probabilities per pixel) for every example.
+pub fn segment(model: &UNet, examples: &[Example], batch_size: usize, device: &Device) -> Vec<Array2<f32>> {
+    let all: Vec<&Example> = examples.iter().collect();
+    let mut out = Vec::with_capacity(examples.len());
+    for chunk in all.chunks(batch_size.max(1)) {
+        let n = chunk[0].size();
+        let images = batch_images(chunk, &vec![0; chunk.len()], device);
+        let p = model.mask(images).into_data().try_to_vec::<f32>().expect("f32 outputs");
+        for image in p.chunks(n * n) {
+            out.push(Array2::from_shape_vec((n, n), image.to_vec()).expect("n x n"));
+        }
+    }
+    out
+}
+
+/// Inputs of the "unet" classifier (4.1): the bands' images followed by the U-Net's mask.
+pub fn with_masks(examples: &[Example], masks: &[Array2<f32>]) -> Vec<Example> {
+    examples
+        .iter()
+        .zip(masks)
+        .map(|(e, m)| Example {
+            image: ndarray::concatenate(Axis(0), &[e.image.view(), m.view().insert_axis(Axis(0))]).expect("same size"),
+            label: e.label,
+            mask: e.mask.clone(),
+        })
+        .collect()
+}
+
+/// Inputs of the "cls" control: the bands' images followed by a copy of the first (4.1, 5.2).
+pub fn duplicated(examples: &[Example]) -> Vec<Example> {
+    examples
+        .iter()
+        .map(|e| Example {
+            image: ndarray::concatenate(Axis(0), &[e.image.view(), e.image.slice(ndarray::s![0..1, .., ..])])
+                .expect("same size"),
+            label: e.label,
+            mask: e.mask.clone(),
+        })
+        .collect()
+}

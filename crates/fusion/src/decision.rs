@@ -9,7 +9,7 @@ use crate::bayes::{bayes_fuse, SourceWeights};
 use crate::dempster::{classifier_mass, combine_all, pignistic, Mass};
 use serde::{Deserialize, Serialize};
 use std::collections::BTreeMap;
-use wakelab_learn::evaluate::Output;
+use wakelab_learn::evaluate::{summarise, Output, Summary};
 use wakelab_learn::metrics::Confusion;
 use wakelab_learn::models::Architecture;
 
@@ -121,9 +121,94 @@ pub fn fuse_decisions(
     fused
 }
 
+/// Source sets fused at decision level from the single bands evaluated: the spec's (S, X) of
+/// 5.2, every SAR band together, and SAR with IR (5.4): each set only when all its bands were
+/// evaluated alone.
+pub fn decision_sets(single_bands: &[String]) -> Vec<Vec<String>> {
+    let has = |b: &str| single_bands.iter().any(|s| s == b);
+    let pick = |names: &[&str]| -> Vec<String> { names.iter().filter(|b| has(b)).map(|b| b.to_string()).collect() };
+    let mut sets = Vec::new();
+    for candidate in [
+        pick(&["S", "X"]),
+        pick(&["S", "C", "X"]),
+        pick(&["C", "LWIR"]),
+        pick(&["S", "C", "X", "MWIR", "LWIR"]),
+    ] {
+        if candidate.len() >= 2 && !sets.contains(&candidate) {
+            sets.push(candidate);
+        }
+    }
+    sets
+}
+
+/// Every decision-level fusion of the kept single-band outputs: for each architecture and source
+/// set, Bayes and Dempster-Shafer; returns the fused outputs and their metrics (the fusion rows
+/// of Tables 5.1-5.3) with the mean conflict of each Dempster-Shafer row.
+pub fn fuse_all(outputs: &[Output], threshold: f64) -> (Vec<FusedOutput>, Vec<(Summary, f64)>) {
+    let mut singles: Vec<String> = outputs
+        .iter()
+        .filter(|o| !o.bands.contains('+'))
+        .map(|o| o.bands.clone())
+        .collect();
+    singles.sort();
+    singles.dedup();
+    let mut architectures: Vec<Architecture> = outputs.iter().map(|o| o.architecture).collect();
+    architectures.sort();
+    architectures.dedup();
+    let mut fused = Vec::new();
+    for &a in &architectures {
+        for set in decision_sets(&singles) {
+            for method in [Method::Bayes, Method::DempsterShafer] {
+                fused.extend(fuse_decisions(outputs, &set, a, method, threshold));
+            }
+        }
+    }
+    let as_outputs: Vec<Output> = fused
+        .iter()
+        .map(|f| Output {
+            bands: f.fusion.clone(),
+            architecture: f.architecture,
+            repetition: f.repetition,
+            split: "test".into(),
+            scene: f.scene.clone(),
+            label: f.label,
+            output: f.output,
+        })
+        .collect();
+    let summaries = summarise(&as_outputs, threshold)
+        .into_iter()
+        .map(|s| {
+            let ks: Vec<f64> = fused
+                .iter()
+                .filter(|f| f.fusion == s.bands && f.architecture == s.architecture)
+                .map(|f| f.conflict)
+                .collect();
+            let mean_conflict = ks.iter().sum::<f64>() / ks.len().max(1) as f64;
+            (s, mean_conflict)
+        })
+        .collect();
+    (fused, summaries)
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn decision_sets_follow_the_bands_evaluated() {
+        let b = |v: &[&str]| v.iter().map(|s| s.to_string()).collect::<Vec<_>>();
+        assert_eq!(decision_sets(&b(&["S", "X"])), vec![b(&["S", "X"])]);
+        assert_eq!(
+            decision_sets(&b(&["C", "LWIR", "MWIR", "S", "X"])),
+            vec![
+                b(&["S", "X"]),
+                b(&["S", "C", "X"]),
+                b(&["C", "LWIR"]),
+                b(&["S", "C", "X", "MWIR", "LWIR"])
+            ]
+        );
+        assert!(decision_sets(&b(&["C"])).is_empty());
+    }
 
     fn out(bands: &str, split: &str, r: usize, scene: &str, label: u8, output: f64) -> Output {
         Output {

@@ -176,13 +176,14 @@ pub fn write_evaluation(dir: &Path, evaluation: &Evaluation) -> Result<()> {
 }
 
 pub fn print_summaries(summaries: &[Summary]) {
+    let w = summaries.iter().map(|s| s.bands.len()).max().unwrap_or(5).max(5);
     println!(
-        "{:<10} {:<5} {:>5} {:>14} {:>16} {:>6} {:>6}  TP/TN/FP/FN",
-        "bands", "arch", "reps", "MCC", "accuracy", "F1", "AUC"
+        "{:<w$} {:<5} {:>5} {:>14} {:>16} {:>6} {:>6}  TP/TN/FP/FN",
+        "input", "arch", "reps", "MCC", "accuracy", "F1", "AUC"
     );
     for s in summaries {
         println!(
-            "{:<10} {:<5} {:>5} {:>7.2} ± {:<4.2} {:>8.1}% ± {:<4.1} {:>6.2} {:>6}  {}/{}/{}/{}",
+            "{:<w$} {:<5} {:>5} {:>7.2} ± {:<4.2} {:>8.1}% ± {:<4.1} {:>6.2} {:>6}  {}/{}/{}/{}",
             s.bands,
             s.architecture.name(),
             s.repetitions,
@@ -198,6 +199,14 @@ pub fn print_summaries(summaries: &[Summary]) {
             s.fn_
         );
     }
+}
+
+/// A fusion row of Tables 5.1-5.3 with Dempster-Shafer's mean conflict (0 for Bayes).
+#[derive(serde::Serialize)]
+struct FusionRow {
+    #[serde(flatten)]
+    summary: Summary,
+    mean_conflict: f64,
 }
 
 /// `wakelab eval`: Algorithm 2 on a dataset.
@@ -224,11 +233,31 @@ pub fn run_eval(args: &LearnArgs, arch: &str, repetitions: usize, json: bool) ->
     bar.finish_and_clear();
     let dir = args.out_dir();
     write_evaluation(&dir, &evaluation)?;
+    // decision-level fusion of the single bands (spec 5.1-5.2, 5.4) from the kept outputs
+    let (fused, fusion) = wakelab_fusion::decision::fuse_all(&evaluation.outputs, options.threshold);
+    if !fused.is_empty() {
+        write_atomically(dir.join("fusion_outputs.csv"), &csv(&fused)?)?;
+        let rows: Vec<FusionRow> = fusion
+            .iter()
+            .map(|(s, k)| FusionRow {
+                summary: s.clone(),
+                mean_conflict: *k,
+            })
+            .collect();
+        write_atomically(dir.join("fusion_metrics.csv"), &csv(&rows)?)?;
+    }
     if json {
         println!("{}", serde_json::to_string_pretty(&evaluation.summaries)?);
     } else {
         print_summaries(&evaluation.summaries);
-        eprintln!("wrote outputs, metrics, curves and models into {}", dir.display());
+        if !fusion.is_empty() {
+            println!("\ndecision-level fusion (Bayes weights from each source's training images):");
+            print_summaries(&fusion.iter().map(|(s, _)| s.clone()).collect::<Vec<_>>());
+        }
+        eprintln!(
+            "wrote outputs, metrics, curves, fusion and models into {}",
+            dir.display()
+        );
     }
     Ok(())
 }

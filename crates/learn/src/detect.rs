@@ -12,7 +12,7 @@ use burn::tensor::Device;
 use ndarray::{s, Array2, Axis};
 use serde::Serialize;
 use std::path::Path;
-use wakelab_core::WakelabError;
+use wakelab_core::{ConfigError, WakelabError};
 
 fn image_error(path: &Path, message: impl ToString) -> WakelabError {
     WakelabError::Image {
@@ -121,21 +121,21 @@ pub fn detect_image(
 ) -> Result<Detection, WakelabError> {
     let n = info.input_size;
     if info.image_channels() != 1 {
-        return Err(WakelabError::Model {
-            path: "detector".into(),
-            message: format!(
-                "reads {} bands ({:?}); `detect` takes single-band detectors",
-                info.bands.len(),
-                info.bands
-            ),
-        });
+        return Err(ConfigError::new(
+            "--model",
+            format!("a detector of {} bands ({})", info.bands.len(), info.bands.join("+")),
+            "a single-band detector",
+        )
+        .into());
     }
     let (h, w) = image.dim();
     if h < n || w < n {
-        return Err(WakelabError::Image {
-            path: "input".into(),
-            message: format!("{h} x {w} pixels, smaller than the detector's {n} x {n} input"),
-        });
+        return Err(ConfigError::new(
+            "IMAGE",
+            format!("{h} x {w} pixels"),
+            format!("at least the detector's input, {n} x {n} pixels"),
+        )
+        .into());
     }
     let mut origins = Vec::new();
     for &r in &tile_starts(h, n) {

@@ -166,23 +166,31 @@ fn scalar(t: Tensor<1>) -> f64 {
     t.into_data().try_to_vec::<f32>().expect("f32 tensor")[0] as f64
 }
 
-/// A classifier being trained by SGD (4.1): one `step` per batch.
-pub struct ClassifierTrainer {
-    model: Option<WakeClassifier>,
+/// A network being trained on the autodiff form of a device: one optimiser step per batch.
+pub struct Trainer<M: Module> {
+    model: Option<M>,
     optimiser: ModuleOptimizer,
     learning_rate: f64,
     device: Device,
 }
 
-impl ClassifierTrainer {
-    /// A fresh classifier on the autodiff form of `device`, its weights drawn from `seed`.
-    pub fn new(channels: usize, size: usize, recipe: &Recipe, seed: u64, device: &Device) -> Self {
+/// A classifier being trained by SGD (4.1).
+pub type ClassifierTrainer = Trainer<WakeClassifier>;
+/// The U-Net being trained by Adam (4.1).
+pub type UNetTrainer = Trainer<UNet>;
+
+impl<M: Module> Trainer<M> {
+    fn with(
+        device: &Device,
+        seed: u64,
+        recipe: &Recipe,
+        optimiser: ModuleOptimizer,
+        build: impl FnOnce(&Device) -> M,
+    ) -> Self {
         let device = device.clone().autodiff();
         Self {
-            model: Some(init_seeded(seed, &device, |d| WakeClassifier::new(channels, size, d))),
-            optimiser: SgdConfig::new()
-                .with_weight_decay(Some(WeightDecayConfig::new(recipe.weight_decay as f32)))
-                .init(),
+            model: Some(init_seeded(seed, &device, build)),
+            optimiser,
             learning_rate: recipe.learning_rate,
             device,
         }
@@ -193,77 +201,106 @@ impl ClassifierTrainer {
         &self.device
     }
 
-    /// One SGD step on a batch; returns the batch's mean loss and how many it classified right.
-    pub fn step(&mut self, images: Tensor<4>, labels: &[i64]) -> (f64, usize) {
+    /// One optimiser step on the loss `forward` computes (which also returns how many items it
+    /// got right); returns the batch's mean loss and that count.
+    fn optimise(&mut self, forward: impl FnOnce(&M) -> (Tensor<1>, f64)) -> (f64, f64) {
         let model = self.model.take().expect("model present between steps");
+        let (loss, right) = forward(&model);
+        let value = scalar(loss.clone());
+        let grads = GradientsParams::from_grads(loss.backward(), &model);
+        self.model = Some(self.optimiser.step(self.learning_rate, model, grads));
+        (value, right)
+    }
+
+    /// The trained network, for inference.
+    pub fn finish(self) -> M {
+        self.model.expect("model present").valid()
+    }
+}
+
+impl Trainer<WakeClassifier> {
+    /// A fresh classifier with SGD and L2 (4.1), its weights drawn from `seed`.
+    pub fn new(channels: usize, size: usize, recipe: &Recipe, seed: u64, device: &Device) -> Self {
+        let sgd = SgdConfig::new()
+            .with_weight_decay(Some(WeightDecayConfig::new(recipe.weight_decay as f32)))
+            .init();
+        Self::with(device, seed, recipe, sgd, |d| WakeClassifier::new(channels, size, d))
+    }
+
+    /// One SGD step on BCE; returns the batch's mean loss and how many it classified right.
+    pub fn step(&mut self, images: Tensor<4>, labels: &[i64]) -> (f64, f64) {
         let targets = Tensor::<1, Int>::from_data(TensorData::new(labels.to_vec(), [labels.len()]), &self.device);
-        let logits = model.forward(images);
-        let outputs = logits.clone().into_data().try_to_vec::<f32>().expect("f32 logits");
-        let right = outputs
-            .iter()
-            .zip(labels)
-            .filter(|(o, &l)| (**o > 0.0) == (l == 1))
-            .count();
-        let loss = bce_with_logits(logits, targets);
-        let value = scalar(loss.clone());
-        let grads = GradientsParams::from_grads(loss.backward(), &model);
-        self.model = Some(self.optimiser.step(self.learning_rate, model, grads));
-        (value, right)
-    }
-
-    /// The trained classifier, for inference.
-    pub fn finish(self) -> WakeClassifier {
-        self.model.expect("model present").valid()
+        self.optimise(|model| {
+            let logits = model.forward(images);
+            let outputs = logits.clone().into_data().try_to_vec::<f32>().expect("f32 logits");
+            let right = outputs
+                .iter()
+                .zip(labels)
+                .filter(|(o, &l)| (**o > 0.0) == (l == 1))
+                .count();
+            (bce_with_logits(logits, targets), right as f64)
+        })
     }
 }
 
-/// The U-Net being trained by Adam (4.1) with PyTorch's epsilon 1e-8, as the spec's training had.
-pub struct UNetTrainer {
-    model: Option<UNet>,
-    optimiser: ModuleOptimizer,
-    learning_rate: f64,
-    device: Device,
-}
-
-impl UNetTrainer {
+impl Trainer<UNet> {
+    /// A fresh U-Net with Adam and weight decay (4.1), PyTorch's epsilon 1e-8 as the spec's
+    /// training had.
     pub fn new(channels: usize, recipe: &Recipe, seed: u64, device: &Device) -> Self {
-        let device = device.clone().autodiff();
-        Self {
-            model: Some(init_seeded(seed, &device, |d| UNet::new(channels, d))),
-            optimiser: AdamConfig::new()
-                .with_epsilon(1e-8)
-                .with_weight_decay(Some(WeightDecayConfig::new(recipe.weight_decay as f32)))
-                .init(),
-            learning_rate: recipe.learning_rate,
-            device,
-        }
+        let adam = AdamConfig::new()
+            .with_epsilon(1e-8)
+            .with_weight_decay(Some(WeightDecayConfig::new(recipe.weight_decay as f32)))
+            .init();
+        Self::with(device, seed, recipe, adam, |d| UNet::new(channels, d))
     }
 
-    pub fn device(&self) -> &Device {
-        &self.device
-    }
-
-    /// One Adam step; returns the batch's mean loss and how many pixels it classified right.
+    /// One Adam step on the U-Net loss; returns the batch's mean loss and how many pixels it
+    /// classified right.
     pub fn step(&mut self, images: Tensor<4>, masks: Tensor<4, Int>) -> (f64, f64) {
-        let model = self.model.take().expect("model present between steps");
-        let logits = model.forward(images);
-        let agree = logits
-            .clone()
-            .greater_elem(0.0)
-            .int()
-            .equal(masks.clone())
-            .float()
-            .sum();
-        let right = scalar(agree);
-        let loss = unet_loss(logits, masks);
-        let value = scalar(loss.clone());
-        let grads = GradientsParams::from_grads(loss.backward(), &model);
-        self.model = Some(self.optimiser.step(self.learning_rate, model, grads));
-        (value, right)
+        self.optimise(|model| {
+            let logits = model.forward(images);
+            let agree = logits
+                .clone()
+                .greater_elem(0.0)
+                .int()
+                .equal(masks.clone())
+                .float()
+                .sum();
+            (unet_loss(logits, masks), scalar(agree))
+        })
     }
+}
 
-    pub fn finish(self) -> UNet {
-        self.model.expect("model present").valid()
+/// The epochs of a recipe: batches in the seeded order with the seeded rotations, `step` on
+/// each; `units` is what accuracy counts per example (1 image, or its pixels).
+fn train_epochs<M: Module>(
+    trainer: &mut Trainer<M>,
+    examples: &[Example],
+    recipe: &Recipe,
+    seed: u64,
+    units: f64,
+    on_epoch: &mut dyn FnMut(&EpochRecord),
+    step: impl Fn(&mut Trainer<M>, &[&Example], &[u8]) -> (f64, f64),
+) {
+    for epoch in 0..recipe.epochs {
+        let start = Instant::now();
+        let (order, turns) = epoch_plan(examples.len(), seed, epoch, recipe.rotate);
+        let (mut loss_sum, mut right) = (0.0, 0.0);
+        for chunk in order.chunks(recipe.batch_size.max(1)) {
+            let batch: Vec<&Example> = chunk.iter().map(|&i| &examples[i]).collect();
+            let turns: Vec<u8> = chunk.iter().map(|&i| turns[i]).collect();
+            let (loss, r) = step(trainer, &batch, &turns);
+            loss_sum += loss * batch.len() as f64;
+            right += r;
+        }
+        let seconds = start.elapsed().as_secs_f64();
+        on_epoch(&EpochRecord {
+            epoch: epoch + 1,
+            loss: loss_sum / examples.len() as f64,
+            accuracy: right / (examples.len() as f64 * units),
+            images_per_second: examples.len() as f64 / seconds.max(1e-9),
+            seconds,
+        });
     }
 }
 
@@ -279,28 +316,19 @@ pub fn train_classifier(
 ) -> WakeClassifier {
     let (channels, size) = check_examples(examples);
     let mut trainer = ClassifierTrainer::new(channels, size, recipe, seed, device);
-    for epoch in 0..recipe.epochs {
-        let start = Instant::now();
-        let (order, turns) = epoch_plan(examples.len(), seed, epoch, recipe.rotate);
-        let (mut loss_sum, mut right) = (0.0, 0usize);
-        for chunk in order.chunks(recipe.batch_size.max(1)) {
-            let batch: Vec<&Example> = chunk.iter().map(|&i| &examples[i]).collect();
-            let turns: Vec<u8> = chunk.iter().map(|&i| turns[i]).collect();
+    train_epochs(
+        &mut trainer,
+        examples,
+        recipe,
+        seed,
+        1.0,
+        on_epoch,
+        |t, batch, turns| {
             let labels: Vec<i64> = batch.iter().map(|e| e.label as i64).collect();
-            let images = batch_images(&batch, &turns, trainer.device());
-            let (loss, r) = trainer.step(images, &labels);
-            loss_sum += loss * batch.len() as f64;
-            right += r;
-        }
-        let seconds = start.elapsed().as_secs_f64();
-        on_epoch(&EpochRecord {
-            epoch: epoch + 1,
-            loss: loss_sum / examples.len() as f64,
-            accuracy: right as f64 / examples.len() as f64,
-            images_per_second: examples.len() as f64 / seconds.max(1e-9),
-            seconds,
-        });
-    }
+            let images = batch_images(batch, turns, t.device());
+            t.step(images, &labels)
+        },
+    );
     trainer.finish()
 }
 
@@ -314,29 +342,19 @@ pub fn train_unet(
 ) -> UNet {
     let (channels, size) = check_examples(examples);
     let mut trainer = UNetTrainer::new(channels, recipe, seed, device);
-    let pixels = (size * size) as f64;
-    for epoch in 0..recipe.epochs {
-        let start = Instant::now();
-        let (order, turns) = epoch_plan(examples.len(), seed, epoch, recipe.rotate);
-        let (mut loss_sum, mut right) = (0.0, 0.0);
-        for chunk in order.chunks(recipe.batch_size.max(1)) {
-            let batch: Vec<&Example> = chunk.iter().map(|&i| &examples[i]).collect();
-            let turns: Vec<u8> = chunk.iter().map(|&i| turns[i]).collect();
-            let images = batch_images(&batch, &turns, trainer.device());
-            let masks = batch_masks(&batch, &turns, trainer.device());
-            let (loss, r) = trainer.step(images, masks);
-            loss_sum += loss * batch.len() as f64;
-            right += r;
-        }
-        let seconds = start.elapsed().as_secs_f64();
-        on_epoch(&EpochRecord {
-            epoch: epoch + 1,
-            loss: loss_sum / examples.len() as f64,
-            accuracy: right / (examples.len() as f64 * pixels),
-            images_per_second: examples.len() as f64 / seconds.max(1e-9),
-            seconds,
-        });
-    }
+    train_epochs(
+        &mut trainer,
+        examples,
+        recipe,
+        seed,
+        (size * size) as f64,
+        on_epoch,
+        |t, batch, turns| {
+            let images = batch_images(batch, turns, t.device());
+            let masks = batch_masks(batch, turns, t.device());
+            t.step(images, masks)
+        },
+    );
     trainer.finish()
 }
 

@@ -556,7 +556,13 @@ fn train_eval_and_detect_on_a_small_dataset() {
     assert!((0.0..=1.0).contains(&p));
     assert!(image::open(&mask).unwrap().width() == 32);
 
+    let small = dir.path().join("small.npy");
+    std::fs::write(&small, npy_f32_2x2()).unwrap();
     for (args, needle) in [
+        (
+            vec!["detect", small.to_str().unwrap(), "--model", model.to_str().unwrap()],
+            "at least the detector's input, 32 x 32 pixels",
+        ),
         (
             vec!["eval", d, "--arch", "resnet"],
             "--arch resnet: must be base, cls or unet",
@@ -573,4 +579,20 @@ fn train_eval_and_detect_on_a_small_dataset() {
         assert!(!o.status.success());
         assert!(stderr(&o).contains(needle), "{args:?}: {}", stderr(&o));
     }
+}
+
+/// A 2 x 2 float32 .npy file (NumPy format 1.0, header padded to 64 bytes).
+fn npy_f32_2x2() -> Vec<u8> {
+    let mut header = "{'descr': '<f4', 'fortran_order': False, 'shape': (2, 2), }".to_string();
+    while (10 + header.len() + 1) % 64 != 0 {
+        header.push(' ');
+    }
+    header.push('\n');
+    let mut bytes = b"\x93NUMPY\x01\x00".to_vec();
+    bytes.extend_from_slice(&(header.len() as u16).to_le_bytes());
+    bytes.extend_from_slice(header.as_bytes());
+    for v in [1.0f32, 2.0, 3.0, 4.0] {
+        bytes.extend_from_slice(&v.to_le_bytes());
+    }
+    bytes
 }

@@ -7,6 +7,7 @@
 //! expensive hydro run is done once per distinct (ship, environment, grid, time) and cached on
 //! disk under `cache/`, keyed by a hash of exactly those inputs.
 
+pub mod learning;
 pub mod render;
 pub mod slurm;
 pub mod study;
@@ -71,8 +72,8 @@ pub fn shard_indices(total: usize, shard: Shard) -> Vec<usize> {
     (0..total).filter(|i| i % shard.count == shard.shard).collect()
 }
 
-/// FNV-1a 64-bit hash of text.
-fn fnv(text: &str) -> u64 {
+/// FNV-1a 64-bit hash of text (stable across runs and platforms, for cache keys).
+pub fn fnv(text: &str) -> u64 {
     let mut h: u64 = 0xcbf2_9ce4_8422_2325;
     for b in text.bytes() {
         h ^= b as u64;

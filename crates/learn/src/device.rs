@@ -1,6 +1,6 @@
 //! The backend, chosen at run time (`--device`): the model code is the same on every one.
 
-use burn::tensor::Device;
+pub use burn::tensor::Device;
 use wakelab_core::{ConfigError, WakelabError};
 
 /// Device names this build accepts.

@@ -6,6 +6,7 @@
 use crate::data::{balanced_split, Dataset};
 use crate::metrics::{mean_and_spread, roc_auc, Confusion};
 use crate::models::Architecture;
+use crate::robustness::Perturbation;
 use crate::store::{Detector, ModelInfo};
 use crate::train::{
     classify, duplicated, segment, train_classifier, train_unet, with_masks, EpochRecord, Example, Recipe,
@@ -33,6 +34,9 @@ pub struct EvalOptions {
     pub unet: Recipe,
     pub threshold: f64,
     pub seed: u64,
+    /// Perturbed copies of each repetition's test images the detectors are also run on
+    /// (robustness, spec 6.2); their outputs are kept with split `test:<name>`.
+    pub perturbations: Vec<Perturbation>,
 }
 
 impl EvalOptions {
@@ -47,6 +51,7 @@ impl EvalOptions {
             unet: Recipe::unet(),
             threshold: 0.5,
             seed: 0,
+            perturbations: Vec::new(),
         }
     }
 
@@ -60,6 +65,9 @@ impl EvalOptions {
         }
         if !(0.0..=1.0).contains(&self.threshold) {
             return err("threshold", self.threshold.to_string(), "in [0, 1]");
+        }
+        if !(4..=256).contains(&self.unet.width) {
+            return err("unet_width", self.unet.width.to_string(), "an integer in [4, 256]");
         }
         for (name, r) in [("classifier", &self.classifier), ("unet", &self.unet)] {
             if r.epochs == 0 || r.epochs > 10_000 {
@@ -122,7 +130,7 @@ pub struct Output {
 }
 
 /// One training curve point.
-#[derive(Debug, Clone, Serialize)]
+#[derive(Debug, Clone, Serialize, Deserialize)]
 pub struct CurvePoint {
     pub bands: String,
     /// "base", "cls", "unet", or "segmenter" for the U-Net itself.
@@ -156,7 +164,13 @@ pub struct Summary {
 /// Metrics of the kept test outputs of one band set and architecture: per repetition, then mean
 /// and sample spread.
 pub fn summarise(outputs: &[Output], threshold: f64) -> Vec<Summary> {
-    let outputs: Vec<&Output> = outputs.iter().filter(|o| o.split == "test").collect();
+    summarise_split(outputs, "test", threshold)
+}
+
+/// `summarise` on the outputs of another split: `test:<perturbation>`, or `held_out` (where
+/// "repetition" is the held-out group).
+pub fn summarise_split(outputs: &[Output], split: &str, threshold: f64) -> Vec<Summary> {
+    let outputs: Vec<&Output> = outputs.iter().filter(|o| o.split == split).collect();
     let mut keys: Vec<(String, Architecture)> = outputs.iter().map(|o| (o.bands.clone(), o.architecture)).collect();
     keys.dedup();
     let mut seen = std::collections::BTreeSet::new();
@@ -365,13 +379,19 @@ pub fn evaluate(
                         epoch: e.clone(),
                     });
                 });
-                for (split, idx, examples) in [("train", &train_idx, &train), ("test", &test_idx, &test)] {
+                let mut splits = vec![("train".to_string(), train.clone()), ("test".to_string(), test.clone())];
+                for (k, p) in options.perturbations.iter().enumerate() {
+                    let perturbed = p.apply(&test, seed.wrapping_add(k as u64 + 1));
+                    splits.push((format!("test:{}", p.name()), perturbed));
+                }
+                for (split, examples) in &splits {
+                    let idx = if split == "train" { &train_idx } else { &test_idx };
                     let o = detect(&detector, architecture, examples, device);
                     outputs.extend(idx.iter().zip(examples.iter()).zip(o).map(|((&i, e), output)| Output {
                         bands: name.clone(),
                         architecture,
                         repetition,
-                        split: split.to_string(),
+                        split: split.clone(),
                         scene: dataset.records[i].id.clone(),
                         label: e.label,
                         output,
@@ -386,6 +406,7 @@ pub fn evaluate(
                             bands: bands.clone(),
                             input_size: size,
                             threshold: options.threshold,
+                            unet_width: options.unet.width,
                         },
                     ));
                 }
@@ -399,4 +420,56 @@ pub fn evaluate(
         summaries,
         detectors,
     })
+}
+
+/// Environments held out of training (robustness, spec 6.2): for each group of scenes, train on
+/// every other scene and test on the group. Outputs are kept with split `held_out` and the
+/// group's index as `repetition`, so `summarise_split(.., "held_out", ..)` averages over groups.
+pub fn evaluate_held_out(
+    dataset: &Dataset,
+    options: &EvalOptions,
+    groups: &[Vec<usize>],
+    device: &Device,
+    progress: &mut dyn FnMut(&EvalProgress),
+) -> Result<Vec<Output>, WakelabError> {
+    options.validate()?;
+    let mut outputs = Vec::new();
+    for bands in &options.band_sets {
+        let name = band_set_name(bands);
+        for (g, test_idx) in groups.iter().enumerate() {
+            let train_idx: Vec<usize> = (0..dataset.records.len()).filter(|i| !test_idx.contains(i)).collect();
+            if train_idx.is_empty() || test_idx.is_empty() {
+                continue;
+            }
+            let train = load_examples(dataset, bands, &train_idx)?;
+            let test = load_examples(dataset, bands, test_idx)?;
+            let seed = options.seed.wrapping_add(7919 * (g as u64 + 1));
+            for &architecture in &options.architectures {
+                let epochs = |network: &str| match network {
+                    "segmenter" => options.unet.epochs,
+                    _ => options.classifier.epochs,
+                };
+                let detector = train_detector(architecture, &train, options, seed, device, &mut |network, e| {
+                    progress(&EvalProgress {
+                        bands: &name,
+                        network,
+                        repetition: g,
+                        epoch: e,
+                        epochs: epochs(network),
+                    })
+                });
+                let o = detect(&detector, architecture, &test, device);
+                outputs.extend(test_idx.iter().zip(&test).zip(o).map(|((&i, e), output)| Output {
+                    bands: name.clone(),
+                    architecture,
+                    repetition: g,
+                    split: "held_out".to_string(),
+                    scene: dataset.records[i].id.clone(),
+                    label: e.label,
+                    output,
+                }));
+            }
+        }
+    }
+    Ok(outputs)
 }

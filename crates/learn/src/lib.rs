@@ -12,6 +12,7 @@ pub mod device;
 pub mod evaluate;
 pub mod metrics;
 pub mod models;
+pub mod robustness;
 pub mod store;
 pub mod synthetic;
 pub mod train;

@@ -31,6 +31,13 @@ pub struct ModelInfo {
     pub input_size: usize,
     /// Decision threshold on the wake probability.
     pub threshold: f64,
+    /// First-level channels of the "unet" detector's U-Net (Table 4.2: 64).
+    #[serde(default = "default_unet_width")]
+    pub unet_width: usize,
+}
+
+fn default_unet_width() -> usize {
+    crate::models::UNET_WIDTH
 }
 
 impl ModelInfo {
@@ -41,6 +48,7 @@ impl ModelInfo {
             ("wakelab.bands".to_string(), self.bands.join(",")),
             ("wakelab.input_size".to_string(), self.input_size.to_string()),
             ("wakelab.threshold".to_string(), self.threshold.to_string()),
+            ("wakelab.unet_width".to_string(), self.unet_width.to_string()),
             ("wakelab.version".to_string(), env!("CARGO_PKG_VERSION").to_string()),
         ])
     }
@@ -68,6 +76,11 @@ impl ModelInfo {
             threshold: get("wakelab.threshold")?
                 .parse()
                 .map_err(|e| err(format!("threshold: {e}")))?,
+            // files written before the width was configurable hold Table 4.2's U-Net
+            unet_width: match meta.get("wakelab.unet_width") {
+                Some(w) => w.parse().map_err(|e| err(format!("unet_width: {e}")))?,
+                None => default_unet_width(),
+            },
         })
     }
 
@@ -199,7 +212,8 @@ pub fn load_detector(
     let channels = info.architecture.classifier_channels(info.image_channels());
     let mut detector = Detector {
         classifier: WakeClassifier::new(channels, info.input_size, device),
-        segmenter: (info.architecture == Architecture::Unet).then(|| UNet::new(info.image_channels(), device)),
+        segmenter: (info.architecture == Architecture::Unet)
+            .then(|| UNet::with_width(info.image_channels(), info.unet_width, device)),
     };
     let mut store = SafetensorsStore::from_bytes(Some(bytes));
     detector.load_from(&mut store).map_err(|e| store_error(path, e))?;

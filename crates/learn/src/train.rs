@@ -44,6 +44,8 @@ pub struct Recipe {
     pub weight_decay: f64,
     /// Random 90-degree rotations of every training input.
     pub rotate: bool,
+    /// First-level channels of the U-Net (Table 4.2: 64); the classifiers ignore it.
+    pub width: usize,
 }
 
 impl Recipe {
@@ -56,6 +58,7 @@ impl Recipe {
             learning_rate: 1e-3,
             weight_decay: 0.1,
             rotate: true,
+            width: crate::models::UNET_WIDTH,
         }
     }
 
@@ -67,12 +70,13 @@ impl Recipe {
             learning_rate: 1e-4,
             weight_decay: 1e-4,
             rotate: true,
+            width: crate::models::UNET_WIDTH,
         }
     }
 }
 
 /// What one epoch did.
-#[derive(Debug, Clone, Serialize)]
+#[derive(Debug, Clone, Serialize, serde::Deserialize)]
 pub struct EpochRecord {
     pub epoch: usize,
     pub loss: f64,
@@ -251,7 +255,9 @@ impl Trainer<UNet> {
             .with_epsilon(1e-8)
             .with_weight_decay(Some(WeightDecayConfig::new(recipe.weight_decay as f32)))
             .init();
-        Self::with(device, seed, recipe, adam, |d| UNet::new(channels, d))
+        Self::with(device, seed, recipe, adam, |d| {
+            UNet::with_width(channels, recipe.width, d)
+        })
     }
 
     /// One Adam step on the U-Net loss; returns the batch's mean loss and how many pixels it

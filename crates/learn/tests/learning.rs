@@ -143,8 +143,7 @@ fn quick_options() -> EvalOptions {
         epochs: 10,
         batch_size: 8,
         learning_rate: 1e-2,
-        weight_decay: 0.1,
-        rotate: true,
+        ..Recipe::classifier()
     };
     o.unet = Recipe {
         epochs: 4,
@@ -194,6 +193,8 @@ fn same_seed_gives_the_same_weights_and_outputs_bit_for_bit() {
     let mut options = quick_options();
     options.classifier.epochs = 2;
     options.unet.epochs = 1;
+    // a narrower U-Net than Table 4.2's, which the file must record to be read back
+    options.unet.width = 16;
     let train = examples(&line_versus_noise(16, 24, 2.5, 5));
     let test = examples(&line_versus_noise(8, 24, 2.5, 6));
     let run = |seed| {
@@ -205,8 +206,13 @@ fn same_seed_gives_the_same_weights_and_outputs_bit_for_bit() {
             bands: vec!["X".into()],
             input_size: 24,
             threshold: 0.5,
+            unet_width: options.unet.width,
         };
         let (path, _) = save_detector(&d, &info, &dir.path().join("m.safetensors")).unwrap();
+        let (loaded, loaded_info) = load_detector(&path, Some((Architecture::Unet, 24)), &device).unwrap();
+        assert_eq!(loaded_info.unet_width, 16);
+        let reloaded = detect(&loaded, Architecture::Unet, &test, &device);
+        assert!(o.iter().zip(&reloaded).all(|(a, b)| a.to_bits() == b.to_bits()));
         (o, std::fs::read(path).unwrap())
     };
     let (o1, w1) = run(3);
@@ -233,6 +239,7 @@ fn saved_detector_reloads_with_the_same_outputs_and_refuses_the_wrong_architectu
         bands: vec!["C".into()],
         input_size: 24,
         threshold: 0.5,
+        unet_width: wakelab_learn::models::UNET_WIDTH,
     };
     let (_, export) = save_detector(&detector, &info, &path).unwrap();
     assert!(export.exists());

@@ -9,10 +9,11 @@ use wakelab_core::config::{Preset, WakelabConfig};
 /// wakelab: simulate a ship's persistent wake from first principles, render what SAR and
 /// infrared sensors would see, and train and fuse the detectors that find it.
 ///
-/// Start with `wakelab run`: it runs the pipeline on the embedded default configuration (the
-/// wake simulation, the sea surface of one scene and its SAR and infrared images) and writes
-/// everything into runs/default/; `wakelab dataset` renders a whole parametric study. `wakelab config show` prints every setting; copy it to a file, change what you
-/// need and pass it back with --config.
+/// Start with `wakelab run`: the whole study on the embedded default (wakes, a labelled SAR and
+/// IR dataset, the spec's classifiers trained and evaluated, fusion, robustness) with a report
+/// in runs/default/report/report.html. `wakelab scene` runs the physics of one configuration;
+/// `wakelab config show` prints every setting: copy it to a file, change what you need and pass
+/// it back with --config.
 #[derive(Parser, Debug)]
 #[command(name = "wakelab", version, about, long_about, propagate_version = true)]
 pub struct Cli {
@@ -70,10 +71,36 @@ pub struct RunArgs {
     pub quiet: bool,
 }
 
+/// Options of `wakelab run`.
+#[derive(Args, Debug, Clone)]
+pub struct StudyArgs {
+    /// Study: `default` (embedded, about ten minutes on a 2-core laptop), `paper` (the spec's
+    /// scale and recipe) or a study TOML file (see crates/data/src/default_study.toml).
+    #[arg(long, value_name = "NAME|FILE")]
+    pub study: Option<String>,
+    /// `quick` (the default study) or `paper` (the paper study); --study wins when both are given.
+    #[arg(long, value_name = "NAME")]
+    pub preset: Option<Preset>,
+    /// Run directory (default: runs/<study name>).
+    #[arg(long, value_name = "DIR")]
+    pub out: Option<PathBuf>,
+    /// Backend for training: cpu, or wgpu / cuda in builds with those features.
+    #[arg(long, default_value = "cpu")]
+    pub device: String,
+    /// No progress bar.
+    #[arg(long)]
+    pub quiet: bool,
+}
+
 #[derive(Subcommand, Debug)]
 pub enum Command {
+    /// The whole study (the main job): simulate the study's wakes, render its SAR and IR dataset,
+    /// train and evaluate every architecture on every band with the spec's repetitions, fuse,
+    /// stress-test and write a report (runs/<study>/report/report.html). Reuses every finished
+    /// stage whose inputs have not changed.
+    Run(StudyArgs),
     /// Run the pipeline on one configuration: wake, sea surface of the scene, SAR and IR images.
-    Run(RunArgs),
+    Scene(RunArgs),
     /// Simulate the ship's wake only (stage 1, spec 2.1) and write its files.
     Wake(RunArgs),
     /// The initial data plane of the ship (spec Eqs. 2.26-2.62): its derived scalars.

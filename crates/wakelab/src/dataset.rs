@@ -6,7 +6,7 @@ use std::path::Path;
 use std::time::Instant;
 use wakelab_core::io::write_atomically;
 
-fn load_study(name: &str) -> Result<wakelab_data::study::Study> {
+pub fn load_study(name: &str) -> Result<wakelab_data::study::Study> {
     use wakelab_data::study::{Study, DEFAULT_STUDY, PAPER_STUDY};
     let path = Path::new(name);
     Ok(match name {

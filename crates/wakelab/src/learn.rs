@@ -32,6 +32,9 @@ pub struct LearnArgs {
     /// U-Net epochs (spec: 60).
     #[arg(long, default_value_t = 60)]
     pub unet_epochs: usize,
+    /// First-level channels of the U-Net (Table 4.2: 64; narrower trains faster).
+    #[arg(long, default_value_t = 64)]
+    pub unet_width: usize,
     /// Classifier batch size.
     #[arg(long, default_value_t = 8)]
     pub batch_size: usize,
@@ -97,10 +100,12 @@ impl LearnArgs {
             },
             unet: Recipe {
                 epochs: self.unet_epochs,
+                width: self.unet_width,
                 ..Recipe::unet()
             },
             threshold: self.threshold,
             seed: self.seed,
+            perturbations: Vec::new(),
         }
     }
 
@@ -133,7 +138,7 @@ fn total_epochs(o: &EvalOptions) -> u64 {
     (per_rep * o.repetitions * o.band_sets.len()) as u64
 }
 
-fn csv<T: serde::Serialize>(rows: &[T]) -> Result<Vec<u8>> {
+pub fn csv<T: serde::Serialize>(rows: &[T]) -> Result<Vec<u8>> {
     let mut out = Vec::new();
     let values: Vec<serde_json::Value> = rows
         .iter()
@@ -310,6 +315,7 @@ pub fn run_train(args: &LearnArgs, arch: &str, model: Option<&Path>) -> Result<(
         bands: bands.clone(),
         input_size: train[0].size(),
         threshold: args.threshold,
+        unet_width: options.unet.width,
     };
     let dir = args.out_dir();
     std::fs::create_dir_all(&dir)?;

@@ -5,6 +5,7 @@ mod dataset;
 mod learn;
 mod reports;
 mod run;
+mod study;
 
 use clap::Parser;
 use cli::{Cli, Command, ConfigAction, SarAction};
@@ -27,7 +28,8 @@ fn main() {
 
 fn dispatch(cli: Cli) -> Result<()> {
     match cli.command {
-        Command::Run(args) => run::run_pipeline(&args),
+        Command::Run(args) => study::run_study_command(&args),
+        Command::Scene(args) => run::run_pipeline(&args),
         Command::Wake(args) => run::run_wake_only(&args),
         Command::Idp { config, json, write } => reports::idp(&config, json, write.as_deref()),
         Command::Spectrum {

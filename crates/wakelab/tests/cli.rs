@@ -90,7 +90,7 @@ fn bad_values_are_refused_before_any_output() {
         let file = dir.path().join("bad.toml");
         std::fs::write(&file, toml).unwrap();
         let o = wakelab(&[
-            "run",
+            "scene",
             "--config",
             file.to_str().unwrap(),
             "--out",
@@ -116,7 +116,7 @@ fn wake_run_writes_netcdf_pictures_and_the_configuration() {
     std::fs::write(&cfg, TINY).unwrap();
     let out = dir.path().join("run");
     let o = wakelab(&[
-        "run",
+        "scene",
         "--config",
         cfg.to_str().unwrap(),
         "--out",
@@ -202,7 +202,7 @@ fn a_scene_outside_the_simulated_wake_is_refused() {
     let cfg = dir.path().join("far.toml");
     std::fs::write(&cfg, "[scene]\nalong_track = 40000.0\n").unwrap();
     let o = wakelab(&[
-        "run",
+        "scene",
         "--config",
         cfg.to_str().unwrap(),
         "--quiet",
@@ -595,4 +595,127 @@ fn npy_f32_2x2() -> Vec<u8> {
         bytes.extend_from_slice(&v.to_le_bytes());
     }
     bytes
+}
+
+/// A study small enough for a test: 2 wind speeds x 2 seeds of 32 x 32 pixels in S, X and LWIR,
+/// trained a few epochs with a narrow U-Net.
+const TINY_STUDY: &str = "[study]\nname = \"tiny\"\ncombine = \"product\"\nseeds = 3\ntest_fraction = 0.34\n\
+    grouped_split = false\nmin_visibility = 0.0\nmixed_layer_depth = 20.0\nbands = [\"S\", \"X\", \"LWIR\"]\n\
+    [axes]\nwind_speed = [5.0, 8.0]\nimage_size = [32]\npixel_spacing = [20.0]\nalong_track = [2000.0]\n\
+    [base]\npreset = \"quick\"\n[base.time]\nduration = 600.0\n\
+    [learning]\nrepetitions = 2\nepochs = 2\nlearning_rate = 1e-2\nunet_epochs = 1\nunet_learning_rate = 1e-3\n\
+    unet_width = 4\nrotations = [30.0]\nheld_out = \"wind_speed\"\n";
+
+#[test]
+fn run_does_the_whole_study_reuses_its_stages_and_repeats_its_tables() {
+    let dir = tempfile::tempdir().unwrap();
+    let study = dir.path().join("tiny.toml");
+    std::fs::write(&study, TINY_STUDY).unwrap();
+    let run = |out: &Path| {
+        let o = wakelab(&[
+            "run",
+            "--study",
+            study.to_str().unwrap(),
+            "--out",
+            out.to_str().unwrap(),
+            "--quiet",
+        ]);
+        assert!(o.status.success(), "{}", stderr(&o));
+        o
+    };
+    let (first, second) = (dir.path().join("a"), dir.path().join("b"));
+    let o = run(&first);
+    // the headline table names every input and the decision-level fusions
+    for needle in ["S+X", "Bayes classifier (S, X)", "Dempster-Shafer (S, X)", "LWIR"] {
+        assert!(stdout(&o).contains(needle), "{needle}: {}", stdout(&o));
+    }
+    let report = first.join("report");
+    let html = std::fs::read_to_string(report.join("report.html")).unwrap();
+    // self-contained: every picture inline, nothing fetched from the network
+    let namespaces = html.matches("xmlns=\"http://www.w3.org/2000/svg\"").count();
+    assert_eq!(
+        html.matches("http://").count(),
+        namespaces,
+        "only SVG namespaces, no links"
+    );
+    assert!(!html.contains("https://") && !html.contains("<script"));
+    assert_eq!(
+        html.matches("src=\"data:image/png;base64,").count(),
+        3 * 3,
+        "wake, no wake, mask per band"
+    );
+    assert_eq!(
+        html.matches("<svg").count(),
+        3 + 4,
+        "ROC per architecture, training curves per network"
+    );
+    for needle in [
+        "Table 4.4",
+        "Table 4.6",
+        "Table 5.1",
+        "Table 5.3",
+        "SAR + IR fusion",
+        "Robustness",
+        "rotate_30",
+        "held-out environment",
+        "Wall time per stage",
+    ] {
+        assert!(html.contains(needle), "report lacks {needle}");
+    }
+    for t in [
+        "table_4_4_base",
+        "table_5_2_cls",
+        "sar_ir_fusion",
+        "confusion",
+        "robustness",
+        "timing",
+    ] {
+        assert!(report.join("tables").join(format!("{t}.csv")).exists(), "{t}.csv");
+    }
+    let markdown = std::fs::read_to_string(report.join("report.md")).unwrap();
+    assert!(markdown.contains("| input | MCC | accuracy | AUC | paper MCC | paper accuracy |"));
+    // the paper's numbers beside ours: Table 4.4's S row, Table 5.3's Bayes (S, X) row
+    assert!(markdown.contains("| 0.29 | 61% |") && markdown.contains("| 1.00 | 100% |"), "{markdown}");
+
+    // a rerun reuses every stage and gives the same tables
+    let tables = |root: &Path| -> Vec<(String, String)> {
+        let mut v: Vec<(String, String)> = std::fs::read_dir(root.join("report/tables"))
+            .unwrap()
+            .map(|e| e.unwrap().path())
+            .filter(|p| !p.ends_with("timing.csv"))
+            .map(|p| {
+                let name = p.file_name().unwrap().to_string_lossy().to_string();
+                (name, std::fs::read_to_string(&p).unwrap())
+            })
+            .collect();
+        v.sort();
+        v
+    };
+    let before = tables(&first);
+    let o = run(&first);
+    assert!(stderr(&o).contains("(reused; computed in"), "{}", stderr(&o));
+    assert_eq!(before, tables(&first));
+    // and a fresh run in another directory computes the same tables from scratch
+    run(&second);
+    assert_eq!(tables(&first), tables(&second));
+
+    // bad [learning] values are refused before any work, naming the field
+    let bad = dir.path().join("bad.toml");
+    std::fs::write(&bad, TINY_STUDY.replace("unet_width = 4", "unet_width = 1000")).unwrap();
+    let out = dir.path().join("c");
+    let o = wakelab(&[
+        "run",
+        "--study",
+        bad.to_str().unwrap(),
+        "--out",
+        out.to_str().unwrap(),
+        "--quiet",
+    ]);
+    assert!(!o.status.success());
+    assert!(
+        stderr(&o).contains("learning.unet_width") && stderr(&o).contains("[4, 256]"),
+        "{}",
+        stderr(&o)
+    );
+    assert!(!out.exists());
 }

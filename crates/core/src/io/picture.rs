@@ -115,12 +115,16 @@ impl FieldPicture<'_> {
 
     /// Render to an RGB image.
     pub fn render(&self) -> RgbImage {
+        self.render_in(self.range())
+    }
+
+    /// Render with the colour range `(lo, hi)` (pictures meant to be compared share one).
+    pub fn render_in(&self, (lo, hi): (f64, f64)) -> RgbImage {
         let (w, h) = self.size;
         let total_w = MARGIN + w + MARGIN + BAR_W + 6 + LABEL_W;
         let caption = wrap(&self.caption, ((total_w - 2 * MARGIN) / 8) as usize);
         let total_h = TITLE_H + h + 8 + LINE_H * caption.len() as u32 + MARGIN;
         let mut img = RgbImage::from_pixel(total_w, total_h, Rgb([255, 255, 255]));
-        let (lo, hi) = self.range();
         for py in 0..h {
             let row = ((py as f64 + 0.5) / h as f64 * self.rows as f64) as usize;
             for px in 0..w {

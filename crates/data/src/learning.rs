@@ -1,0 +1,190 @@
+//! The `[learning]` table of a study file: how `wakelab run` trains, evaluates and stresses the
+//! detectors on the study's dataset (spec 4.1-4.2, 5.1-5.2 and the future work of 6.2). Its
+//! defaults are the spec's recipe; the embedded default study shortens it to fit a laptop.
+
+use serde::{Deserialize, Serialize};
+use wakelab_core::{ConfigError, WakelabError};
+
+/// Training, evaluation and robustness settings of a study.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct LearningPlan {
+    /// Repetitions of Algorithm 2 (spec 4.2: 5).
+    pub repetitions: usize,
+    /// Classifier epochs (4.1: 60).
+    pub epochs: usize,
+    /// Classifier SGD learning rate (4.1: 1e-3; L2 0.1 as in the spec).
+    pub learning_rate: f64,
+    /// Classifier batch size (not in the spec).
+    pub batch_size: usize,
+    /// U-Net epochs (4.1: 60).
+    pub unet_epochs: usize,
+    /// U-Net Adam learning rate (4.1: 1e-4).
+    pub unet_learning_rate: f64,
+    /// First-level channels of the U-Net (Table 4.2: 64).
+    pub unet_width: usize,
+    /// Decision threshold on the wake probability (4.2: 0.5).
+    pub threshold: f64,
+    /// Seed of weights, splits, batch order, rotations and perturbations.
+    pub seed: u64,
+    /// Feature-level fusions: bands joined by `+` as channels of one input (5.1's "SX").
+    /// Default: S+X (5.1) and C+LWIR (SAR with IR, 5.4), those of them the study renders.
+    pub fused_inputs: Option<Vec<String>>,
+    /// Robustness: test images rotated by these angles (degrees, not multiples of 90).
+    pub rotations: Vec<f64>,
+    /// Robustness: square patches dropped (set to the image mean) from each test image.
+    pub dropped_patches: usize,
+    /// Side of a dropped patch as a share of the image side.
+    pub patch_fraction: f64,
+    /// Robustness: Gaussian noise added to the normalised test images (standard deviations).
+    pub noise: f64,
+    /// Robustness: the study axis whose values are held out of training one at a time
+    /// (`wind_speed`, `swell_direction`, `stratification`, ...); empty for none.
+    pub held_out: String,
+}
+
+impl Default for LearningPlan {
+    fn default() -> Self {
+        Self {
+            repetitions: 5,
+            epochs: 60,
+            learning_rate: 1e-3,
+            batch_size: 8,
+            unet_epochs: 60,
+            unet_learning_rate: 1e-4,
+            unet_width: 64,
+            threshold: 0.5,
+            seed: 0,
+            fused_inputs: None,
+            rotations: vec![30.0, 45.0],
+            dropped_patches: 4,
+            patch_fraction: 0.125,
+            noise: 0.5,
+            held_out: "wind_speed".into(),
+        }
+    }
+}
+
+/// Study axes a held-out robustness test can group scenes by.
+pub const HELD_OUT_AXES: [&str; 9] = [
+    "wind_speed",
+    "wind_direction",
+    "swell_amplitude",
+    "swell_wavelength",
+    "swell_direction",
+    "stratification",
+    "ship_speed",
+    "along_track",
+    "incidence",
+];
+
+impl LearningPlan {
+    /// The feature-level fusions to train, each a list of bands.
+    pub fn fused_inputs(&self, bands: &[String]) -> Vec<Vec<String>> {
+        let split = |s: &str| s.split('+').map(str::to_string).collect::<Vec<_>>();
+        match &self.fused_inputs {
+            Some(list) => list.iter().map(|s| split(s)).collect(),
+            None => ["S+X", "C+LWIR"]
+                .iter()
+                .map(|s| split(s))
+                .filter(|set| set.iter().all(|b| bands.contains(b)))
+                .collect(),
+        }
+    }
+
+    /// Check every value's range; `bands` are the study's bands.
+    pub fn validate(&self, bands: &[String]) -> Result<(), WakelabError> {
+        let err = |f: &str, v: String, a: &str| -> Result<(), WakelabError> {
+            Err(ConfigError::new(format!("learning.{f}"), v, a).into())
+        };
+        for (name, v, hi) in [
+            ("repetitions", self.repetitions, 1000),
+            ("epochs", self.epochs, 10_000),
+            ("batch_size", self.batch_size, 4096),
+            ("unet_epochs", self.unet_epochs, 10_000),
+            ("dropped_patches", self.dropped_patches.max(1), 1000),
+        ] {
+            if v == 0 || v > hi {
+                return err(name, v.to_string(), &format!("an integer in [1, {hi}]"));
+            }
+        }
+        if !(4..=256).contains(&self.unet_width) {
+            return err("unet_width", self.unet_width.to_string(), "an integer in [4, 256]");
+        }
+        for (name, v) in [
+            ("learning_rate", self.learning_rate),
+            ("unet_learning_rate", self.unet_learning_rate),
+        ] {
+            if !(v > 0.0 && v <= 10.0) {
+                return err(name, v.to_string(), "in (0, 10]");
+            }
+        }
+        if !(0.0..=1.0).contains(&self.threshold) {
+            return err("threshold", self.threshold.to_string(), "in [0, 1]");
+        }
+        if !(self.patch_fraction > 0.0 && self.patch_fraction <= 0.5) {
+            return err("patch_fraction", self.patch_fraction.to_string(), "in (0, 0.5]");
+        }
+        if !(0.0..=100.0).contains(&self.noise) {
+            return err("noise", self.noise.to_string(), "in [0, 100]");
+        }
+        if let Some(a) = self.rotations.iter().find(|a| !a.is_finite() || a.abs() > 360.0) {
+            return err("rotations", a.to_string(), "angles in [-360, 360] degrees");
+        }
+        for input in self.fused_inputs.iter().flatten() {
+            let parts: Vec<&str> = input.split('+').collect();
+            if parts.len() < 2 || parts.iter().any(|b| !bands.iter().any(|s| s == b)) {
+                return err(
+                    "fused_inputs",
+                    input.clone(),
+                    &format!("two or more of the study's bands {bands:?} joined by +"),
+                );
+            }
+        }
+        if !self.held_out.is_empty() && !HELD_OUT_AXES.contains(&self.held_out.as_str()) {
+            return err(
+                "held_out",
+                self.held_out.clone(),
+                &format!("empty, or one of {HELD_OUT_AXES:?}"),
+            );
+        }
+        Ok(())
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn bands() -> Vec<String> {
+        crate::study::BANDS.iter().map(|b| b.to_string()).collect()
+    }
+
+    #[test]
+    fn the_defaults_are_the_spec_recipe_and_valid() {
+        let p = LearningPlan::default();
+        assert_eq!((p.repetitions, p.epochs, p.unet_epochs, p.unet_width), (5, 60, 60, 64));
+        assert_eq!((p.learning_rate, p.unet_learning_rate, p.threshold), (1e-3, 1e-4, 0.5));
+        p.validate(&bands()).unwrap();
+        assert_eq!(p.fused_inputs(&bands()).len(), 2);
+        assert_eq!(p.fused_inputs(&["C".into(), "LWIR".into()]), vec![vec!["C", "LWIR"]]);
+    }
+
+    #[test]
+    fn bad_values_name_their_field() {
+        type Change = fn(&mut LearningPlan);
+        let cases: [(Change, &str); 5] = [
+            (|p| p.epochs = 0, "learning.epochs"),
+            (|p| p.unet_width = 2, "learning.unet_width"),
+            (|p| p.fused_inputs = Some(vec!["S+Q".into()]), "learning.fused_inputs"),
+            (|p| p.held_out = "colour".into(), "learning.held_out"),
+            (|p| p.rotations = vec![f64::NAN], "learning.rotations"),
+        ];
+        for (change, field) in cases {
+            let mut p = LearningPlan::default();
+            change(&mut p);
+            let e = p.validate(&bands()).unwrap_err().to_string();
+            assert!(e.contains(field), "{e}");
+        }
+    }
+}

@@ -1,0 +1,369 @@
+//! The report page: one self-contained HTML file (styles inline, pictures as base64 PNG, plots
+//! as inline SVG), so it opens in a browser with no network and can be mailed as one file.
+
+use super::report::{confusion_rows, Table};
+use super::stages::StudyRun;
+use super::svg::{roc_points, LinePlot, Series};
+use crate::Result;
+use base64::Engine as _;
+use ndarray::Array2;
+use std::collections::BTreeMap;
+use std::fmt::Write as _;
+use wakelab_core::io::picture::{Colormap, FieldPicture};
+use wakelab_data::learning::LearningPlan;
+use wakelab_data::study::Study;
+use wakelab_learn::models::Architecture;
+
+fn escape(text: &str) -> String {
+    text.replace('&', "&amp;")
+        .replace('<', "&lt;")
+        .replace('>', "&gt;")
+        .replace('"', "&quot;")
+}
+
+const STYLE: &str = "body{font-family:sans-serif;max-width:1200px;margin:2em auto;padding:0 1em;color:#222}\
+table{border-collapse:collapse;margin:0.5em 0 1.5em}th,td{border:1px solid #ccc;padding:3px 8px;text-align:right}\
+th{background:#f0f0f0}td:first-child,th:first-child{text-align:left}caption{text-align:left;font-size:0.9em;\
+color:#444;caption-side:bottom;padding-top:4px;max-width:900px}.grid{display:flex;flex-wrap:wrap;gap:12px}\
+.grid figure{margin:0}figcaption{font-size:0.85em;color:#444}.note{background:#fff8e0;border:1px solid #e8d080;\
+padding:0.6em 1em}pre{background:#f6f6f6;padding:0.8em;overflow-x:auto}.cm td{width:3.5em;text-align:center}";
+
+fn table_html(t: &Table) -> String {
+    let mut s = format!(
+        "<h3 id=\"{}\">{}</h3><table><caption>{}</caption><tr>",
+        t.id,
+        escape(&t.title),
+        escape(&t.caption)
+    );
+    for h in &t.header {
+        let _ = write!(s, "<th>{}</th>", escape(h));
+    }
+    s.push_str("</tr>");
+    for r in &t.rows {
+        s.push_str("<tr>");
+        for c in r {
+            let _ = write!(s, "<td>{}</td>", escape(c));
+        }
+        s.push_str("</tr>");
+    }
+    s.push_str("</table>");
+    s
+}
+
+fn png_data_uri(picture: &FieldPicture, range: (f64, f64)) -> Result<String> {
+    let img = picture.render_in(range);
+    let mut bytes = std::io::Cursor::new(Vec::new());
+    img.write_to(&mut bytes, image::ImageFormat::Png)?;
+    Ok(format!(
+        "data:image/png;base64,{}",
+        base64::engine::general_purpose::STANDARD.encode(bytes.get_ref())
+    ))
+}
+
+/// Percentile range of values (2nd to 98th), as the dataset's quicklooks use.
+fn stretch(values: &[f32]) -> (f64, f64) {
+    let lo = wakelab_core::io::geotiff::quantile(values, 0.02);
+    let hi = wakelab_core::io::geotiff::quantile(values, 0.98);
+    if hi > lo {
+        (lo, hi)
+    } else {
+        (lo, lo + 1.0)
+    }
+}
+
+/// Example scenes: one wake/no-wake pair in every band, on a shared colour range per band, and
+/// the wake mask.
+fn example_scenes(run: &StudyRun) -> Result<String> {
+    let dataset = &run.dataset;
+    let Some(wake) = dataset.records.iter().find(|r| r.label == 1) else {
+        return Ok("<p>No wake scene in the dataset.</p>".into());
+    };
+    let Some(no_wake) = dataset.records.iter().find(|r| r.pair == wake.pair && r.label == 0) else {
+        return Ok("<p>The first wake scene has no partner.</p>".into());
+    };
+    let mut s = format!(
+        "<p>Scene pair {} ({}; the same sea with and without the ship). SAR in dB of the normalised radar \
+         cross-section, IR as brightness temperature; both scenes of a band share one colour range \
+         (2nd-98th percentile of the wake scene).</p>",
+        wake.pair,
+        escape(&wake.environment)
+    );
+    for band in dataset.bands() {
+        let radar = band.len() == 1;
+        let read = |rel: &str| -> Result<Array2<f32>> { Ok(ndarray_npy::read_npy(dataset.dir.join(rel))?) };
+        let to_display = |a: &Array2<f32>| -> Vec<f32> {
+            if radar {
+                a.iter().map(|&v| 10.0 * v.max(1e-30).log10()).collect()
+            } else {
+                a.iter().copied().collect()
+            }
+        };
+        let w = read(&wake.images[&band])?;
+        let n = read(&no_wake.images[&band])?;
+        let mask: Array2<u8> = ndarray_npy::read_npy(dataset.dir.join(&wake.masks[&band]))?;
+        let (rows, cols) = w.dim();
+        let (wv, nv) = (to_display(&w), to_display(&n));
+        let mv: Vec<f32> = mask.iter().map(|&m| m as f32).collect();
+        let range = stretch(&wv);
+        let units = if radar { "dB" } else { "K" };
+        let spacing = wake.parameters.pixel_spacing;
+        let caption = format!("{cols} x {rows} px of {spacing} m");
+        let picture = |values: &[f32], title: String| {
+            let p = FieldPicture {
+                values,
+                rows,
+                cols,
+                title,
+                units: units.to_string(),
+                colormap: Colormap::Sequential,
+                size: (192, 192),
+                caption: caption.clone(),
+            };
+            png_data_uri(&p, range)
+        };
+        let _ = write!(s, "<h4>{band}</h4><div class=\"grid\">");
+        for (values, title) in [(&wv, format!("{band} wake")), (&nv, format!("{band} no wake"))] {
+            let _ = write!(
+                s,
+                "<figure><img alt=\"{title}\" src=\"{}\"></figure>",
+                picture(values, title.clone())?
+            );
+        }
+        let mask_picture = FieldPicture {
+            values: &mv,
+            rows,
+            cols,
+            title: format!("{band} wake mask"),
+            units: "1 = wake".into(),
+            colormap: Colormap::Sequential,
+            size: (192, 192),
+            caption: caption.clone(),
+        };
+        let _ = write!(
+            s,
+            "<figure><img alt=\"{band} mask\" src=\"{}\"></figure></div>",
+            png_data_uri(&mask_picture, (0.0, 1.0))?
+        );
+    }
+    Ok(s)
+}
+
+/// 2 x 2 confusion matrices of every row.
+fn confusion_matrices(run: &StudyRun) -> String {
+    let mut s = String::from("<div class=\"grid\">");
+    for r in confusion_rows(run) {
+        let _ = write!(
+            s,
+            "<figure><table class=\"cm\"><tr><th></th><th>wake</th><th>no wake</th></tr>\
+             <tr><th>said wake</th><td>{}</td><td>{}</td></tr><tr><th>said none</th><td>{}</td><td>{}</td></tr>\
+             </table><figcaption>{} · {}</figcaption></figure>",
+            r.tp,
+            r.fp,
+            r.fn_,
+            r.tn,
+            r.architecture,
+            escape(&r.bands)
+        );
+    }
+    s.push_str("</div>");
+    s
+}
+
+/// ROC curves of the pooled test outputs, one plot per architecture.
+fn roc_plots(run: &StudyRun) -> String {
+    let mut s = String::from("<div class=\"grid\">");
+    for a in Architecture::ALL {
+        let mut groups: BTreeMap<String, (Vec<f64>, Vec<u8>)> = BTreeMap::new();
+        for o in run.outputs.iter().filter(|o| o.architecture == a && o.split == "test") {
+            let g = groups.entry(o.bands.clone()).or_default();
+            g.0.push(o.output);
+            g.1.push(o.label);
+        }
+        for f in run
+            .fused
+            .iter()
+            .filter(|f| f.architecture == a && f.fusion.contains("(S, X)"))
+        {
+            let g = groups.entry(f.fusion.clone()).or_default();
+            g.0.push(f.output);
+            g.1.push(f.label);
+        }
+        let order: Vec<String> = run
+            .inputs
+            .iter()
+            .cloned()
+            .chain(groups.keys().filter(|k| !run.inputs.contains(k)).cloned())
+            .collect();
+        let series = order
+            .iter()
+            .filter_map(|k| groups.get(k).map(|(sc, l)| (k, sc, l)))
+            .map(|(k, sc, l)| Series {
+                name: k.replace("Bayes classifier", "Bayes").replace("Dempster-Shafer", "DS"),
+                points: roc_points(sc, l),
+            })
+            .collect();
+        let plot = LinePlot {
+            title: format!("ROC, \"{a}\""),
+            x_label: "false positive rate".into(),
+            y_label: "true positive rate".into(),
+            x_range: Some((0.0, 1.0)),
+            y_range: Some((0.0, 1.0)),
+            series,
+            diagonal: true,
+        };
+        let _ = write!(s, "<figure>{}</figure>", plot.to_svg());
+    }
+    s.push_str("</div>");
+    s
+}
+
+/// Training loss per epoch (mean over repetitions), one plot per network.
+fn training_plots(run: &StudyRun) -> String {
+    let mut s = String::from("<div class=\"grid\">");
+    for network in ["base", "cls", "unet", "segmenter"] {
+        let mut by_input: BTreeMap<String, BTreeMap<usize, (f64, usize)>> = BTreeMap::new();
+        for c in run.curves.iter().filter(|c| c.network == network) {
+            let e = by_input
+                .entry(c.bands.clone())
+                .or_default()
+                .entry(c.epoch.epoch)
+                .or_default();
+            e.0 += c.epoch.loss;
+            e.1 += 1;
+        }
+        if by_input.is_empty() {
+            continue;
+        }
+        let series = run
+            .inputs
+            .iter()
+            .filter_map(|i| by_input.get(i).map(|m| (i, m)))
+            .map(|(i, m)| Series {
+                name: i.clone(),
+                points: m.iter().map(|(&e, &(sum, n))| (e as f64, sum / n as f64)).collect(),
+            })
+            .collect();
+        let title = match network {
+            "segmenter" => "U-Net (0.7 BCE + 0.3 Dice loss)".to_string(),
+            "unet" => "\"unet\" classifier (BCE)".to_string(),
+            other => format!("\"{other}\" classifier (BCE)"),
+        };
+        let plot = LinePlot {
+            title,
+            x_label: "epoch".into(),
+            y_label: "training loss".into(),
+            x_range: None,
+            y_range: None,
+            series,
+            diagonal: false,
+        };
+        let _ = write!(s, "<figure>{}</figure>", plot.to_svg());
+    }
+    s.push_str("</div>");
+    s
+}
+
+/// How the study's recipe departs from the spec's (4.1-4.2).
+fn recipe_note(plan: &LearningPlan) -> String {
+    let spec = LearningPlan::default();
+    let mut changes = Vec::new();
+    let mut differ = |name: &str, ours: String, theirs: String| {
+        if ours != theirs {
+            changes.push(format!("{name} {ours} (spec: {theirs})"));
+        }
+    };
+    differ(
+        "repetitions",
+        plan.repetitions.to_string(),
+        spec.repetitions.to_string(),
+    );
+    differ("classifier epochs", plan.epochs.to_string(), spec.epochs.to_string());
+    differ(
+        "classifier SGD learning rate",
+        plan.learning_rate.to_string(),
+        spec.learning_rate.to_string(),
+    );
+    differ(
+        "U-Net epochs",
+        plan.unet_epochs.to_string(),
+        spec.unet_epochs.to_string(),
+    );
+    differ(
+        "U-Net Adam learning rate",
+        plan.unet_learning_rate.to_string(),
+        spec.unet_learning_rate.to_string(),
+    );
+    differ("U-Net width", plan.unet_width.to_string(), spec.unet_width.to_string());
+    if changes.is_empty() {
+        "<p>Training follows the spec's recipe (4.1): SGD lr 1e-3 with L2 0.1 for 60 epochs; the U-Net by \
+         Adam lr 1e-4 for 60 epochs; 5 repetitions.</p>"
+            .into()
+    } else {
+        format!(
+            "<p class=\"note\"><b>A shortened recipe, not the paper's:</b> {}. This keeps the whole study \
+             within minutes on a laptop; numbers beside the paper's are therefore indicative. \
+             <code>wakelab run --preset paper</code> runs the spec's scale and recipe.</p>",
+            escape(&changes.join("; "))
+        )
+    }
+}
+
+/// The whole page.
+pub fn report_page(study: &Study, run: &StudyRun, tables: &[Table], timing: &Table) -> Result<String> {
+    let mut s = String::new();
+    let title = format!("wakelab study \"{}\"", study.study.name);
+    let _ = write!(
+        s,
+        "<!DOCTYPE html><html lang=\"en\"><head><meta charset=\"utf-8\"><title>{}</title><style>{STYLE}</style></head><body>",
+        escape(&title)
+    );
+    let records = &run.dataset.records;
+    let wakes = records.iter().filter(|r| r.label == 1).count();
+    let _ = write!(
+        s,
+        "<h1>{}</h1><p>wakelab {} · {} scenes ({} with a wake, {} without) in bands {} · {} inputs × 3 \
+         architectures × {} repetitions · seed {}</p>",
+        escape(&title),
+        env!("CARGO_PKG_VERSION"),
+        records.len(),
+        wakes,
+        records.len() - wakes,
+        run.dataset.bands().join(", "),
+        run.inputs.len(),
+        run.plan.repetitions,
+        run.plan.seed
+    );
+    s.push_str(&recipe_note(&run.plan));
+    s.push_str("<h2>Contents</h2><ul><li><a href=\"#scenes\">Example scenes</a></li>");
+    for t in tables {
+        let _ = write!(s, "<li><a href=\"#{}\">{}</a></li>", t.id, escape(&t.title));
+    }
+    s.push_str(
+        "<li><a href=\"#matrices\">Confusion matrices</a></li><li><a href=\"#roc\">ROC curves</a></li>\
+         <li><a href=\"#training\">Training curves</a></li><li><a href=\"#timing\">Wall time</a></li>\
+         <li><a href=\"#config\">Configuration</a></li></ul>",
+    );
+    s.push_str("<h2 id=\"scenes\">Example scenes</h2>");
+    s.push_str(&example_scenes(run)?);
+    s.push_str("<h2>Results</h2>");
+    for t in tables {
+        s.push_str(&table_html(t));
+    }
+    s.push_str("<h2 id=\"matrices\">Confusion matrices</h2><p>Test images summed over the repetitions.</p>");
+    s.push_str(&confusion_matrices(run));
+    s.push_str(
+        "<h2 id=\"roc\">ROC curves</h2><p>Test outputs of all repetitions pooled; the dashed line is chance.</p>",
+    );
+    s.push_str(&roc_plots(run));
+    s.push_str("<h2 id=\"training\">Training curves</h2><p>Mean training loss per epoch over the repetitions.</p>");
+    s.push_str(&training_plots(run));
+    s.push_str(&table_html(timing));
+    let _ = write!(
+        s,
+        "<h2 id=\"config\">Configuration</h2><p>The study file this run used (its <code>[base]</code> table \
+         is the wakelab configuration every scene starts from; <code>wakelab config show</code> prints all \
+         of it).</p><pre>{}</pre></body></html>",
+        escape(&toml::to_string(study)?)
+    );
+    Ok(s)
+}

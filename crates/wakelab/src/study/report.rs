@@ -1,0 +1,421 @@
+//! The study's tables (mirroring the spec's Tables 4.4-4.6 and 5.1-5.3, with the paper's own
+//! numbers beside ours), written as CSV and Markdown; `html` puts them into the report page.
+
+use super::stages::StudyRun;
+use crate::Result;
+use std::fmt::Write as _;
+use std::path::{Path, PathBuf};
+use wakelab_core::io::write_atomically;
+use wakelab_data::study::Study;
+use wakelab_learn::evaluate::{summarise_split, Summary};
+use wakelab_learn::models::Architecture;
+
+/// A table of the report.
+pub struct Table {
+    /// File stem of its CSV (`table_4_4_base`).
+    pub id: String,
+    pub title: String,
+    pub caption: String,
+    pub header: Vec<String>,
+    pub rows: Vec<Vec<String>>,
+}
+
+impl Table {
+    pub fn markdown(&self) -> String {
+        let mut s = format!("### {}\n\n{}\n\n", self.title, self.caption);
+        let _ = writeln!(s, "| {} |", self.header.join(" | "));
+        let _ = writeln!(s, "|{}", " --- |".repeat(self.header.len()));
+        for r in &self.rows {
+            let _ = writeln!(s, "| {} |", r.join(" | "));
+        }
+        s.push('\n');
+        s
+    }
+
+    pub fn csv(&self) -> String {
+        let quote = |c: &String| {
+            if c.contains(',') || c.contains('"') {
+                format!("\"{}\"", c.replace('"', "\"\""))
+            } else {
+                c.clone()
+            }
+        };
+        let mut s = String::new();
+        for r in std::iter::once(&self.header).chain(&self.rows) {
+            let _ = writeln!(s, "{}", r.iter().map(quote).collect::<Vec<_>>().join(","));
+        }
+        s
+    }
+}
+
+/// The paper's MCC and accuracy (Tables 4.4-4.6 and 5.1-5.3) for a row of ours.
+pub fn paper_value(architecture: Architecture, row: &str) -> Option<(f64, f64)> {
+    use Architecture::*;
+    Some(match (architecture, row) {
+        (Base, "C") => (0.81, 0.91),
+        (Base, "S") => (0.29, 0.61),
+        (Base, "X") => (0.48, 0.73),
+        (Cls, "C") => (0.89, 0.94),
+        (Cls, "S") => (0.17, 0.54),
+        (Cls, "X") => (0.25, 0.56),
+        (Unet, "C") => (1.00, 1.00),
+        (Unet, "S") => (0.83, 0.91),
+        (Unet, "X") => (0.89, 0.94),
+        (Base, "S+X") => (0.26, 0.63),
+        (Base, "Bayes classifier (S, X)") => (0.57, 0.74),
+        (Base, "Dempster-Shafer (S, X)") => (0.43, 0.66),
+        (Cls, "S+X") => (0.20, 0.59),
+        (Cls, "Bayes classifier (S, X)") => (0.27, 0.60),
+        (Cls, "Dempster-Shafer (S, X)") => (0.21, 0.54),
+        (Unet, "S+X") => (0.97, 0.99),
+        (Unet, "Bayes classifier (S, X)") => (1.00, 1.00),
+        (Unet, "Dempster-Shafer (S, X)") => (0.89, 0.94),
+        _ => return None,
+    })
+}
+
+fn plus_minus(mean: f64, spread: f64, percent: bool) -> String {
+    if percent {
+        format!("{:.1}% ± {:.1}", 100.0 * mean, 100.0 * spread)
+    } else {
+        format!("{mean:.2} ± {spread:.2}")
+    }
+}
+
+fn paper_cells(architecture: Architecture, row: &str) -> [String; 2] {
+    match paper_value(architecture, row) {
+        Some((mcc, acc)) => [format!("{mcc:.2}"), format!("{:.0}%", 100.0 * acc)],
+        None => ["-".into(), "-".into()],
+    }
+}
+
+fn auc(s: &Summary) -> String {
+    s.roc_auc.map(|a| format!("{a:.2}")).unwrap_or_else(|| "-".into())
+}
+
+/// The spec's table number of an architecture's single-band table and fusion table.
+fn table_numbers(a: Architecture) -> (&'static str, &'static str) {
+    match a {
+        Architecture::Base => ("4.4", "5.1"),
+        Architecture::Cls => ("4.5", "5.2"),
+        Architecture::Unet => ("4.6", "5.3"),
+    }
+}
+
+/// Tables 4.4-4.6: every input of one architecture.
+fn single_input_table(run: &StudyRun, a: Architecture) -> Table {
+    let (number, _) = table_numbers(a);
+    let rows = run
+        .inputs
+        .iter()
+        .filter_map(|input| run.summaries.iter().find(|s| &s.bands == input && s.architecture == a))
+        .map(|s| {
+            let [pm, pa] = paper_cells(a, &s.bands);
+            vec![
+                s.bands.clone(),
+                plus_minus(s.mcc, s.mcc_spread, false),
+                plus_minus(s.accuracy, s.accuracy_spread, true),
+                auc(s),
+                pm,
+                pa,
+            ]
+        })
+        .collect();
+    Table {
+        id: format!("table_{}_{a}", number.replace('.', "_")),
+        title: format!("Table {number}: \"{a}\" classifier, per input"),
+        caption: format!(
+            "Test MCC and accuracy, mean ± sample standard deviation over {} repetitions of Algorithm 2; \
+             ROC AUC of the pooled test outputs. Inputs with + are bands as channels (feature-level fusion). \
+             The paper's columns are its Table {number} (S, C, X) and Table {} (S+X).",
+            run.plan.repetitions,
+            table_numbers(a).1
+        ),
+        header: ["input", "MCC", "accuracy", "AUC", "paper MCC", "paper accuracy"]
+            .map(String::from)
+            .to_vec(),
+        rows,
+    }
+}
+
+/// Tables 5.1-5.3: feature- and decision-level fusion of one architecture.
+fn fusion_table(run: &StudyRun, a: Architecture) -> Table {
+    let (_, number) = table_numbers(a);
+    let mut rows = Vec::new();
+    for input in run.inputs.iter().filter(|i| i.contains('+')) {
+        if let Some(s) = run.summaries.iter().find(|s| &s.bands == input && s.architecture == a) {
+            rows.push(fusion_row(a, s, "feature level", None));
+        }
+    }
+    for (s, k) in run.fusion.iter().filter(|(s, _)| s.architecture == a) {
+        let conflict = s.bands.starts_with("Dempster").then_some(*k);
+        rows.push(fusion_row(a, s, "decision level", conflict));
+    }
+    Table {
+        id: format!("table_{}_{a}", number.replace('.', "_")),
+        title: format!("Table {number}: fusion with the \"{a}\" classifier"),
+        caption: format!(
+            "Feature level: one classifier on bands as channels. Decision level: the single-band \
+             classifiers' test outputs of each repetition fused by the Bayes classifier (each source \
+             weighted by its TP/FP/TN/FN on its own training images, erratum 11) or by Dempster's rule \
+             (pignistic probability of wake, with the mean conflict k). Mean ± sample standard deviation \
+             over {} repetitions; the paper's columns are its Table {number}.",
+            run.plan.repetitions
+        ),
+        header: [
+            "fusion",
+            "level",
+            "MCC",
+            "accuracy",
+            "mean conflict k",
+            "paper MCC",
+            "paper accuracy",
+        ]
+        .map(String::from)
+        .to_vec(),
+        rows,
+    }
+}
+
+fn fusion_row(a: Architecture, s: &Summary, level: &str, conflict: Option<f64>) -> Vec<String> {
+    let [pm, pa] = paper_cells(a, &s.bands);
+    vec![
+        s.bands.clone(),
+        level.to_string(),
+        plus_minus(s.mcc, s.mcc_spread, false),
+        plus_minus(s.accuracy, s.accuracy_spread, true),
+        conflict.map(|k| format!("{k:.3}")).unwrap_or_else(|| "-".into()),
+        pm,
+        pa,
+    ]
+}
+
+/// Every fusion involving an infrared band (the spec's 5.4 and future work).
+fn sar_ir_table(run: &StudyRun) -> Table {
+    let is_ir = |name: &str| name.contains("IR");
+    let mut rows = Vec::new();
+    for a in Architecture::ALL {
+        for input in run.inputs.iter().filter(|i| i.contains('+') && is_ir(i)) {
+            if let Some(s) = run.summaries.iter().find(|s| &s.bands == input && s.architecture == a) {
+                rows.push(sar_ir_row(a, s, "feature level", None));
+            }
+        }
+        for (s, k) in run
+            .fusion
+            .iter()
+            .filter(|(s, _)| s.architecture == a && is_ir(&s.bands))
+        {
+            rows.push(sar_ir_row(
+                a,
+                s,
+                "decision level",
+                s.bands.starts_with("Dempster").then_some(*k),
+            ));
+        }
+        for band in ["C", "MWIR", "LWIR"] {
+            if let Some(s) = run.summaries.iter().find(|s| s.bands == band && s.architecture == a) {
+                rows.push(sar_ir_row(a, s, "single band", None));
+            }
+        }
+    }
+    Table {
+        id: "sar_ir_fusion".into(),
+        title: "SAR + IR fusion".into(),
+        caption: "Radar and infrared together (spec 5.4, future work of 6.2): C-band SAR with LWIR as \
+                  channels of one input, decision-level fusion of C with LWIR and of all five bands, \
+                  beside the single bands they combine. The paper has no numbers for these."
+            .into(),
+        header: ["architecture", "input", "level", "MCC", "accuracy", "mean conflict k"]
+            .map(String::from)
+            .to_vec(),
+        rows,
+    }
+}
+
+fn sar_ir_row(a: Architecture, s: &Summary, level: &str, conflict: Option<f64>) -> Vec<String> {
+    vec![
+        a.to_string(),
+        s.bands.clone(),
+        level.to_string(),
+        plus_minus(s.mcc, s.mcc_spread, false),
+        plus_minus(s.accuracy, s.accuracy_spread, true),
+        conflict.map(|k| format!("{k:.3}")).unwrap_or_else(|| "-".into()),
+    ]
+}
+
+/// Every row's counts summed over the repetitions.
+pub fn confusion_rows(run: &StudyRun) -> Vec<Summary> {
+    let mut rows: Vec<Summary> = Vec::new();
+    for a in Architecture::ALL {
+        rows.extend(run.summaries.iter().filter(|s| s.architecture == a).cloned());
+        rows.extend(
+            run.fusion
+                .iter()
+                .filter(|(s, _)| s.architecture == a)
+                .map(|(s, _)| s.clone()),
+        );
+    }
+    rows
+}
+
+fn confusion_table(run: &StudyRun) -> Table {
+    Table {
+        id: "confusion".into(),
+        title: "Confusion counts".into(),
+        caption: "True/false positives and negatives of the test images, summed over the repetitions \
+                  (positive: wake)."
+            .into(),
+        header: ["architecture", "input or fusion", "TP", "FN", "FP", "TN"]
+            .map(String::from)
+            .to_vec(),
+        rows: confusion_rows(run)
+            .iter()
+            .map(|s| {
+                vec![
+                    s.architecture.to_string(),
+                    s.bands.clone(),
+                    s.tp.to_string(),
+                    s.fn_.to_string(),
+                    s.fp.to_string(),
+                    s.tn.to_string(),
+                ]
+            })
+            .collect(),
+    }
+}
+
+fn robustness_table(run: &StudyRun) -> Table {
+    let threshold = run.plan.threshold;
+    let perturbed: Vec<(String, Vec<Summary>)> = run
+        .perturbations
+        .iter()
+        .map(|p| {
+            let name = p.name();
+            let s = summarise_split(&run.outputs, &format!("test:{name}"), threshold);
+            (name, s)
+        })
+        .collect();
+    let held_out = summarise_split(&run.held_out, "held_out", threshold);
+    let mut header = vec!["architecture".to_string(), "input".into(), "clean test".into()];
+    header.extend(perturbed.iter().map(|(n, _)| n.clone()));
+    header.push("held-out environment".into());
+    let mut rows = Vec::new();
+    for a in Architecture::ALL {
+        for input in &run.inputs {
+            let find = |list: &[Summary]| {
+                list.iter()
+                    .find(|s| &s.bands == input && s.architecture == a)
+                    .map(|s| plus_minus(s.mcc, s.mcc_spread, false))
+                    .unwrap_or_else(|| "-".into())
+            };
+            let mut row = vec![a.to_string(), input.clone(), find(&run.summaries)];
+            row.extend(perturbed.iter().map(|(_, s)| find(s)));
+            row.push(find(&held_out));
+            rows.push(row);
+        }
+    }
+    Table {
+        id: "robustness".into(),
+        title: "Robustness".into(),
+        caption: format!(
+            "Test MCC (mean ± spread over repetitions) of the same detectors on perturbed test images \
+             (spec 6.2): rotate_A = rotated by A degrees (training saw only quarter turns; corners \
+             filled with the image mean), drop_NxF = N patches of side F of the image set to the mean, \
+             noise_S = Gaussian noise of S standard deviations of the image. Held-out environment: \
+             trained with all scenes of one value of `{}` removed and tested on them ({}; mean ± \
+             spread over those groups; \"base\" and \"cls\" only, single bands).",
+            run.plan.held_out,
+            if run.held_out_groups.is_empty() {
+                "not run".to_string()
+            } else {
+                run.held_out_groups.join("; ")
+            }
+        ),
+        header,
+        rows,
+    }
+}
+
+fn timing_table(run: &StudyRun) -> Table {
+    Table {
+        id: "timing".into(),
+        title: "Wall time per stage".into(),
+        caption: "Seconds of this run; a reused stage shows the time it took when it was computed.".into(),
+        header: ["stage", "this run (s)", "computed in (s)", "reused"]
+            .map(String::from)
+            .to_vec(),
+        rows: run
+            .times
+            .iter()
+            .map(|t| {
+                vec![
+                    t.stage.clone(),
+                    format!("{:.1}", t.seconds),
+                    format!("{:.1}", t.computed_seconds),
+                    if t.reused { "yes" } else { "no" }.into(),
+                ]
+            })
+            .collect(),
+    }
+}
+
+/// Every result table, in report order (timing is separate: it differs run to run).
+pub fn result_tables(run: &StudyRun) -> Vec<Table> {
+    let mut tables: Vec<Table> = Architecture::ALL.iter().map(|&a| single_input_table(run, a)).collect();
+    tables.extend(Architecture::ALL.iter().map(|&a| fusion_table(run, a)));
+    tables.push(sar_ir_table(run));
+    tables.push(confusion_table(run));
+    tables.push(robustness_table(run));
+    tables
+}
+
+/// Write `report/`: the HTML page, `report.md` and one CSV per table; returns the paths.
+pub fn write_report(dir: &Path, study: &Study, run: &StudyRun) -> Result<Vec<PathBuf>> {
+    let out = dir.join("report");
+    let tables_dir = out.join("tables");
+    std::fs::create_dir_all(&tables_dir)?;
+    let tables = result_tables(run);
+    let timing = timing_table(run);
+    let mut markdown = format!(
+        "# wakelab study \"{}\"\n\nwakelab {}; {} scenes; see report.html for pictures and plots.\n\n",
+        study.study.name,
+        env!("CARGO_PKG_VERSION"),
+        run.dataset.records.len()
+    );
+    for t in tables.iter().chain(std::iter::once(&timing)) {
+        markdown.push_str(&t.markdown());
+        write_atomically(tables_dir.join(format!("{}.csv", t.id)), t.csv().as_bytes())?;
+    }
+    let md = write_atomically(out.join("report.md"), markdown.as_bytes())?;
+    let page = super::html::report_page(study, run, &tables, &timing)?;
+    let html = write_atomically(out.join("report.html"), page.as_bytes())?;
+    Ok(vec![html, md, tables_dir])
+}
+
+/// The headline numbers on the terminal.
+pub fn print_summary(run: &StudyRun) {
+    let fusions: std::collections::BTreeSet<String> = run.fusion.iter().map(|(s, _)| s.bands.clone()).collect();
+    let rows: Vec<String> = run.inputs.iter().cloned().chain(fusions).collect();
+    let w = rows.iter().map(String::len).max().unwrap_or(5).max(5);
+    println!("test MCC, mean over {} repetitions:", run.plan.repetitions);
+    print!("{:<w$}", "input");
+    for a in Architecture::ALL {
+        print!(" {:>6}", a.name());
+    }
+    println!();
+    for input in rows {
+        print!("{input:<w$}");
+        for a in Architecture::ALL {
+            let s = run
+                .summaries
+                .iter()
+                .chain(run.fusion.iter().map(|(s, _)| s))
+                .find(|s| s.bands == input && s.architecture == a);
+            match s {
+                Some(s) => print!(" {:>6.2}", s.mcc),
+                None => print!(" {:>6}", "-"),
+            }
+        }
+        println!();
+    }
+}

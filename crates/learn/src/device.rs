@@ -3,7 +3,7 @@
 pub use burn::tensor::Device;
 use wakelab_core::{ConfigError, WakelabError};
 
-/// Device names this build accepts.
+/// Device names this build accepts, the CPU first and the preferred GPU backend last.
 pub fn available_devices() -> Vec<&'static str> {
     let mut names = vec!["cpu"];
     if cfg!(feature = "wgpu") {
@@ -16,9 +16,11 @@ pub fn available_devices() -> Vec<&'static str> {
 }
 
 /// `cpu` (burn's pure-Rust `flex` backend, multi-threaded), `wgpu` (Vulkan/Metal/DX12; built with
-/// `--features wgpu`) or `cuda` (`--features cuda`, needs the CUDA toolkit).
+/// `--features wgpu`), `cuda` (`--features cuda`, needs the CUDA toolkit), or `auto`: the GPU
+/// backend this build has (cuda before wgpu), else the CPU.
 pub fn parse_device(name: &str) -> Result<Device, WakelabError> {
     match name {
+        "auto" => parse_device(available_devices().last().expect("cpu is always there")),
         "cpu" | "flex" => Ok(Device::flex()),
         #[cfg(feature = "wgpu")]
         "wgpu" => Ok(Device::wgpu(Default::default())),
@@ -28,7 +30,7 @@ pub fn parse_device(name: &str) -> Result<Device, WakelabError> {
             "--device",
             other,
             format!(
-                "one of {:?} (wgpu and cuda need wakelab built with `--features wgpu` or `--features cuda`)",
+                "auto or one of {:?} (wgpu and cuda need wakelab built with `--features wgpu` or `--features cuda`)",
                 available_devices()
             ),
         )

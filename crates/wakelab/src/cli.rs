@@ -84,8 +84,9 @@ pub struct StudyArgs {
     /// Run directory (default: runs/<study name>).
     #[arg(long, value_name = "DIR")]
     pub out: Option<PathBuf>,
-    /// Backend for training: cpu, or wgpu / cuda in builds with those features.
-    #[arg(long, default_value = "cpu")]
+    /// Backend for training: `auto` (the GPU backend of a build with `--features cuda` or
+    /// `--features wgpu`, else the CPU), cpu, wgpu or cuda.
+    #[arg(long, default_value = "auto")]
     pub device: String,
     /// No progress bar.
     #[arg(long)]

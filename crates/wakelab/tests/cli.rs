@@ -672,10 +672,33 @@ fn run_does_the_whole_study_reuses_its_stages_and_repeats_its_tables() {
     ] {
         assert!(report.join("tables").join(format!("{t}.csv")).exists(), "{t}.csv");
     }
+    // robustness: every perturbation and the held-out wind speeds have numbers for "base" on S
+    let robustness = std::fs::read_to_string(report.join("tables/robustness.csv")).unwrap();
+    let row = robustness.lines().find(|l| l.starts_with("base,S,")).unwrap();
+    assert_eq!(
+        row.split(',').filter(|c| c.contains('±')).count(),
+        1 + 3 + 1,
+        "{robustness}"
+    );
+    let timing: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(first.join("timing.json")).unwrap()).unwrap();
+    let stages: Vec<&str> = timing
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|t| t["stage"].as_str().unwrap())
+        .collect();
+    assert_eq!(
+        stages,
+        ["dataset", "learning", "held-out environments", "fusion", "report"]
+    );
     let markdown = std::fs::read_to_string(report.join("report.md")).unwrap();
     assert!(markdown.contains("| input | MCC | accuracy | AUC | paper MCC | paper accuracy |"));
     // the paper's numbers beside ours: Table 4.4's S row, Table 5.3's Bayes (S, X) row
-    assert!(markdown.contains("| 0.29 | 61% |") && markdown.contains("| 1.00 | 100% |"), "{markdown}");
+    assert!(
+        markdown.contains("| 0.29 | 61% |") && markdown.contains("| 1.00 | 100% |"),
+        "{markdown}"
+    );
 
     // a rerun reuses every stage and gives the same tables
     let tables = |root: &Path| -> Vec<(String, String)> {

@@ -112,9 +112,19 @@ pub fn run_study_command(args: &StudyArgs) -> Result<()> {
     let display = Display::new(args.quiet, 5);
     let result = stages::run_stages(&study, &dir, &device, &display);
     display.finish();
-    let run = result?;
+    let mut run = result?;
+    let report_start = Instant::now();
     let files = report::write_report(&dir, &study, &run)?;
-    let total = start.elapsed().as_secs_f64();
+    run.times.push(StageTime {
+        stage: "report".into(),
+        seconds: report_start.elapsed().as_secs_f64(),
+        computed_seconds: report_start.elapsed().as_secs_f64(),
+        reused: false,
+    });
+    write_atomically(
+        dir.join("timing.json"),
+        serde_json::to_string_pretty(&run.times)?.as_bytes(),
+    )?;
     report::print_summary(&run);
     for t in &run.times {
         eprintln!(
@@ -128,6 +138,7 @@ pub fn run_study_command(args: &StudyArgs) -> Result<()> {
             }
         );
     }
+    let total = start.elapsed().as_secs_f64();
     eprintln!("study \"{}\" finished in {total:.1} s", study.study.name);
     for f in files {
         eprintln!("wrote {}", f.display());

@@ -228,7 +228,10 @@ mod tests {
         let unit = ticks(0.0, 1.0);
         let expected = [0.0, 0.2, 0.4, 0.6, 0.8, 1.0];
         assert_eq!(unit.len(), expected.len());
-        assert!(unit.iter().zip(expected).all(|(a, b)| (a - b).abs() < 1e-12), "{unit:?}");
+        assert!(
+            unit.iter().zip(expected).all(|(a, b)| (a - b).abs() < 1e-12),
+            "{unit:?}"
+        );
         assert_eq!(tick_label(unit[3]), "0.6");
         let t = ticks(3.0, 47.0);
         assert!(t.iter().all(|&v| (3.0..=47.0).contains(&v)) && t.len() >= 4, "{t:?}");

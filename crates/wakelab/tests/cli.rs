@@ -717,6 +717,16 @@ fn run_does_the_whole_study_reuses_its_stages_and_repeats_its_tables() {
     let before = tables(&first);
     let o = run(&first);
     assert!(stderr(&o).contains("(reused; computed in"), "{}", stderr(&o));
+    assert!(!stderr(&o).contains("done in"), "{}", stderr(&o));
+    assert_eq!(before, tables(&first));
+    // a run killed during one input's training resumes with that input alone
+    std::fs::remove_file(first.join("learn/X/evaluation.json")).unwrap();
+    let o = run(&first);
+    let err = stderr(&o);
+    assert!(
+        err.contains("learning: X done in") && !err.contains("learning: S done in"),
+        "{err}"
+    );
     assert_eq!(before, tables(&first));
     // and a fresh run in another directory computes the same tables from scratch
     run(&second);

@@ -55,6 +55,14 @@ impl EvalOptions {
         }
     }
 
+    /// Epochs of a network as `train_detector` names it ("segmenter" is the U-Net).
+    pub fn epochs_of(&self, network: &str) -> usize {
+        match network {
+            "segmenter" => self.unet.epochs,
+            _ => self.classifier.epochs,
+        }
+    }
+
     pub fn validate(&self) -> Result<(), WakelabError> {
         let err = |f: &str, v: String, a: &str| Err(ConfigError::new(f, v, a).into());
         if self.repetitions == 0 || self.repetitions > 1000 {
@@ -360,17 +368,13 @@ pub fn evaluate(
             let train = load_examples(dataset, bands, &train_idx)?;
             let test = load_examples(dataset, bands, &test_idx)?;
             for &architecture in &options.architectures {
-                let epochs = |network: &str| match network {
-                    "segmenter" => options.unet.epochs,
-                    _ => options.classifier.epochs,
-                };
                 let detector = train_detector(architecture, &train, options, seed, device, &mut |network, e| {
                     progress(&EvalProgress {
                         bands: &name,
                         network,
                         repetition,
                         epoch: e,
-                        epochs: epochs(network),
+                        epochs: options.epochs_of(network),
                     });
                     curves.push(CurvePoint {
                         bands: name.clone(),
@@ -445,17 +449,13 @@ pub fn evaluate_held_out(
             let test = load_examples(dataset, bands, test_idx)?;
             let seed = options.seed.wrapping_add(7919 * (g as u64 + 1));
             for &architecture in &options.architectures {
-                let epochs = |network: &str| match network {
-                    "segmenter" => options.unet.epochs,
-                    _ => options.classifier.epochs,
-                };
                 let detector = train_detector(architecture, &train, options, seed, device, &mut |network, e| {
                     progress(&EvalProgress {
                         bands: &name,
                         network,
                         repetition: g,
                         epoch: e,
-                        epochs: epochs(network),
+                        epochs: options.epochs_of(network),
                     })
                 });
                 let o = detect(&detector, architecture, &test, device);

@@ -74,6 +74,17 @@ impl Dataset {
         }
     }
 
+    /// The share of scenes the study put in its test split (the paper study's 0.1 is the
+    /// spec's 14 of 149), or the spec's 14/149 when the manifest has no test split.
+    pub fn test_fraction(&self) -> f64 {
+        let test = self.records.iter().filter(|r| r.split == "test").count();
+        if test > 0 {
+            test as f64 / self.records.len() as f64
+        } else {
+            crate::evaluate::PAPER_TEST_FRACTION
+        }
+    }
+
     /// Bands every scene has an image in.
     pub fn bands(&self) -> Vec<String> {
         wakelab_data::study::BANDS

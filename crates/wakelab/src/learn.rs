@@ -80,18 +80,11 @@ fn parse_architectures(text: &str) -> Result<Vec<Architecture>> {
 
 impl LearnArgs {
     fn options(&self, dataset: &Dataset, architectures: Vec<Architecture>, repetitions: usize) -> EvalOptions {
-        let records = dataset.records.len().max(1);
-        let test = dataset.records.iter().filter(|r| r.split == "test").count();
         EvalOptions {
             architectures,
             band_sets: parse_band_sets(self.bands.as_deref(), dataset),
             repetitions,
-            // the study's own share of test scenes (the paper study's 0.1 is the spec's 14/149)
-            test_fraction: if test > 0 {
-                test as f64 / records as f64
-            } else {
-                wakelab_learn::evaluate::PAPER_TEST_FRACTION
-            },
+            test_fraction: dataset.test_fraction(),
             classifier: Recipe {
                 epochs: self.epochs,
                 batch_size: self.batch_size,

@@ -3,7 +3,7 @@
 
 use super::report::{confusion_rows, Table};
 use super::stages::StudyRun;
-use super::svg::{roc_points, LinePlot, Series};
+use super::svg::{escape, roc_points, LinePlot, Series};
 use crate::Result;
 use base64::Engine as _;
 use ndarray::Array2;
@@ -13,13 +13,6 @@ use wakelab_core::io::picture::{Colormap, FieldPicture};
 use wakelab_data::learning::LearningPlan;
 use wakelab_data::study::Study;
 use wakelab_learn::models::Architecture;
-
-fn escape(text: &str) -> String {
-    text.replace('&', "&amp;")
-        .replace('<', "&lt;")
-        .replace('>', "&gt;")
-        .replace('"', "&quot;")
-}
 
 const STYLE: &str = "body{font-family:sans-serif;max-width:1200px;margin:2em auto;padding:0 1em;color:#222}\
 table{border-collapse:collapse;margin:0.5em 0 1.5em}th,td{border:1px solid #ccc;padding:3px 8px;text-align:right}\

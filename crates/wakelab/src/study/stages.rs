@@ -83,8 +83,6 @@ fn training_units(options: &EvalOptions, images: usize, runs: usize) -> u64 {
 
 /// The evaluation options of a study's `[learning]` table.
 pub fn eval_options(plan: &LearningPlan, dataset: &Dataset) -> EvalOptions {
-    let records = dataset.records.len().max(1);
-    let test = dataset.records.iter().filter(|r| r.split == "test").count();
     let mut perturbations: Vec<Perturbation> = plan
         .rotations
         .iter()
@@ -103,11 +101,7 @@ pub fn eval_options(plan: &LearningPlan, dataset: &Dataset) -> EvalOptions {
         architectures: Architecture::ALL.to_vec(),
         band_sets: Vec::new(),
         repetitions: plan.repetitions,
-        test_fraction: if test > 0 {
-            test as f64 / records as f64
-        } else {
-            wakelab_learn::evaluate::PAPER_TEST_FRACTION
-        },
+        test_fraction: dataset.test_fraction(),
         classifier: Recipe {
             epochs: plan.epochs,
             batch_size: plan.batch_size,

@@ -34,8 +34,12 @@ const RIGHT: f64 = 120.0;
 const TOP: f64 = 28.0;
 const BOTTOM: f64 = 40.0;
 
-fn escape(text: &str) -> String {
-    text.replace('&', "&amp;").replace('<', "&lt;").replace('>', "&gt;")
+/// Text as HTML/SVG character data or a double-quoted attribute value.
+pub fn escape(text: &str) -> String {
+    text.replace('&', "&amp;")
+        .replace('<', "&lt;")
+        .replace('>', "&gt;")
+        .replace('"', "&quot;")
 }
 
 /// About five round tick values covering [lo, hi].

@@ -3,6 +3,7 @@
 //! Algorithm 1) from the surface stage's scene. Every image of a scene shares its surface and
 //! footprint, pixel for pixel.
 
+pub mod gmf;
 pub mod ir;
 pub mod optics;
 pub mod output;

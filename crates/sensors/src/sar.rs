@@ -1,27 +1,50 @@
-//! Normalised radar cross section of the sea, spec Eqs. (3.1)-(3.3): tilted Bragg scattering
-//! (first-order small perturbation, two-scale) plus specular (Kirchhoff, geometric optics).
+//! Normalised radar cross section of the sea, spec Eqs. (3.1)-(3.3), with the non-Bragg
+//! scattering of breaking waves the spec leaves out (erratum 16): the semi-empirical model of
+//! Kudryavtsev, Hauser, Caudal & Chapron (2003, J. Geophys. Res. 108(C3), 8054; "KHCC03"):
+//!   sigma0 = (sigma_B + sigma_S) (1 - q) + q sigma_wb.
 //!
-//! - Bragg, for a facet tilted by psi towards the radar in the plane of incidence and delta
-//!   across it (Valenzuela 1978, Boundary-Layer Meteorol. 13, 61-85, Eqs. 23-26):
-//!   sigma_B = 4 pi k0^4 cos^4(theta_i) |G|^2 [F(k_B) + F(-k_B)], k_B = 2 k0 sin(theta_i),
+//! - Bragg, Eq. (3.1) with erratum 15: first-order small-perturbation theory for a facet tilted
+//!   by psi towards the radar in the plane of incidence and delta across it (Valenzuela 1978,
+//!   Boundary-Layer Meteorol. 13, 61-85, Eqs. 23-26):
+//!   sigma_B = 8 pi k0^4 cos^4(theta_i) |G|^2 [F(k_B) + F(-k_B)], k_B = 2 k0 sin(theta_i),
+//!   F normalised so that its integral over the whole wavenumber plane is the elevation
+//!   variance: for a centro-symmetric F this is 16 pi k0^4 cos^4 |G|^2 F(k_B).
 //!   cos(theta_i) = cos(theta - psi) cos(delta), and for VV
 //!   G = (sin(theta - psi) cos(delta) / sin(theta_i))^2 g_VV(theta_i) + (sin(delta) / sin(theta_i))^2 g_HH(theta_i)
 //!   (HH with g_VV and g_HH exchanged), g_HH = (eps - 1) / (cos + sqrt(eps - sin^2))^2,
-//!   g_VV = (eps - 1)(eps (1 + sin^2) - sin^2) / (eps cos + sqrt(eps - sin^2))^2. The spec's
-//!   8 pi k0^4 |G|^2 S is the same with S the mean of F(k_B) and F(-k_B).
-//! - The tilts are averaged over a Gaussian slope distribution (erratum 6) whose variances are
-//!   those of the waves between the image's resolved scale and k_B / 4 (the two-scale split);
-//!   the resolved slopes tilt each pixel through Eq. (3.3).
+//!   g_VV = (eps - 1)(eps (1 + sin^2) - sin^2) / (eps cos + sqrt(eps - sin^2))^2. F at the
+//!   Bragg scale is the background spectrum's (Elfouhaily et al. 1997 by default): KHCC03's own
+//!   short-wave balance ([`ShortWaves`]) with its breaking source taken from that spectrum was
+//!   tried and gave cross-wind C-band sigma0 3-5 dB below CMOD5.N, so it sets only the
+//!   growth and relaxation of the Bragg waves, not their level. Elfouhaily's spreading is
+//!   weaker than the observed one at 40-50 degrees: the up-/cross-wind ratio falls short of
+//!   CMOD5.N's there (see the tests).
+//! - Two scales: the tilts are averaged over a Gaussian slope distribution (erratum 6) of the
+//!   waves between the image's resolved scale and the cut k_d = k_B / 4 (KHCC03's d = 1/4); a
+//!   facet tilted so far that its own Bragg wavenumber falls below k_d scatters no Bragg power
+//!   (its resonant waves belong to the tilting scales). The resolved slopes tilt each pixel
+//!   through Eq. (3.3).
 //! - Specular, Eq. (3.2) with erratum 4: sigma_S = pi sec^4(theta) |R(0)|^2 p(tan theta, 0),
 //!   R(0) = (1 - sqrt(eps)) / (1 + sqrt(eps)), p the Gaussian slope density of the waves longer
 //!   than three radar wavelengths (k < k0 / 3).
+//! - Breaking (KHCC03 Eqs. 56-60): a fraction q of the surface is covered by breaking zones
+//!   that scatter like very rough facets, the same for VV and HH:
+//!   sigma_wb = sigma_wb0(theta) (1 + M_wb theta_wb A_wb),
+//!   sigma_wb0 = [sec^4(theta) exp(-tan^2(theta) / s_wb^2) + eps_wb] / s_wb^2, s_wb^2 = 0.19,
+//!   eps_wb = 0.005, M_wb = d ln sigma_wb0 / d theta, theta_wb = 0.05 the zones' mean tilt
+//!   and A_wb the mean cosine between the breakers' direction and the look: the up-/down-wind
+//!   asymmetry. q = c_q int int Lambda(k, phi) dk dphi over the breaking waves k < k_wb = k0 / 10,
+//!   with the length of breaking crests Lambda = beta_v B / (2 alpha k) of the equilibrium
+//!   range (KHCC03 Eq. 28 with (B / alpha)^n = beta_v), c_q = 10.5, alpha = 5.04e-3.
 
+use crate::gmf::cmod5n;
 use num_complex::Complex64;
 use std::f64::consts::PI;
 use wakelab_core::config::Polarisation;
+use wakelab_surface::short_waves::{breaking_wavenumber, ShortWaves};
 use wakelab_surface::spectrum::SeaSpectrum;
 
-/// First-order Bragg coefficients (g_HH, g_VV) at incidence `theta` (rad).
+/// First-order Bragg coefficients (g_HH, g_VV) at incidence `theta` (rad), Eq. (3.1).
 pub fn bragg_coefficients(theta: f64, eps: Complex64) -> (Complex64, Complex64) {
     let (s, c) = theta.sin_cos();
     let root = (eps - s * s).sqrt();
@@ -30,25 +53,86 @@ pub fn bragg_coefficients(theta: f64, eps: Complex64) -> (Complex64, Complex64) 
     (hh, vv)
 }
 
-/// Squared modulus of the normal-incidence Fresnel coefficient |R(0)|^2 (erratum 4).
+/// Squared modulus of the normal-incidence Fresnel coefficient |R(0)|^2 (Eq. 3.2, erratum 4).
 pub fn normal_reflectivity(eps: Complex64) -> f64 {
     let r = eps.sqrt();
     ((1.0 - r) / (1.0 + r)).norm_sqr()
 }
 
+/// Breaking-zone constants of KHCC03 (Eqs. 56-60).
+const BREAKING_SLOPE_VARIANCE: f64 = 0.19;
+const BREAKING_THICKNESS: f64 = 0.005;
+const BREAKING_TILT: f64 = 0.05;
+const BREAKING_FRACTION_CONSTANT: f64 = 10.5;
+const GRAVITY_SATURATION: f64 = 5.04e-3;
+
+/// sigma_wb0(theta) of KHCC03 Eq. 60: the NRCS of breaking zones.
+pub fn breaking_zone_nrcs(theta: f64) -> f64 {
+    let t = theta.tan();
+    ((-t * t / BREAKING_SLOPE_VARIANCE).exp() / theta.cos().powi(4) + BREAKING_THICKNESS) / BREAKING_SLOPE_VARIANCE
+}
+
+/// The breaking waves a radar of wavenumber k0 sees, for look direction `look`: their surface
+/// fraction q and the mean cosine A_wb of their direction to the look (KHCC03 Eqs. 56-60).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct BreakingZones {
+    pub fraction: f64,
+    pub asymmetry: f64,
+}
+
+/// q and A_wb over the long waves of `spectrum` with the growth of `short_waves`.
+pub fn breaking_zones(spectrum: &SeaSpectrum, short_waves: &ShortWaves, k0: f64, look: f64) -> BreakingZones {
+    let k_hi = breaking_wavenumber(k0);
+    let k_lo = 0.5 * spectrum.peak_wavenumber();
+    if k_hi <= k_lo || spectrum.wind_speed <= 0.0 {
+        return BreakingZones {
+            fraction: 0.0,
+            asymmetry: 0.0,
+        };
+    }
+    let (n, angles) = (120, 72);
+    let step = (k_hi / k_lo).ln() / n as f64;
+    let dphi = 2.0 * PI / angles as f64;
+    let (mut total, mut along) = (0.0, 0.0);
+    for i in 0..n {
+        let k = k_lo * ((i as f64 + 0.5) * step).exp();
+        let omega = wakelab_surface::spectrum::angular_frequency(k, spectrum.gravity, spectrum.tension);
+        let viscous = 4.0 * wakelab_surface::film::NU * k * k / omega;
+        for a in 0..angles {
+            let phi = (a as f64 + 0.5) * dphi;
+            let beta_v = short_waves.wind_growth(k, phi) - viscous;
+            if beta_v > 0.0 {
+                let b = k.powi(4) * spectrum.directional(k * phi.cos(), k * phi.sin());
+                // Lambda dk dphi = beta_v B / (2 alpha) dln k dphi
+                let lambda = beta_v * b / (2.0 * GRAVITY_SATURATION) * step * dphi;
+                total += lambda;
+                along += lambda * (phi - look).cos();
+            }
+        }
+    }
+    BreakingZones {
+        fraction: (BREAKING_FRACTION_CONSTANT * total).min(1.0),
+        asymmetry: if total > 0.0 { along / total } else { 0.0 },
+    }
+}
+
 /// The sea as a radar sees it in one band, look direction and polarisation.
 pub struct RadarSea<'a> {
     pub spectrum: &'a SeaSpectrum,
+    pub short_waves: &'a ShortWaves,
     /// Radar wavenumber k0 (rad/m).
     pub k0: f64,
     pub permittivity: Complex64,
     pub polarisation: Polarisation,
     /// Horizontal look direction (radians from the heading): the Bragg waves run along it.
     pub look: f64,
+    /// The two-scale cut k_d (rad/m): waves below it tilt, waves above it scatter.
+    pub cut: f64,
     /// Variances of the unresolved tilting slopes along and across the look direction.
     pub tilt_variance: (f64, f64),
     /// Variances of the slopes of waves longer than three radar wavelengths.
     pub specular_variance: (f64, f64),
+    pub breaking: BreakingZones,
 }
 
 /// Slope variances along and across direction `look` of the waves with k_lo <= k < k_hi.
@@ -73,10 +157,35 @@ pub fn slope_variances(spectrum: &SeaSpectrum, look: f64, k_lo: f64, k_hi: f64) 
     (along, across)
 }
 
+/// The parts of a sea's NRCS (linear).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Sigma0Parts {
+    pub bragg: f64,
+    pub specular: f64,
+    pub breaking: f64,
+    /// The breakers' surface fraction q.
+    pub fraction: f64,
+}
+
+impl Sigma0Parts {
+    /// (sigma_B + sigma_S)(1 - q) + q sigma_wb (KHCC03 Eq. 1), with the Bragg waves scaled by
+    /// `bragg_ratio` (N/N0) and the breakers by `breaking_ratio`.
+    pub fn total_modulated(&self, bragg_ratio: f64, breaking_ratio: f64) -> f64 {
+        let q = (self.fraction * breaking_ratio).min(1.0);
+        (bragg_ratio * self.bragg + self.specular) * (1.0 - q) + q * self.breaking
+    }
+
+    pub fn total(&self) -> f64 {
+        self.total_modulated(1.0, 1.0)
+    }
+}
+
 impl<'a> RadarSea<'a> {
     /// Set up for a band of wavenumber `k0` looking along `look`, imaged at pixel spacing `dx`.
+    #[allow(clippy::too_many_arguments)]
     pub fn new(
         spectrum: &'a SeaSpectrum,
+        short_waves: &'a ShortWaves,
         k0: f64,
         permittivity: Complex64,
         polarisation: Polarisation,
@@ -84,20 +193,25 @@ impl<'a> RadarSea<'a> {
         incidence: f64,
         dx: f64,
     ) -> Self {
-        let kb = 2.0 * k0 * incidence.sin();
+        let cut = 0.5 * k0 * incidence.sin();
         let resolved = PI / dx;
         Self {
             spectrum,
+            short_waves,
             k0,
             permittivity,
             polarisation,
             look,
-            tilt_variance: slope_variances(spectrum, look, resolved.min(kb / 4.0), kb / 4.0),
+            cut,
+            tilt_variance: slope_variances(spectrum, look, resolved.min(cut), cut),
             specular_variance: slope_variances(spectrum, look, 1e-3, k0 / 3.0),
+            breaking: breaking_zones(spectrum, short_waves, k0, look),
         }
     }
 
-    /// Bragg NRCS of a facet tilted by psi (towards the radar) and delta (across), linear.
+    /// Bragg NRCS of a facet tilted by psi (towards the radar) and delta (across), linear,
+    /// Eq. (3.1) for one facet (Valenzuela 1978); zero where the facet's own Bragg wavenumber
+    /// falls below the two-scale cut.
     pub fn tilted_bragg(&self, theta: f64, psi: f64, delta: f64) -> f64 {
         let cos_i = ((theta - psi).cos() * delta.cos()).clamp(-1.0, 1.0);
         if cos_i <= 0.0 {
@@ -105,6 +219,10 @@ impl<'a> RadarSea<'a> {
         }
         let theta_i = cos_i.acos();
         let sin_i = theta_i.sin().max(1e-9);
+        let kb = 2.0 * self.k0 * sin_i;
+        if kb < self.cut {
+            return 0.0;
+        }
         let (ghh, gvv) = bragg_coefficients(theta_i, self.permittivity);
         let a = ((theta - psi).sin() * delta.cos() / sin_i).powi(2);
         let b = (delta.sin() / sin_i).powi(2);
@@ -112,11 +230,10 @@ impl<'a> RadarSea<'a> {
             Polarisation::Vv => gvv * a + ghh * b,
             Polarisation::Hh => ghh * a + gvv * b,
         };
-        let kb = 2.0 * self.k0 * sin_i;
         // Bragg waves along the look direction, towards (-) and away from (+) the radar
         let (c, s) = (self.look.cos(), self.look.sin());
         let density = self.spectrum.directional(-kb * c, -kb * s) + self.spectrum.directional(kb * c, kb * s);
-        4.0 * PI * self.k0.powi(4) * cos_i.powi(4) * g.norm_sqr() * density
+        8.0 * PI * self.k0.powi(4) * cos_i.powi(4) * g.norm_sqr() * density
     }
 
     /// Two-scale Bragg NRCS (Eq. 3.1): the tilted Bragg NRCS averaged over the unresolved slopes.
@@ -150,11 +267,21 @@ impl<'a> RadarSea<'a> {
         PI / theta.cos().powi(4) * normal_reflectivity(self.permittivity) * p
     }
 
-    /// sigma_B + sigma_S and its derivative in incidence (for the tilt term of Eq. 3.3).
-    pub fn total_and_slope(&self, theta: f64) -> (f64, f64) {
-        let h = 1e-3;
-        let f = |t: f64| self.bragg(t) + self.specular(t);
-        (f(theta), (f(theta + h) - f(theta - h)) / (2.0 * h))
+    /// NRCS of the breaking zones, sigma_wb0 (1 + M_wb theta_wb A_wb) (KHCC03 Eq. 60).
+    pub fn breaking(&self, theta: f64) -> f64 {
+        let h = 1e-4;
+        let m = ((breaking_zone_nrcs(theta + h) / breaking_zone_nrcs(theta - h)).ln()) / (2.0 * h);
+        breaking_zone_nrcs(theta) * (1.0 + m * BREAKING_TILT * self.breaking.asymmetry).max(0.0)
+    }
+
+    /// Every part at incidence `theta`.
+    pub fn parts(&self, theta: f64) -> Sigma0Parts {
+        Sigma0Parts {
+            bragg: self.bragg(theta),
+            specular: self.specular(theta),
+            breaking: self.breaking(theta),
+            fraction: self.breaking.fraction,
+        }
     }
 }
 
@@ -177,10 +304,20 @@ pub struct Sigma0Report {
     pub permittivity_real: f64,
     pub permittivity_imag: f64,
     pub bragg_wavenumber: f64,
+    /// Two-scale Bragg part, before the (1 - q) of the breakers.
     pub sigma0_bragg: f64,
+    /// Specular part, before the (1 - q) of the breakers.
     pub sigma0_specular: f64,
+    /// NRCS of the breaking zones times their fraction q.
+    pub sigma0_breaking: f64,
+    /// The breakers' surface fraction q.
+    pub breaking_fraction: f64,
     pub sigma0: f64,
     pub sigma0_db: f64,
+    /// CMOD5.N (Hersbach 2010) for the same wind, incidence and direction: C band only (its
+    /// VV; null in S and X band).
+    pub cmod5n: Option<f64>,
+    pub cmod5n_db: Option<f64>,
 }
 
 /// Compute the [`Sigma0Report`] of the undisturbed sea.
@@ -194,22 +331,41 @@ pub fn sigma0_of_sea(
     dx: f64,
 ) -> Sigma0Report {
     let theta = incidence_deg.to_radians();
-    let radar = RadarSea::new(spectrum, band.wavenumber(), permittivity, polarisation, look, theta, dx);
-    let (b, s) = (radar.bragg(theta), radar.specular(theta));
+    let short_waves = ShortWaves::new(spectrum);
+    let radar = RadarSea::new(
+        spectrum,
+        &short_waves,
+        band.wavenumber(),
+        permittivity,
+        polarisation,
+        look,
+        theta,
+        dx,
+    );
+    let parts = radar.parts(theta);
+    let total = parts.total();
+    let relative = (spectrum.wind_direction - look).to_degrees();
+    // CMOD5.N's direction is 0 looking up-wind, ours 0 looking down-wind
+    let cmod = (band == wakelab_core::units::RadarBand::C)
+        .then(|| cmod5n(spectrum.wind_speed, incidence_deg, 180.0 - relative));
     Sigma0Report {
         band: band.name(),
         frequency_hz: band.frequency(),
         polarisation: format!("{polarisation:?}").to_uppercase(),
         incidence_deg,
         wind_speed: spectrum.wind_speed,
-        wind_relative_to_look_deg: (spectrum.wind_direction - look).to_degrees(),
+        wind_relative_to_look_deg: relative,
         permittivity_real: permittivity.re,
         permittivity_imag: permittivity.im,
         bragg_wavenumber: band.bragg_wavenumber(incidence_deg),
-        sigma0_bragg: b,
-        sigma0_specular: s,
-        sigma0: b + s,
-        sigma0_db: to_db(b + s),
+        sigma0_bragg: parts.bragg,
+        sigma0_specular: parts.specular,
+        sigma0_breaking: parts.fraction * parts.breaking,
+        breaking_fraction: parts.fraction,
+        sigma0: total,
+        sigma0_db: to_db(total),
+        cmod5n: cmod,
+        cmod5n_db: cmod.map(to_db),
     }
 }
 
@@ -254,17 +410,97 @@ mod tests {
         }
     }
 
-    /// C-band VV at 35 degrees, 10 m/s: the CMOD5 geophysical model function (Hersbach et al.
-    /// 2007) gives about -11 dB looking up-wind and -15 dB cross-wind. Pure two-scale Bragg
-    /// scattering without breaking waves is known to fall a few dB short (Kudryavtsev et al.
-    /// 2003): it must land within 5 dB, below, and with up-wind above cross-wind.
+    /// A perfectly conducting flat surface (eps -> infinity, no tilt): g_HH -> 1 and
+    /// g_VV -> (1 + sin^2) / cos^2, so sigma_HH = 16 pi k0^4 cos^4(theta) F(k_B) for the
+    /// centro-symmetric F of a wind sea (Valenzuela 1978; erratum 15).
     #[test]
-    fn c_band_level_is_near_cmod5() {
-        let cross = db(10.0, RadarBand::C, Polarisation::Vv, 35.0, 90.0);
-        let up = db(10.0, RadarBand::C, Polarisation::Vv, 35.0, 180.0);
-        eprintln!("C VV 35 deg 10 m/s: up-wind {up:.2} dB, cross-wind {cross:.2} dB");
-        assert!(cross < -15.0 + 1.0 && cross > -15.0 - 5.0, "cross-wind {cross} dB");
-        assert!(up < -11.0 + 1.0 && up > -11.0 - 5.0, "up-wind {up} dB");
-        assert!(up > cross);
+    fn perfect_conductor_gives_the_closed_form() {
+        let spectrum = sea(8.0);
+        let short = ShortWaves::new(&spectrum);
+        let eps = Complex64::new(1e14, 0.0);
+        let k0 = RadarBand::C.wavenumber();
+        for inc in [25.0f64, 35.0, 45.0] {
+            let theta = inc.to_radians();
+            for (pol, g) in [
+                (Polarisation::Hh, 1.0),
+                (Polarisation::Vv, (1.0 + theta.sin().powi(2)) / theta.cos().powi(2)),
+            ] {
+                let mut radar = RadarSea::new(&spectrum, &short, k0, eps, pol, 0.3, theta, 10.0);
+                radar.tilt_variance = (0.0, 0.0);
+                let kb = 2.0 * k0 * theta.sin();
+                let f = spectrum.directional(kb * 0.3f64.cos(), kb * 0.3f64.sin());
+                let closed = 16.0 * PI * k0.powi(4) * theta.cos().powi(4) * g * g * f;
+                let got = radar.bragg(theta);
+                assert!((got / closed - 1.0).abs() < 1e-6, "{pol:?} {inc}: {got} vs {closed}");
+            }
+        }
+    }
+
+    /// The specular term at normal incidence is |R(0)|^2 / (2 s_u s_c) (Eq. 3.2 with
+    /// erratum 4, Gaussian slopes): the geometric-optics closed form.
+    #[test]
+    fn specular_at_normal_incidence_is_the_closed_form() {
+        let spectrum = sea(8.0);
+        let short = ShortWaves::new(&spectrum);
+        let eps = crate::permittivity::seawater_permittivity(5.3e9, 15.0, 35.0);
+        let radar = RadarSea::new(&spectrum, &short, 111.0, eps, Polarisation::Vv, 0.0, 0.6, 10.0);
+        let (vu, vc) = radar.specular_variance;
+        let closed = normal_reflectivity(eps) / (2.0 * (vu * vc).sqrt());
+        assert!((radar.specular(1e-9) / closed - 1.0).abs() < 1e-9);
+    }
+
+    /// C-band VV against CMOD5.N (Hersbach 2010) over 20-50 degrees, 3-15 m/s, up-, cross-
+    /// and down-wind. What holds (measured): up- and down-wind within 2 dB from 25 degrees,
+    /// within 2.5 dB at 20; cross-wind within 4.5 dB (it is up to 4.3 dB low at 20-25 degrees
+    /// and up to 3 dB high at 45-50: the Elfouhaily spreading at the Bragg scale). The
+    /// up-/cross-wind ratio is CMOD5.N's within 1.5 dB at 30 degrees and falls short by up to
+    /// 3 dB at 45.
+    #[test]
+    fn c_band_vv_is_near_cmod5n() {
+        let eps = seawater_permittivity(RadarBand::C.frequency(), 15.0, 35.0);
+        let (mut worst_along, mut worst_cross, mut worst_ratio) = (0.0f64, 0.0f64, 0.0f64);
+        for wind in [3.0, 5.0, 7.0, 10.0, 12.0, 15.0] {
+            let spectrum = sea(wind);
+            for inc in [20.0, 25.0, 30.0, 35.0, 40.0, 45.0, 50.0] {
+                // wind towards heading 0: looking along 180 is looking up-wind
+                let at = |look: f64| sigma0_of_sea(&spectrum, RadarBand::C, eps, Polarisation::Vv, look, inc, 10.0);
+                let (up, cross, down) = (at(PI), at(PI / 2.0), at(0.0));
+                let d = |r: &Sigma0Report| r.sigma0_db - r.cmod5n_db.expect("C band");
+                let along_limit = if inc < 25.0 { 2.5 } else { 2.0 };
+                assert!(
+                    d(&up).abs() < along_limit && d(&down).abs() < along_limit,
+                    "{wind} {inc}: {} {}",
+                    d(&up),
+                    d(&down)
+                );
+                assert!(d(&cross).abs() < 4.5, "{wind} {inc} cross: {}", d(&cross));
+                worst_along = worst_along.max(d(&up).abs()).max(d(&down).abs());
+                worst_cross = worst_cross.max(d(&cross).abs());
+                if (30.0..=45.0).contains(&inc) && wind >= 5.0 {
+                    let ratio = (up.sigma0_db - cross.sigma0_db) - (up.cmod5n_db.unwrap() - cross.cmod5n_db.unwrap());
+                    assert!(
+                        ratio.abs() < 3.2 && up.sigma0_db > cross.sigma0_db,
+                        "{wind} {inc} ratio {ratio}"
+                    );
+                    worst_ratio = worst_ratio.max(ratio.abs());
+                }
+            }
+        }
+        eprintln!("worst |wakelab - CMOD5.N|: up/down {worst_along:.2} dB, cross {worst_cross:.2} dB, up/cross ratio {worst_ratio:.2} dB");
+    }
+
+    /// Up-wind above down-wind (the breakers' asymmetry, A_wb) at 30-50 degrees, as every
+    /// scatterometer observes.
+    #[test]
+    fn up_wind_exceeds_down_wind() {
+        let eps = seawater_permittivity(RadarBand::C.frequency(), 15.0, 35.0);
+        for wind in [7.0, 12.0] {
+            let spectrum = sea(wind);
+            for inc in [30.0, 40.0, 50.0] {
+                let at =
+                    |look: f64| sigma0_of_sea(&spectrum, RadarBand::C, eps, Polarisation::Vv, look, inc, 10.0).sigma0;
+                assert!(at(PI) > at(0.0), "{wind} {inc}");
+            }
+        }
     }
 }

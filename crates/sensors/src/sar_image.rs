@@ -1,10 +1,11 @@
 //! SAR images of a scene: the perfect SAR of spec Eq. (3.3) and, switchable, the speckle,
 //! thermal noise and velocity bunching of a real instrument.
 //!
-//! Per pixel, with the band's Bragg waves modulated by the wake (N/N0 = m from the surface stage)
-//! and the resolved long-wave slope s towards the radar tilting the local incidence to theta - psi,
-//! psi = atan(s) (Eq. 3.3, to first order in psi):
-//!   sigma0 = m (sigma_B(theta) - psi sigma_B'(theta)) + sigma_S(theta) - psi sigma_S'(theta).
+//! Per pixel, with the band's Bragg waves modulated by the wake (N/N0 = m from the surface stage),
+//! its breakers' fraction q by m_b (N/N0 of the breaking waves, same balance), and the resolved
+//! long-wave slope s towards the radar tilting the local incidence to theta - psi,
+//! psi = atan(s) (Eq. 3.3, to first order in psi; each part X is X(theta) - psi X'(theta)):
+//!   sigma0 = (1 - m_b q) (m sigma_B + sigma_S) + m_b q sigma_wb   (KHCC03 Eq. 1).
 //! Incidence is taken as constant over the scene (a distant platform).
 
 use crate::permittivity::seawater_permittivity;
@@ -40,6 +41,10 @@ pub struct SarInfo {
     pub permittivity_imag: f64,
     pub background_bragg: f64,
     pub background_specular: f64,
+    /// NRCS of the breaking zones (before their fraction q).
+    pub background_breaking: f64,
+    /// Surface fraction q of the breakers.
+    pub breaking_fraction: f64,
     pub looks: u32,
     pub nesz_db: Option<f64>,
     pub range_to_velocity_s: Option<f64>,
@@ -56,6 +61,7 @@ pub fn radar_sea<'a>(config: &WakelabConfig, scene: &'a SurfaceScene, band: Rada
     let (t, s) = surface_water(config);
     RadarSea::new(
         &scene.spectrum,
+        &scene.short_waves,
         band.wavenumber(),
         seawater_permittivity(band.frequency(), t, s),
         config.sar.polarisation,
@@ -70,29 +76,35 @@ pub fn render_sar(config: &WakelabConfig, scene: &SurfaceScene, band: RadarBand)
     let radar = radar_sea(config, scene, band);
     let theta = config.platform.incidence.to_radians();
     let h = 1e-3;
-    let bragg = radar.bragg(theta);
-    let bragg_slope = (radar.bragg(theta + h) - radar.bragg(theta - h)) / (2.0 * h);
-    let specular = radar.specular(theta);
-    let specular_slope = (radar.specular(theta + h) - radar.specular(theta - h)) / (2.0 * h);
-    let modulation = &scene
+    let part = |t: f64| radar.parts(t);
+    let (at, lo, hi) = (part(theta), part(theta - h), part(theta + h));
+    let slope = |f: fn(&crate::sar::Sigma0Parts) -> f64| (f(&hi) - f(&lo)) / (2.0 * h);
+    let (bragg, specular, breaking) = (at.bragg, at.specular, at.breaking);
+    let bragg_slope = slope(|p| p.bragg);
+    let specular_slope = slope(|p| p.specular);
+    let breaking_slope = slope(|p| p.breaking);
+    let q = at.fraction;
+    let waves = scene
         .bragg
         .iter()
         .find(|b| b.band == band)
-        .expect("the surface stage covers every band")
-        .modulation;
+        .expect("the surface stage covers every band");
     let phi = radar.look;
     let surface = &scene.surface;
-    let mut sigma0 = Array2::zeros(modulation.raw_dim());
+    let mut sigma0 = Array2::zeros(waves.modulation.raw_dim());
     ndarray::Zip::from(&mut sigma0)
-        .and(modulation)
+        .and(&waves.modulation)
+        .and(&waves.breaking)
         .and(&surface.slope_x)
         .and(&surface.slope_y)
-        .par_for_each(|out, &m, &sx, &sy| {
+        .par_for_each(|out, &m, &mb, &sx, &sy| {
             // slope rising towards the radar: minus the gradient along the look direction; the
             // scene's x runs astern (-x heading), its slope_y along +y
             let towards = sx * phi.cos() - sy * phi.sin();
             let psi = towards.atan();
-            *out = (m * (bragg - psi * bragg_slope) + specular - psi * specular_slope).max(0.0);
+            let qm = (q * mb).min(1.0);
+            let rough = m * (bragg - psi * bragg_slope) + specular - psi * specular_slope;
+            *out = ((1.0 - qm) * rough + qm * (breaking - psi * breaking_slope)).max(0.0);
         });
     let sar = &config.sar;
     if sar.velocity_bunching {
@@ -115,6 +127,8 @@ pub fn render_sar(config: &WakelabConfig, scene: &SurfaceScene, band: RadarBand)
             permittivity_imag: eps.im,
             background_bragg: bragg,
             background_specular: specular,
+            background_breaking: breaking,
+            breaking_fraction: q,
             looks: sar.looks,
             nesz_db: sar.noise_floor.then_some(sar.nesz),
             range_to_velocity_s: sar.velocity_bunching.then_some(sar.range_to_velocity),

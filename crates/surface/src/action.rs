@@ -1,23 +1,31 @@
 //! Wake modulation of short waves by the wave action balance, spec Eq. (2.67), steady in the
-//! ship-fixed frame.
+//! ship-fixed frame, in the bounded relaxation form (erratum 14).
 //!
-//! Along a ray (dx/dt = U + c_g) the action density of a wave whose wavenumber is refracted by
-//! the current, dk_j/dt = -k_i dU_i/dx_j, obeys dN/dt = (beta - gamma) N - alpha N^2. Written
-//! for the ratio r = N / N_0(k) to the undisturbed spectrum at the radar's fixed wavenumber k,
-//! refraction becomes a source r (d ln N_0 / dk_j) k_i dU_i/dx_j (the relaxation form of Hughes
-//! 1978 and Alpers & Hennings 1984, first order in the small wavenumber shift):
-//!   dr/dt = r [beta - gamma + (d ln N_0/dk_j) k_i dU_i/dx_j - alpha N_0 r],
-//! with alpha N_0 = beta - gamma_0 so the undisturbed sea (gamma = gamma_0, no current) sits at
-//! r = 1 (spec 2.3). Where the wind cannot outgrow the ambient damping (beta <= gamma_0) the
-//! undisturbed sea is held at r = 1 by the rate 0.01 beta instead.
+//! Printed, (2.67) is a logistic equation dN/dt = (beta - gamma) N - alpha N^2: where the wake's
+//! damping beats the wind's growth it has no positive steady state and N falls without a floor,
+//! which no radar observation shows. wakelab integrates instead the relaxation form of Hughes
+//! (1978) and Alpers & Hennings (1984): along a ray (dx/dt = U + c_g), whose wavenumber the
+//! current refracts (dk_j/dt = -k_i dU_i/dx_j), the ratio r = N / N_0 to the undisturbed
+//! spectrum at the radar's fixed wavenumber obeys
+//!   dr/dt = mu (1 - r) - d r + R r,
+//! with mu the relaxation rate of the short-wave balance (Kudryavtsev et al. 2005, Eq. 34;
+//! [`ShortWaves::relaxation_rate`]: wind growth with its directional factor, the non-linear
+//! loss and the breaking-generated source, linearised), d the wake's extra damping by film and
+//! excess turbulence over the undisturbed sea's ([`WakeDamping`]) and
+//! R = (d ln N_0 / dk_j) k_i dU_i/dx_j the refraction source, first order in the wavenumber
+//! shift. Under constant d the steady state is mu / (mu + d - R), positive under any damping,
+//! reached with e-folding time 1 / (mu + d - R). Where converging currents would make
+//! mu + d - R vanish, it is held at a tenth of mu (r at most 10): the non-linear loss the
+//! linear form omits.
 //!
-//! The rays are marched downstream in x (behind the stern) over the rows of the hydro surface map;
-//! each step integrates the logistic equation exactly for that step's coefficients (so the
-//! march is stable for any relaxation rate), and the cross-track drift V + c_gy moves r between
-//! columns by upwind advection in stable sub-steps.
+//! The rays are marched downstream in x (behind the stern) over the rows of the hydro surface
+//! map; each step integrates the linear equation exactly for that step's coefficients (so the
+//! march is stable at any rate), and the cross-track drift V + c_gy moves r between columns by
+//! upwind advection in stable sub-steps.
 
-use crate::film::{total_damping, wind_growth, Film};
-use crate::spectrum::{angular_frequency, group_speed, SeaSpectrum};
+use crate::film::WakeDamping;
+use crate::short_waves::ShortWaves;
+use crate::spectrum::{group_speed, SeaSpectrum};
 use crate::surfactant::SurfactantField;
 use rayon::prelude::*;
 use wakelab_hydro::SurfaceMap;
@@ -39,59 +47,52 @@ impl WaveVector {
 #[derive(Debug, Clone, Copy)]
 pub struct Relaxation {
     pub k: WaveVector,
-    /// Wind growth beta (1/s), Eq. (2.68).
-    pub growth: f64,
-    /// Ambient damping gamma_0 (1/s).
-    pub ambient_damping: f64,
-    /// alpha N_0: the non-linear decay rate at r = 1 (1/s).
-    pub decay: f64,
+    /// Relaxation rate mu (1/s), Kudryavtsev et al. (2005) Eq. 34.
+    pub rate: f64,
     /// Gradient of ln N_0 in k (m), heading frame.
     pub dln_action_dk: (f64, f64),
     /// Group velocity (m/s), heading frame.
     pub group_velocity: (f64, f64),
 }
 
+/// The smallest net rate as a fraction of mu (r <= 10 under converging currents).
+const SATURATION: f64 = 0.1;
+
 impl Relaxation {
-    pub fn new(k: WaveVector, sea: &SeaSpectrum, film: &Film, ambient_eps: f64) -> Self {
+    pub fn new(k: WaveVector, sea: &SeaSpectrum, short_waves: &ShortWaves) -> Self {
         let km = k.magnitude();
-        let (g, tau) = (sea.gravity, sea.tension);
-        let omega = angular_frequency(km, g, tau);
-        let growth = wind_growth(km, omega, sea.wind_speed);
-        let ambient_damping = total_damping(km, film, 1.0, ambient_eps, tau, g);
-        let decay = (growth - ambient_damping).max(0.01 * growth);
         let h = 1e-4 * km;
         let ln_n = |kx: f64, ky: f64| sea.action(kx, ky).max(1e-300).ln();
         let dx = (ln_n(k.kx + h, k.ky) - ln_n(k.kx - h, k.ky)) / (2.0 * h);
         let dy = (ln_n(k.kx, k.ky + h) - ln_n(k.kx, k.ky - h)) / (2.0 * h);
-        let cg = group_speed(km, g, tau);
+        let cg = group_speed(km, sea.gravity, sea.tension);
         Self {
             k,
-            growth,
-            ambient_damping,
-            decay,
+            rate: short_waves.relaxation_rate(km, k.ky.atan2(k.kx)),
             dln_action_dk: (dx, dy),
             group_velocity: (cg * k.kx / km, cg * k.ky / km),
         }
     }
 
-    /// Net linear rate a = (decay) + (gamma_0 - gamma) + refraction source, for damping `gamma`
-    /// and current gradients [[du/dx, du/dy], [dv/dx, dv/dy]] in the heading frame.
-    pub fn linear_rate(&self, gamma: f64, grad: [[f64; 2]; 2]) -> f64 {
+    /// Refraction source R = (d ln N0 / dk_j) k_i dU_i/dx_j (1/s) for current gradients
+    /// [[du/dx, du/dy], [dv/dx, dv/dy]] in the heading frame.
+    pub fn refraction(&self, grad: [[f64; 2]; 2]) -> f64 {
         let (kx, ky) = (self.k.kx, self.k.ky);
         let (gx, gy) = self.dln_action_dk;
-        // (d ln N0 / dk_j) k_i dU_i/dx_j
-        let refraction = gx * (kx * grad[0][0] + ky * grad[1][0]) + gy * (kx * grad[0][1] + ky * grad[1][1]);
-        self.decay + (self.ambient_damping - gamma) + refraction
+        gx * (kx * grad[0][0] + ky * grad[1][0]) + gy * (kx * grad[0][1] + ky * grad[1][1])
+    }
+
+    /// Net decay rate mu + d - R of r, for extra damping `damping` and current gradients.
+    pub fn net_rate(&self, damping: f64, grad: [[f64; 2]; 2]) -> f64 {
+        (self.rate + damping - self.refraction(grad)).max(SATURATION * self.rate)
     }
 }
 
-/// Exact solution of dr/dt = r (a - b r) over dt.
-pub fn logistic_step(r: f64, a: f64, b: f64, dt: f64) -> f64 {
-    if (a * dt).abs() < 1e-12 {
-        return r / (1.0 + b * r * dt);
-    }
-    let e = (a * dt).exp();
-    a * r * e / (a + b * r * (e - 1.0))
+/// Exact solution of dr/dt = mu (1 - r) - lambda' r, i.e. dr/dt = mu - lambda r with
+/// lambda = mu + d - R, over dt.
+pub fn relaxation_step(r: f64, mu: f64, lambda: f64, dt: f64) -> f64 {
+    let steady = mu / lambda;
+    steady + (r - steady) * (-lambda * dt).exp()
 }
 
 /// r = N / N_0 on the rows and columns of the surface map for one wave vector.
@@ -100,7 +101,7 @@ pub fn modulate_short_waves(
     gamma: &SurfactantField,
     relaxation: &Relaxation,
     sea: &SeaSpectrum,
-    film: &Film,
+    wake: &WakeDamping,
     ship_speed: f64,
 ) -> Vec<f64> {
     let (rows, cols) = (map.x.len(), map.y.len());
@@ -109,7 +110,7 @@ pub fn modulate_short_waves(
     // damping everywhere on the map (the expensive part), in parallel
     let damping: Vec<f64> = (0..rows * cols)
         .into_par_iter()
-        .map(|i| total_damping(km, film, gamma.gamma[i], eps[i] as f64, sea.tension, sea.gravity))
+        .map(|i| wake.extra(km, gamma.gamma[i], eps[i] as f64, sea.tension, sea.gravity))
         .collect();
     let y = &map.y;
     let dy_min = y.windows(2).map(|w| w[1] - w[0]).fold(f64::INFINITY, f64::min);
@@ -138,8 +139,8 @@ pub fn modulate_short_waves(
             let rel_speed = (ship_speed - 0.5 * (at(u, ra, j) + at(u, rb, j)) - cgx).max(0.5);
             let dt = dxb / rel_speed;
             let gamma_here = 0.5 * (damping[ra * cols + j] + damping[rb * cols + j]);
-            let a = relaxation.linear_rate(gamma_here, grad);
-            next[j] = logistic_step(row[j], a, relaxation.decay, dt);
+            let lambda = relaxation.net_rate(gamma_here, grad);
+            next[j] = relaxation_step(row[j], relaxation.rate, lambda, dt);
         }
         // cross-track drift of the rays in sub-steps of Courant number <= 0.8
         let drift_max = (0..cols).map(|j| (at(v, r, j) + cgy).abs()).fold(0.0, f64::max);
@@ -170,16 +171,16 @@ pub fn modulate_short_waves(
 mod tests {
     use super::*;
 
+    /// r(t) = mu / lambda + (r0 - mu / lambda) e^{-lambda t}, stepped in pieces.
     #[test]
-    fn logistic_step_is_exact() {
-        // r(t) = a / (b + (a/r0 - b) e^{-a t})
-        let (a, b, r0) = (0.7, 0.5, 0.2);
+    fn relaxation_step_is_exact() {
+        let (mu, lambda, r0) = (0.7, 1.2, 0.2);
         let mut r = r0;
         for _ in 0..10 {
-            r = logistic_step(r, a, b, 0.3);
+            r = relaxation_step(r, mu, lambda, 0.3);
         }
-        let exact = a / (b + (a / r0 - b) * (-a * 3.0f64).exp());
+        let exact = mu / lambda + (r0 - mu / lambda) * (-lambda * 3.0f64).exp();
         assert!((r - exact).abs() < 1e-12);
-        assert!((logistic_step(1.0, 0.4, 0.4, 1e3) - 1.0).abs() < 1e-12);
+        assert!((relaxation_step(1.0, 0.4, 0.4, 1e3) - 1.0).abs() < 1e-12);
     }
 }

@@ -1,4 +1,5 @@
-//! Growth and damping of short waves (spec Eqs. 2.68-2.69) and the surface film model.
+//! Damping of short waves (spec Eq. 2.69, film; clean water; turbulence) and the surface film
+//! model. Wind growth (Eq. 2.68) is in [`crate::short_waves`].
 //!
 //! The spec leaves the film's equation of state to Somero (2021) (erratum 7). wakelab uses the
 //! von Szyszkowski-Langmuir equation of state for a soluble surfactant monolayer (Adamson & Gast,
@@ -7,11 +8,10 @@
 //! and the Gibbs dilational elasticity E = dPi / d ln Gamma = Pi_s (Gamma / a) / (1 + Gamma / a)
 //! (Lucassen & Hansen 1967). Gamma is relative to the ambient concentration; with a = 1 the
 //! scale Pi_s = 2 E_ref makes the ambient film's elasticity E(1) = `sea.film_elasticity`.
-//! The default, 3 mN/m, is a weak open-ocean film: with Eq. (2.69) a 10 mN/m film (a slick, in
-//! the 5-30 mN/m of Alpers & Huehnerfuss 1989) already out-damps the 5 m/s wind's growth of
-//! C- and X-band Bragg waves.
+//! The default, 3 mN/m, is a weak open-ocean film; slicks reach 5-30 mN/m (Alpers &
+//! Huehnerfuss 1989).
 
-use crate::spectrum::{angular_frequency, RHO_WATER};
+use crate::spectrum::RHO_WATER;
 use std::f64::consts::PI;
 
 /// Molecular kinematic viscosity of sea water (m^2/s), Table 2.1.
@@ -35,13 +35,6 @@ impl Film {
         let g = gamma.max(0.0);
         2.0 * self.reference_elasticity * g / (1.0 + g)
     }
-}
-
-/// Wind growth rate, Eq. (2.68) after Plant (1982): beta = 0.04 (k^2 / omega) U*^2 with
-/// U* = 0.03 U_wind (Somero 2021).
-pub fn wind_growth(k: f64, omega: f64, wind_speed: f64) -> f64 {
-    let ustar = 0.03 * wind_speed;
-    0.04 * k * k / omega * ustar * ustar
 }
 
 /// Film damping, Eq. (2.69) (Cini et al. 1987; Somero 2021):
@@ -69,18 +62,36 @@ pub fn turbulent_damping(k: f64, dissipation: f64) -> f64 {
     4.0 * 0.4 * dissipation.max(0.0).cbrt() * k.powf(2.0 / 3.0)
 }
 
-/// All damping of a wave of wavenumber k in a film of concentration Gamma over turbulence eps.
-pub fn total_damping(k: f64, film: &Film, gamma: f64, dissipation: f64, tension: f64, gravity: f64) -> f64 {
-    viscous_damping(k)
-        + film_damping(k, film.elasticity(gamma), film.pressure(gamma), tension, gravity)
-        + turbulent_damping(k, dissipation)
+/// Dissipation of the wind-driven surface layer at depth z (m): the law of the wall
+/// eps = u*_w^3 / (kappa z), u*_w = u* sqrt(rho_a / rho_w) the water-side friction velocity
+/// (e.g. Terray et al. 1996, J. Phys. Oceanogr. 26, 792, below their wave-breaking layer).
+/// The physical ambient against which a wake's turbulence counts as extra.
+pub fn surface_layer_dissipation(air_friction_velocity: f64, depth: f64) -> f64 {
+    let water = air_friction_velocity * (crate::short_waves::RHO_AIR / RHO_WATER).sqrt();
+    water.powi(3) / (crate::short_waves::KARMAN * depth.max(1e-3))
 }
 
-/// Growth minus ambient damping at Gamma = 1 and ambient turbulence: the undisturbed sea's net
-/// rate, which sets the non-linear decay alpha = (beta - gamma_0) / N_0 (spec 2.3).
-pub fn net_ambient_rate(k: f64, wind_speed: f64, film: &Film, ambient_eps: f64, tension: f64, gravity: f64) -> f64 {
-    let omega = angular_frequency(k, gravity, tension);
-    wind_growth(k, omega, wind_speed) - total_damping(k, film, 1.0, ambient_eps, tension, gravity)
+/// The wake's damping of short waves over the undisturbed sea's: what the film's
+/// redistribution and the wake's excess turbulence add (or, where the film is thinner than
+/// ambient, take away). The undisturbed sea's own damping is part of its spectrum.
+#[derive(Debug, Clone, Copy)]
+pub struct WakeDamping {
+    pub film: Film,
+    /// The sea's own near-surface dissipation at the depth of the map's values (m^2/s^3).
+    pub ambient_dissipation: f64,
+    /// The hydro stage's ambient dissipation, counted as part of the sea's (m^2/s^3).
+    pub model_ambient_dissipation: f64,
+}
+
+impl WakeDamping {
+    /// Extra damping (1/s) of waves of wavenumber k in a film of relative concentration Gamma
+    /// over a wake whose dissipation (from the hydro stage) is `dissipation`.
+    pub fn extra(&self, k: f64, gamma: f64, dissipation: f64, tension: f64, gravity: f64) -> f64 {
+        let film = |g: f64| film_damping(k, self.film.elasticity(g), self.film.pressure(g), tension, gravity);
+        let excess = (dissipation - self.model_ambient_dissipation).max(0.0);
+        film(gamma) - film(1.0) + turbulent_damping(k, self.ambient_dissipation + excess)
+            - turbulent_damping(k, self.ambient_dissipation)
+    }
 }
 
 #[cfg(test)]
@@ -108,9 +119,17 @@ mod tests {
             reference_elasticity: 0.003,
         };
         let k = 230.0;
-        assert!(
-            total_damping(k, &film, 3.0, 0.0, 0.072, 9.81) > total_damping(k, &film, 1.0, 0.0, 0.072, 9.81),
-            "more film, more damping"
+        let wake = WakeDamping {
+            film,
+            ambient_dissipation: 1e-6,
+            model_ambient_dissipation: 1e-10,
+        };
+        assert!(wake.extra(k, 3.0, 1e-10, 0.072, 9.81) > 0.0, "more film, more damping");
+        assert!(wake.extra(k, 0.5, 1e-10, 0.072, 9.81) < 0.0, "less film, less damping");
+        assert_eq!(
+            wake.extra(k, 1.0, 1e-10, 0.072, 9.81),
+            0.0,
+            "the ambient sea adds nothing"
         );
     }
 

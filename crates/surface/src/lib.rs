@@ -12,15 +12,18 @@ pub mod film;
 pub mod fourier;
 pub mod output;
 pub mod scene;
+pub mod short_waves;
 pub mod spectrum;
 pub mod surfactant;
 pub mod synthesis;
 
 use action::{modulate_short_waves, Relaxation, WaveVector};
 use film::Film;
+use film::WakeDamping;
 use ndarray::Array2;
 use rayon::prelude::*;
 use scene::{resample, MapField, SceneGrid};
+use short_waves::ShortWaves;
 use spectrum::SeaSpectrum;
 use surfactant::{redistribute_surfactant, SurfactantField};
 use synthesis::{synthesise_surface, RandomSurface};
@@ -38,6 +41,9 @@ pub struct BraggModulation {
     pub density: (f64, f64),
     /// N / N_0 of the Bragg spectral density F(k_B) + F(-k_B), on the scene (rows, cols).
     pub modulation: Array2<f64>,
+    /// N / N_0 of the breaking waves this band sees (k0 / 10, running with the wind): the
+    /// modulation of their surface fraction q.
+    pub breaking: Array2<f64>,
 }
 
 /// Everything the sensors need about the sea surface of one scene.
@@ -52,6 +58,8 @@ pub struct SurfaceScene {
     /// Sea-surface temperature perturbation dT (K) from the hydro stage.
     pub temperature_anomaly: Array2<f64>,
     pub spectrum: SeaSpectrum,
+    /// The Bragg-scale waves' balance (KHCC03) of the same wind.
+    pub short_waves: ShortWaves,
 }
 
 /// The background spectrum of a configuration.
@@ -94,10 +102,8 @@ pub fn simulate_surface(config: &WakelabConfig, map: Option<&SurfaceMap>) -> Sur
     let grid = SceneGrid::new(&config.scene);
     let n = grid.size();
     let spectrum = background_spectrum(config);
-    let film = Film {
-        reference_elasticity: config.sea.film_elasticity,
-    };
-    let ambient_eps = config.environment.ambient_dissipation;
+    let short_waves = ShortWaves::new(&spectrum);
+    let wake_damping = wake_damping(config, &spectrum);
     let speed = config.ship.speed;
     let surface = synthesise_surface(&spectrum, n, grid.pixel_spacing, config.sea.window, config.seed);
 
@@ -118,14 +124,17 @@ pub fn simulate_surface(config: &WakelabConfig, map: Option<&SurfaceMap>) -> Sur
                 .map(|&band| {
                     let (towards, away) = bragg_vectors(config, band);
                     let ratio = |k: WaveVector| {
-                        let relax = Relaxation::new(k, &spectrum, &film, ambient_eps);
-                        modulate_short_waves(&map, &gamma, &relax, &spectrum, &film, speed)
+                        let relax = Relaxation::new(k, &spectrum, &short_waves);
+                        modulate_short_waves(&map, &gamma, &relax, &spectrum, &wake_damping, speed)
                     };
                     let (f_t, f_a) = (
                         spectrum.directional(towards.kx, towards.ky),
                         spectrum.directional(away.kx, away.ky),
                     );
-                    let (r_t, r_a) = rayon::join(|| ratio(towards), || ratio(away));
+                    let ((r_t, r_a), r_b) = rayon::join(
+                        || rayon::join(|| ratio(towards), || ratio(away)),
+                        || ratio(breaking_vector(&spectrum, band)),
+                    );
                     let combined: Vec<f64> = r_t
                         .iter()
                         .zip(&r_a)
@@ -136,6 +145,7 @@ pub fn simulate_surface(config: &WakelabConfig, map: Option<&SurfaceMap>) -> Sur
                         wavenumber: towards.magnitude(),
                         density: (f_t, f_a),
                         modulation: to_scene(&grid, &map, &combined, 1.0),
+                        breaking: to_scene(&grid, &map, &r_b, 1.0),
                     }
                 })
                 .collect();
@@ -153,6 +163,7 @@ pub fn simulate_surface(config: &WakelabConfig, map: Option<&SurfaceMap>) -> Sur
         bragg,
         surface,
         temperature_anomaly,
+        short_waves,
         spectrum,
     }
 }
@@ -167,6 +178,29 @@ fn undisturbed_band(config: &WakelabConfig, band: RadarBand, spectrum: &SeaSpect
             spectrum.directional(away.kx, away.ky),
         ),
         modulation: Array2::from_elem((n, n), 1.0),
+        breaking: Array2::from_elem((n, n), 1.0),
+    }
+}
+
+/// The wave vector of the breakers a band sees: k0 / 10 along the wind.
+fn breaking_vector(spectrum: &SeaSpectrum, band: RadarBand) -> WaveVector {
+    let k = short_waves::breaking_wavenumber(band.wavenumber());
+    WaveVector {
+        kx: k * spectrum.wind_direction.cos(),
+        ky: k * spectrum.wind_direction.sin(),
+    }
+}
+
+/// The wake's extra damping over the sea of `config`: its film, and its turbulence over the
+/// wind-driven surface layer at the depth of the hydro grid's top cell (where the map's eps is).
+pub fn wake_damping(config: &WakelabConfig, spectrum: &SeaSpectrum) -> WakeDamping {
+    let depth = 0.5 * wakelab_core::grid::CrossGrid::new(&config.grid).dz;
+    WakeDamping {
+        film: Film {
+            reference_elasticity: config.sea.film_elasticity,
+        },
+        ambient_dissipation: film::surface_layer_dissipation(spectrum.friction_velocity(), depth),
+        model_ambient_dissipation: config.environment.ambient_dissipation,
     }
 }
 

@@ -238,11 +238,30 @@ fn sar_sigma0_and_optics_print_their_json() {
     assert_eq!(v["polarisation"], "HH");
     let db = v["sigma0_db"].as_f64().unwrap();
     assert!(db < -10.0 && db > -40.0, "{db}");
-    assert!(
-        (v["sigma0"].as_f64().unwrap() - v["sigma0_bragg"].as_f64().unwrap() - v["sigma0_specular"].as_f64().unwrap())
-            .abs()
-            < 1e-15
-    );
+    let part = |k: &str| v[k].as_f64().unwrap();
+    // (sigma_B + sigma_S)(1 - q) + q sigma_wb (KHCC03 Eq. 1)
+    let parts =
+        (part("sigma0_bragg") + part("sigma0_specular")) * (1.0 - part("breaking_fraction")) + part("sigma0_breaking");
+    assert!((part("sigma0") - parts).abs() < 1e-12 * parts);
+    assert!(v["cmod5n"].is_null(), "CMOD5.N is a C-band model");
+
+    // C band looking up-wind: CMOD5.N beside wakelab's value, and near it
+    let o = wakelab(&[
+        "sar",
+        "sigma0",
+        "--json",
+        "--wind",
+        "10",
+        "--incidence",
+        "40",
+        "--look",
+        "180",
+    ]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let v: serde_json::Value = serde_json::from_str(&stdout(&o)).unwrap();
+    let (ours, cmod) = (v["sigma0_db"].as_f64().unwrap(), v["cmod5n_db"].as_f64().unwrap());
+    assert!((cmod - -12.947).abs() < 1e-3, "CMOD5.N {cmod}");
+    assert!((ours - cmod).abs() < 2.0, "wakelab {ours} dB vs CMOD5.N {cmod} dB");
 
     let o = wakelab(&[
         "optics",
@@ -631,6 +650,14 @@ fn run_does_the_whole_study_reuses_its_stages_and_repeats_its_tables() {
     }
     let report = first.join("report");
     let html = std::fs::read_to_string(report.join("report.html")).unwrap();
+    for figure in [
+        "sigma0_vs_cmod5n_upwind",
+        "sigma0_vs_cmod5n_crosswind",
+        "across_wake_contrast",
+    ] {
+        let svg = std::fs::read_to_string(report.join(format!("{figure}.svg"))).unwrap();
+        assert!(svg.starts_with("<svg"), "{figure}");
+    }
     // self-contained: every picture inline, nothing fetched from the network
     let namespaces = html.matches("xmlns=\"http://www.w3.org/2000/svg\"").count();
     assert_eq!(
@@ -646,9 +673,11 @@ fn run_does_the_whole_study_reuses_its_stages_and_repeats_its_tables() {
     );
     assert_eq!(
         html.matches("<svg").count(),
-        3 + 4,
-        "ROC per architecture, training curves per network"
+        3 + 4 + 3,
+        "ROC per architecture, training curves per network, sigma0 against CMOD5.N up- and cross-wind, \
+         the across-wake contrast"
     );
+    assert!(html.contains("CMOD5.N 10 m/s") && html.contains("Across-wake contrast"));
     for needle in [
         "Table 4.4",
         "Table 4.6",

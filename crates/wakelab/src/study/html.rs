@@ -302,7 +302,13 @@ fn recipe_note(plan: &LearningPlan) -> String {
 }
 
 /// The whole page.
-pub fn report_page(study: &Study, run: &StudyRun, tables: &[Table], timing: &Table) -> Result<String> {
+pub fn report_page(
+    study: &Study,
+    run: &StudyRun,
+    tables: &[Table],
+    timing: &Table,
+    radar_figures: &[String],
+) -> Result<String> {
     let mut s = String::new();
     let title = format!("wakelab study \"{}\"", study.study.name);
     let _ = write!(
@@ -327,7 +333,10 @@ pub fn report_page(study: &Study, run: &StudyRun, tables: &[Table], timing: &Tab
         run.plan.seed
     );
     s.push_str(&recipe_note(&run.plan));
-    s.push_str("<h2>Contents</h2><ul><li><a href=\"#scenes\">Example scenes</a></li>");
+    s.push_str(
+        "<h2>Contents</h2><ul><li><a href=\"#scenes\">Example scenes</a></li>\
+         <li><a href=\"#radar\">Radar physics</a></li>",
+    );
     for t in tables {
         let _ = write!(s, "<li><a href=\"#{}\">{}</a></li>", t.id, escape(&t.title));
     }
@@ -338,6 +347,17 @@ pub fn report_page(study: &Study, run: &StudyRun, tables: &[Table], timing: &Tab
     );
     s.push_str("<h2 id=\"scenes\">Example scenes</h2>");
     s.push_str(&example_scenes(run)?);
+    s.push_str(
+        "<h2 id=\"radar\">Radar physics</h2><p>The open sea's C-band VV sigma0 (two-scale Bragg, specular \
+         and breaking waves; the study's base sea without swell) against the geophysical model function \
+         CMOD5.N (Hersbach 2010), and the example pair's across-wake contrast per radar band (each row's \
+         mean along the image, wake scene over no-wake scene). Observed turbulent-wake contrasts are a \
+         few dB, weaker at higher wind and in older wakes.</p><div class=\"grid\">",
+    );
+    for svg in radar_figures {
+        let _ = write!(s, "<figure>{svg}</figure>");
+    }
+    s.push_str("</div>");
     s.push_str("<h2>Results</h2>");
     for t in tables {
         s.push_str(&table_html(t));

@@ -13,6 +13,7 @@
 //! skips every finished scene. Fusion and the report are cheap and always rebuilt.
 
 mod html;
+mod radar;
 mod report;
 mod stages;
 mod svg;

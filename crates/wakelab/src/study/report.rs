@@ -387,7 +387,19 @@ pub fn write_report(dir: &Path, study: &Study, run: &StudyRun) -> Result<Vec<Pat
         write_atomically(tables_dir.join(format!("{}.csv", t.id)), t.csv().as_bytes())?;
     }
     let md = write_atomically(out.join("report.md"), markdown.as_bytes())?;
-    let page = super::html::report_page(study, run, &tables, &timing)?;
+    // the radar-physics figures, also as files a user can open or put in a paper
+    let mut figures = super::radar::sigma0_against_cmod5n(&study.base_config()?);
+    figures.extend(super::radar::across_wake_contrast(run)?);
+    let names = [
+        "sigma0_vs_cmod5n_upwind",
+        "sigma0_vs_cmod5n_crosswind",
+        "across_wake_contrast",
+    ];
+    let svgs: Vec<String> = figures.iter().map(|f| f.to_svg()).collect();
+    for (name, svg) in names.iter().zip(&svgs) {
+        write_atomically(out.join(format!("{name}.svg")), svg.as_bytes())?;
+    }
+    let page = super::html::report_page(study, run, &tables, &timing, &svgs)?;
     let html = write_atomically(out.join("report.html"), page.as_bytes())?;
     Ok(vec![html, md, tables_dir])
 }

@@ -1,0 +1,107 @@
+//! The report's radar-physics figures: wakelab's C-band VV sigma0 of the open sea against
+//! CMOD5.N (Hersbach 2010), and the across-wake contrast of the example scene pair in S, C and
+//! X band.
+
+use super::stages::StudyRun;
+use super::svg::{LinePlot, Series};
+use anyhow::Result;
+use ndarray::Array2;
+use wakelab_core::config::Polarisation;
+use wakelab_core::units::RadarBand;
+use wakelab_core::WakelabConfig;
+use wakelab_sensors::permittivity::seawater_permittivity;
+use wakelab_sensors::sar::sigma0_of_sea;
+
+/// Two plots (looking up-wind, cross-wind): wakelab's C-band VV sigma0 (solid) and CMOD5.N's
+/// over incidence 20-50 degrees for winds of 5, 10 and 15 m/s, for the sea of `base`.
+pub fn sigma0_against_cmod5n(base: &WakelabConfig) -> Vec<LinePlot> {
+    let eps = seawater_permittivity(
+        RadarBand::C.frequency(),
+        base.environment.temperature.at_depth(0.0),
+        base.environment.salinity.at_depth(0.0),
+    );
+    let mut sea = base.clone();
+    sea.environment.swell.amplitude = 0.0;
+    let mut plots = Vec::new();
+    for (name, look) in [
+        ("up-wind", std::f64::consts::PI),
+        ("cross-wind", std::f64::consts::FRAC_PI_2),
+    ] {
+        let mut series = Vec::new();
+        for wind in [5.0, 10.0, 15.0] {
+            sea.environment.wind.speed = wind;
+            sea.environment.wind.direction = 0.0;
+            let spectrum = wakelab_surface::background_spectrum(&sea);
+            let reports: Vec<_> = (0..=12)
+                .map(|i| {
+                    let inc = 20.0 + 2.5 * i as f64;
+                    sigma0_of_sea(&spectrum, RadarBand::C, eps, Polarisation::Vv, look, inc, 10.0)
+                })
+                .collect();
+            series.push(Series {
+                name: format!("wakelab {wind} m/s"),
+                points: reports.iter().map(|r| (r.incidence_deg, r.sigma0_db)).collect(),
+            });
+            series.push(Series {
+                name: format!("CMOD5.N {wind} m/s"),
+                points: reports
+                    .iter()
+                    .map(|r| (r.incidence_deg, r.cmod5n_db.unwrap_or(f64::NAN)))
+                    .collect(),
+            });
+        }
+        plots.push(LinePlot {
+            title: format!("C-band VV sigma0, {name}"),
+            x_label: "incidence (deg)".into(),
+            y_label: "sigma0 (dB)".into(),
+            x_range: Some((20.0, 50.0)),
+            y_range: None,
+            series,
+            diagonal: false,
+        });
+    }
+    plots
+}
+
+/// The across-wake contrast of the dataset's first wake scene against its no-wake partner:
+/// each row's mean along the image, in dB, for every radar band (rows cross the wake).
+pub fn across_wake_contrast(run: &StudyRun) -> Result<Option<LinePlot>> {
+    let dataset = &run.dataset;
+    let Some(wake) = dataset.records.iter().find(|r| r.label == 1) else {
+        return Ok(None);
+    };
+    let Some(no_wake) = dataset.records.iter().find(|r| r.pair == wake.pair && r.label == 0) else {
+        return Ok(None);
+    };
+    let spacing = wake.parameters.pixel_spacing;
+    let mut series = Vec::new();
+    for band in dataset
+        .bands()
+        .into_iter()
+        .filter(|b| RadarBand::ALL.iter().any(|r| r.name() == b))
+    {
+        let read = |rel: &str| -> Result<Array2<f32>> { Ok(ndarray_npy::read_npy(dataset.dir.join(rel))?) };
+        let (w, n) = (read(&wake.images[&band])?, read(&no_wake.images[&band])?);
+        let rows = w.nrows();
+        let points = (0..rows)
+            .map(|r| {
+                let mean = |a: &Array2<f32>| a.row(r).iter().map(|&v| v as f64).sum::<f64>() / a.ncols() as f64;
+                let y = (r as f64 - 0.5 * (rows as f64 - 1.0)) * spacing;
+                (y, 10.0 * (mean(&w) / mean(&n)).log10())
+            })
+            .collect();
+        series.push(Series { name: band, points });
+    }
+    if series.is_empty() {
+        return Ok(None);
+    }
+    Ok(Some(LinePlot {
+        title: format!("Across-wake contrast, scene pair {}", wake.pair),
+        x_label: "across-track distance (m)".into(),
+        y_label: "wake / no wake (dB)".into(),
+        x_range: None,
+        y_range: None,
+        series,
+        diagonal: false,
+    }))
+}

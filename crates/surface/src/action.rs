@@ -106,11 +106,11 @@ pub fn modulate_short_waves(
 ) -> Vec<f64> {
     let (rows, cols) = (map.x.len(), map.y.len());
     let (u, v, eps) = (map.field("U"), map.field("V"), map.field("eps"));
-    let km = relaxation.k.magnitude();
+    let at_k = wake.at(relaxation.k.magnitude(), sea.tension, sea.gravity);
     // damping everywhere on the map (the expensive part), in parallel
     let damping: Vec<f64> = (0..rows * cols)
         .into_par_iter()
-        .map(|i| wake.extra(km, gamma.gamma[i], eps[i] as f64, sea.tension, sea.gravity))
+        .map(|i| at_k.extra(gamma.gamma[i], eps[i] as f64))
         .collect();
     let y = &map.y;
     let dy_min = y.windows(2).map(|w| w[1] - w[0]).fold(f64::INFINITY, f64::min);

@@ -87,10 +87,56 @@ impl WakeDamping {
     /// Extra damping (1/s) of waves of wavenumber k in a film of relative concentration Gamma
     /// over a wake whose dissipation (from the hydro stage) is `dissipation`.
     pub fn extra(&self, k: f64, gamma: f64, dissipation: f64, tension: f64, gravity: f64) -> f64 {
-        let film = |g: f64| film_damping(k, self.film.elasticity(g), self.film.pressure(g), tension, gravity);
-        let excess = (dissipation - self.model_ambient_dissipation).max(0.0);
-        film(gamma) - film(1.0) + turbulent_damping(k, self.ambient_dissipation + excess)
-            - turbulent_damping(k, self.ambient_dissipation)
+        self.at(k, tension, gravity).extra(gamma, dissipation)
+    }
+
+    /// The damping of the undisturbed sea at wavenumber k, for many evaluations at one k.
+    pub fn at(&self, k: f64, tension: f64, gravity: f64) -> WakeDampingAt {
+        WakeDampingAt {
+            wake: *self,
+            k,
+            tension,
+            gravity,
+            ambient_film: film_damping(k, self.film.elasticity(1.0), self.film.pressure(1.0), tension, gravity),
+            ambient_turbulence: turbulent_damping(k, self.ambient_dissipation),
+        }
+    }
+}
+
+/// [`WakeDamping`] at one wavenumber, with the undisturbed sea's damping worked out once.
+#[derive(Debug, Clone, Copy)]
+pub struct WakeDampingAt {
+    wake: WakeDamping,
+    k: f64,
+    tension: f64,
+    gravity: f64,
+    ambient_film: f64,
+    ambient_turbulence: f64,
+}
+
+impl WakeDampingAt {
+    /// Extra damping (1/s) in a film of relative concentration Gamma over a wake of
+    /// dissipation `dissipation` (see [`WakeDamping::extra`]).
+    pub fn extra(&self, gamma: f64, dissipation: f64) -> f64 {
+        let w = &self.wake;
+        let film = if gamma == 1.0 {
+            self.ambient_film
+        } else {
+            film_damping(
+                self.k,
+                w.film.elasticity(gamma),
+                w.film.pressure(gamma),
+                self.tension,
+                self.gravity,
+            )
+        };
+        let excess = (dissipation - w.model_ambient_dissipation).max(0.0);
+        let turbulence = if excess > 0.0 {
+            turbulent_damping(self.k, w.ambient_dissipation + excess)
+        } else {
+            self.ambient_turbulence
+        };
+        film - self.ambient_film + turbulence - self.ambient_turbulence
     }
 }
 

@@ -88,11 +88,12 @@ impl ShortWaves {
             tension: sea.tension,
             source_table: Vec::new(),
         };
+        let flux = s.cumulative_breaking_flux(sea);
         let (lo, hi, steps) = (1.0f64, 4000.0f64, 160);
         s.source_table = (0..=steps)
             .map(|i| {
                 let k = lo * (hi / lo).powf(i as f64 / steps as f64);
-                (k, s.breaking_source(sea, k))
+                (k, s.breaking_source(&flux, k))
             })
             .collect();
         s
@@ -121,17 +122,18 @@ impl ShortWaves {
         self.growth_parameter(k) * (self.friction_velocity / self.phase_speed(k)).powi(2) * c * c.abs()
     }
 
-    /// I_wb(k) = c_b / c(k) int int_{k' < k/10} c(k') beta(k', phi)^+ B(k', phi) dln k' dphi
-    /// (KAJC05 Eq. 20) over the long-wave spectrum.
-    fn breaking_source(&self, sea: &SeaSpectrum, k: f64) -> f64 {
-        let k_hi = (GENERATION_RATIO * k).min(2.0 * PI / 0.3);
+    /// The integral of KAJC05 Eq. 20, G(K) = int int_{k' < K} c(k') beta(k', phi)^+ B(k', phi)
+    /// dln k' dphi over the long-wave spectrum, cumulatively on a log-spaced table of K.
+    fn cumulative_breaking_flux(&self, sea: &SeaSpectrum) -> Vec<(f64, f64)> {
         let k_lo = 0.5 * sea.peak_wavenumber();
+        let k_hi = 2.0 * PI / 0.3;
         if k_hi <= k_lo {
-            return 0.0;
+            return vec![(k_hi, 0.0)];
         }
-        let (n, angles) = (60, 36);
+        let (n, angles) = (240, 36);
         let step = (k_hi / k_lo).ln() / n as f64;
         let dphi = 2.0 * PI / angles as f64;
+        let mut table = vec![(k_lo, 0.0)];
         let mut sum = 0.0;
         for i in 0..n {
             let kk = k_lo * ((i as f64 + 0.5) * step).exp();
@@ -144,19 +146,19 @@ impl ShortWaves {
                     sum += c * beta * b * step * dphi;
                 }
             }
+            table.push((k_lo * ((i + 1) as f64 * step).exp(), sum));
         }
-        BREAKING_SOURCE * sum / self.phase_speed(k)
+        table
+    }
+
+    /// I_wb(k) = c_b / c(k) G(min(k / 10, 2 pi / 0.3 m)) (KAJC05 Eq. 20).
+    fn breaking_source(&self, flux: &[(f64, f64)], k: f64) -> f64 {
+        let upper = (GENERATION_RATIO * k).min(2.0 * PI / 0.3);
+        BREAKING_SOURCE * interpolate_log(flux, upper) / self.phase_speed(k)
     }
 
     fn source(&self, k: f64) -> f64 {
-        let t = &self.source_table;
-        if k <= t[0].0 {
-            return t[0].1;
-        }
-        let i = t.partition_point(|&(kk, _)| kk < k).min(t.len() - 1);
-        let ((k0, v0), (k1, v1)) = (t[i - 1], t[i]);
-        let w = (k / k0).ln() / (k1 / k0).ln();
-        v0 + w * (v1 - v0)
+        interpolate_log(&self.source_table, k)
     }
 
     fn scale(&self, k: f64) -> Scale {
@@ -219,6 +221,20 @@ impl ShortWaves {
         let b = Self::balance(beta_v, &s);
         s.omega * (s.n * beta_v + (s.n + 1.0) * s.source / b)
     }
+}
+
+/// Linear interpolation in ln k on a table of increasing k, held constant beyond its ends.
+fn interpolate_log(table: &[(f64, f64)], k: f64) -> f64 {
+    let (first, last) = (table[0], table[table.len() - 1]);
+    if k <= first.0 {
+        return first.1;
+    }
+    if k >= last.0 {
+        return last.1;
+    }
+    let i = table.partition_point(|&(kk, _)| kk < k);
+    let ((k0, v0), (k1, v1)) = (table[i - 1], table[i]);
+    v0 + (k / k0).ln() / (k1 / k0).ln() * (v1 - v0)
 }
 
 #[cfg(test)]

@@ -677,7 +677,7 @@ fn run_does_the_whole_study_reuses_its_stages_and_repeats_its_tables() {
         "ROC per architecture, training curves per network, sigma0 against CMOD5.N up- and cross-wind, \
          the across-wake contrast"
     );
-    assert!(html.contains("CMOD5.N 10 m/s") && html.contains("Across-wake contrast"));
+    assert!(html.contains("CMOD5.N 10<") && html.contains("Across-wake contrast"));
     for needle in [
         "Table 4.4",
         "Table 4.6",

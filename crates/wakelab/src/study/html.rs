@@ -203,6 +203,7 @@ fn roc_plots(run: &StudyRun) -> String {
             y_range: Some((0.0, 1.0)),
             series,
             diagonal: true,
+            paired: false,
         };
         let _ = write!(s, "<figure>{}</figure>", plot.to_svg());
     }
@@ -249,6 +250,7 @@ fn training_plots(run: &StudyRun) -> String {
             y_range: None,
             series,
             diagonal: false,
+            paired: false,
         };
         let _ = write!(s, "<figure>{}</figure>", plot.to_svg());
     }

@@ -39,11 +39,11 @@ pub fn sigma0_against_cmod5n(base: &WakelabConfig) -> Vec<LinePlot> {
                 })
                 .collect();
             series.push(Series {
-                name: format!("wakelab {wind} m/s"),
+                name: format!("wakelab {wind}"),
                 points: reports.iter().map(|r| (r.incidence_deg, r.sigma0_db)).collect(),
             });
             series.push(Series {
-                name: format!("CMOD5.N {wind} m/s"),
+                name: format!("CMOD5.N {wind}"),
                 points: reports
                     .iter()
                     .map(|r| (r.incidence_deg, r.cmod5n_db.unwrap_or(f64::NAN)))
@@ -51,13 +51,14 @@ pub fn sigma0_against_cmod5n(base: &WakelabConfig) -> Vec<LinePlot> {
             });
         }
         plots.push(LinePlot {
-            title: format!("C-band VV sigma0, {name}"),
+            title: format!("C-band VV sigma0, {name}, wind in m/s"),
             x_label: "incidence (deg)".into(),
             y_label: "sigma0 (dB)".into(),
             x_range: Some((20.0, 50.0)),
             y_range: None,
             series,
             diagonal: false,
+            paired: true,
         });
     }
     plots
@@ -95,13 +96,31 @@ pub fn across_wake_contrast(run: &StudyRun) -> Result<Option<LinePlot>> {
     if series.is_empty() {
         return Ok(None);
     }
+    // the wake's own width, twice over (at least +-200 m): where any band departs by 0.05 dB
+    let reach = series
+        .iter()
+        .flat_map(|s| s.points.iter())
+        .filter(|p| p.1.abs() > 0.05)
+        .map(|p| p.0.abs())
+        .fold(100.0f64, f64::max);
+    let half = (2.0 * reach).min(rows_extent(&series));
     Ok(Some(LinePlot {
         title: format!("Across-wake contrast, scene pair {}", wake.pair),
         x_label: "across-track distance (m)".into(),
         y_label: "wake / no wake (dB)".into(),
-        x_range: None,
+        x_range: Some((-half, half)),
         y_range: None,
         series,
         diagonal: false,
+        paired: false,
     }))
+}
+
+/// The largest |y| of any series' points.
+fn rows_extent(series: &[Series]) -> f64 {
+    series
+        .iter()
+        .flat_map(|s| s.points.iter())
+        .map(|p| p.0.abs())
+        .fold(0.0, f64::max)
 }

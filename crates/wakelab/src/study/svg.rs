@@ -20,6 +20,9 @@ pub struct LinePlot {
     pub series: Vec<Series>,
     /// Draw the diagonal y = x (chance line of a ROC plot).
     pub diagonal: bool,
+    /// Series come in pairs (a model, then its reference): the second of each pair is drawn
+    /// dashed in the first's colour.
+    pub paired: bool,
 }
 
 /// Colour-blind-safe qualitative palette (Okabe & Ito 2008), then greys.
@@ -156,23 +159,28 @@ impl LinePlot {
             );
         }
         for (i, series) in self.series.iter().enumerate() {
-            let colour = PALETTE[i % PALETTE.len()];
+            let colour = PALETTE[if self.paired { i / 2 } else { i } % PALETTE.len()];
+            let dash = if self.paired && i % 2 == 1 {
+                r#" stroke-dasharray="5 3""#
+            } else {
+                ""
+            };
             let points: Vec<String> = series
                 .points
                 .iter()
-                .filter(|p| p.0.is_finite() && p.1.is_finite())
+                .filter(|p| p.0.is_finite() && p.1.is_finite() && p.0 >= x0 && p.0 <= x1)
                 .map(|&(x, y)| format!("{:.1},{:.1}", sx(x), sy(y.clamp(y0, y1))))
                 .collect();
             let _ = write!(
                 s,
-                r#"<polyline fill="none" stroke="{colour}" stroke-width="1.6" points="{}"/>"#,
+                r#"<polyline fill="none" stroke="{colour}" stroke-width="1.6"{dash} points="{}"/>"#,
                 points.join(" ")
             );
             let ly = TOP + 8.0 + 15.0 * i as f64;
             let lx = LEFT + pw + 10.0;
             let _ = write!(
                 s,
-                r#"<line x1="{lx:.1}" y1="{ly:.1}" x2="{:.1}" y2="{ly:.1}" stroke="{colour}" stroke-width="2"/><text x="{:.1}" y="{:.1}">{}</text>"#,
+                r#"<line x1="{lx:.1}" y1="{ly:.1}" x2="{:.1}" y2="{ly:.1}" stroke="{colour}" stroke-width="2"{dash}/><text x="{:.1}" y="{:.1}">{}</text>"#,
                 lx + 16.0,
                 lx + 20.0,
                 ly + 4.0,
@@ -260,6 +268,7 @@ mod tests {
                 },
             ],
             diagonal: false,
+            paired: false,
         };
         let svg = plot.to_svg();
         assert!(svg.starts_with("<svg") && svg.ends_with("</svg>"));

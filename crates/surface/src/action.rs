@@ -88,8 +88,8 @@ impl Relaxation {
     }
 }
 
-/// Exact solution of dr/dt = mu (1 - r) - lambda' r, i.e. dr/dt = mu - lambda r with
-/// lambda = mu + d - R, over dt.
+/// Exact solution over dt of dr/dt = mu - lambda r: the relaxation equation
+/// dr/dt = mu (1 - r) - d r + R r with lambda = mu + d - R.
 pub fn relaxation_step(r: f64, mu: f64, lambda: f64, dt: f64) -> f64 {
     let steady = mu / lambda;
     steady + (r - steady) * (-lambda * dt).exp()
@@ -107,7 +107,7 @@ pub fn modulate_short_waves(
     let (rows, cols) = (map.x.len(), map.y.len());
     let (u, v, eps) = (map.field("U"), map.field("V"), map.field("eps"));
     let at_k = wake.at(relaxation.k.magnitude(), sea.tension, sea.gravity);
-    // damping everywhere on the map (the expensive part), in parallel
+    // the wake's extra damping everywhere on the map (the expensive part), in parallel
     let damping: Vec<f64> = (0..rows * cols)
         .into_par_iter()
         .map(|i| at_k.extra(gamma.gamma[i], eps[i] as f64))

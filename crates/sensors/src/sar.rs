@@ -96,11 +96,9 @@ pub fn breaking_zones(spectrum: &SeaSpectrum, short_waves: &ShortWaves, k0: f64,
     let (mut total, mut along) = (0.0, 0.0);
     for i in 0..n {
         let k = k_lo * ((i as f64 + 0.5) * step).exp();
-        let omega = wakelab_surface::spectrum::angular_frequency(k, spectrum.gravity, spectrum.tension);
-        let viscous = 4.0 * wakelab_surface::film::NU * k * k / omega;
         for a in 0..angles {
             let phi = (a as f64 + 0.5) * dphi;
-            let beta_v = short_waves.wind_growth(k, phi) - viscous;
+            let beta_v = short_waves.net_growth(k, phi);
             if beta_v > 0.0 {
                 let b = k.powi(4) * spectrum.directional(k * phi.cos(), k * phi.sin());
                 // Lambda dk dphi = beta_v B / (2 alpha) dln k dphi

@@ -50,20 +50,24 @@ pub struct SarInfo {
     pub range_to_velocity_s: Option<f64>,
 }
 
-/// Surface temperature (deg C) and salinity of the undisturbed sea at the surface.
-fn surface_water(config: &WakelabConfig) -> (f64, f64) {
+/// Permittivity of the undisturbed sea's surface water (its temperature and salinity at z = 0)
+/// at a band's frequency (Klein & Swift 1977).
+pub fn surface_permittivity(config: &WakelabConfig, band: RadarBand) -> Complex64 {
     let env = &config.environment;
-    (env.temperature.at_depth(0.0), env.salinity.at_depth(0.0))
+    seawater_permittivity(
+        band.frequency(),
+        env.temperature.at_depth(0.0),
+        env.salinity.at_depth(0.0),
+    )
 }
 
 /// The radar view of the background sea for one band.
 pub fn radar_sea<'a>(config: &WakelabConfig, scene: &'a SurfaceScene, band: RadarBand) -> RadarSea<'a> {
-    let (t, s) = surface_water(config);
     RadarSea::new(
         &scene.spectrum,
         &scene.short_waves,
         band.wavenumber(),
-        seawater_permittivity(band.frequency(), t, s),
+        surface_permittivity(config, band),
         config.sar.polarisation,
         config.platform.look_direction.to_radians(),
         config.platform.incidence.to_radians(),

@@ -225,3 +225,31 @@ fn a_wakes_contrast_is_a_few_db_and_weakens_with_wind_and_age() {
         assert!(young < old, "{band:?}: the older wake is not weaker");
     }
 }
+
+/// The spec's environments (Fig. 3.2: calm, head and following seas) at 5 m/s, 4 km behind the
+/// ship: bright or dark per band is printed for the closing note; C and X band must stay inside
+/// the 1-6 dB of observed wakes whatever the swell, and the swell must change the picture.
+/// (Figs. 3.1-3.2 show a bright C/X streak with swell; wakelab's wake is dark there: its surface
+/// current gradients refract the Bragg waves far less than the wake damps them.)
+#[test]
+fn the_spec_environments_give_observed_c_and_x_contrasts() {
+    let mut darkest = Vec::new();
+    for swell in ["calm", "head", "following"] {
+        let bands = across_wake_extremes(&format!(
+            "along_track = 4000.0\n[environment.swell]\ndirection = \"{swell}\"\n"
+        ));
+        for (band, (lo, hi, _)) in RadarBand::ALL.iter().zip(&bands) {
+            eprintln!("{swell:9} {band:?}: darkest {lo:+.2} dB, brightest {hi:+.2} dB");
+            if *band != RadarBand::S {
+                assert!((-6.0..-1.0).contains(lo), "{swell} {band:?}: {lo} dB");
+            }
+        }
+        darkest.push(bands[1].0);
+    }
+    assert!(
+        (darkest[0] - darkest[2]).abs() > 0.05,
+        "C band: calm {} dB and following {} dB are the same",
+        darkest[0],
+        darkest[2]
+    );
+}

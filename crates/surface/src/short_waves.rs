@@ -25,7 +25,7 @@
 //! S, C and X band at incidences up to 60 degrees); molecular viscosity is the spec's
 //! (Table 2.1, 1e-6 m^2/s).
 
-use crate::film::NU;
+use crate::film::viscous_damping;
 use crate::spectrum::{angular_frequency, SeaSpectrum, RHO_WATER};
 use std::f64::consts::PI;
 
@@ -170,7 +170,7 @@ impl ShortWaves {
         Scale {
             omega,
             growth: self.growth_parameter(k) * (self.friction_velocity / (omega / k)).powi(2),
-            viscous: 4.0 * NU * k * k / omega,
+            viscous: viscous_damping(k) / omega,
             n,
             alpha: SATURATION_A * MEAN_GROWTH.powf(-1.0 / n),
             source: self.source(k),
@@ -208,16 +208,25 @@ impl ShortWaves {
     /// Saturation spectrum B(k, phi) = k^4 F(k, phi) of waves travelling along `direction`.
     pub fn saturation(&self, k: f64, direction: f64) -> f64 {
         let s = self.scale(k);
+        Self::balance(self.net_growth_of(&s, direction), &s)
+    }
+
+    /// Net growth per radian of phase, beta_v = beta(k, phi) - 4 nu k^2 / omega (KHCC03 Eq. 17):
+    /// the wind's input less viscous decay.
+    pub fn net_growth(&self, k: f64, direction: f64) -> f64 {
+        self.net_growth_of(&self.scale(k), direction)
+    }
+
+    fn net_growth_of(&self, s: &Scale, direction: f64) -> f64 {
         let c = (direction - self.wind_direction).cos();
-        Self::balance(s.growth * c * c.abs() - s.viscous, &s)
+        s.growth * c * c.abs() - s.viscous
     }
 
     /// Relaxation rate mu = omega [n beta_v + (n + 1) I / B] (1/s) of a disturbance of the
     /// waves (k, direction), KAJC05 Eq. 34.
     pub fn relaxation_rate(&self, k: f64, direction: f64) -> f64 {
         let s = self.scale(k);
-        let c = (direction - self.wind_direction).cos();
-        let beta_v = s.growth * c * c.abs() - s.viscous;
+        let beta_v = self.net_growth_of(&s, direction);
         let b = Self::balance(beta_v, &s);
         s.omega * (s.n * beta_v + (s.n + 1.0) * s.source / b)
     }

@@ -118,11 +118,7 @@ pub fn sar_sigma0(
     };
     let sea = wakelab_surface::background_spectrum(&cfg);
     let env = &cfg.environment;
-    let eps = wakelab_sensors::permittivity::seawater_permittivity(
-        band.frequency(),
-        env.temperature.at_depth(0.0),
-        env.salinity.at_depth(0.0),
-    );
+    let eps = wakelab_sensors::sar_image::surface_permittivity(&cfg, band);
     let report = wakelab_sensors::sar::sigma0_of_sea(
         &sea,
         band,

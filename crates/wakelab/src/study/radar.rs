@@ -9,17 +9,15 @@ use ndarray::Array2;
 use wakelab_core::config::Polarisation;
 use wakelab_core::units::RadarBand;
 use wakelab_core::WakelabConfig;
-use wakelab_sensors::permittivity::seawater_permittivity;
 use wakelab_sensors::sar::sigma0_of_sea;
+use wakelab_sensors::sar_image::surface_permittivity;
 
 /// Two plots (looking up-wind, cross-wind): wakelab's C-band VV sigma0 (solid) and CMOD5.N's
-/// over incidence 20-50 degrees for winds of 5, 10 and 15 m/s, for the sea of `base`.
+/// over incidence 20-50 degrees for winds of 5, 10 and 15 m/s, for the sea of `base` without
+/// swell, split into two scales at `base`'s pixel spacing.
 pub fn sigma0_against_cmod5n(base: &WakelabConfig) -> Vec<LinePlot> {
-    let eps = seawater_permittivity(
-        RadarBand::C.frequency(),
-        base.environment.temperature.at_depth(0.0),
-        base.environment.salinity.at_depth(0.0),
-    );
+    let eps = surface_permittivity(base, RadarBand::C);
+    let spacing = base.scene.pixel_spacing;
     let mut sea = base.clone();
     sea.environment.swell.amplitude = 0.0;
     let mut plots = Vec::new();
@@ -35,7 +33,7 @@ pub fn sigma0_against_cmod5n(base: &WakelabConfig) -> Vec<LinePlot> {
             let reports: Vec<_> = (0..=12)
                 .map(|i| {
                     let inc = 20.0 + 2.5 * i as f64;
-                    sigma0_of_sea(&spectrum, RadarBand::C, eps, Polarisation::Vv, look, inc, 10.0)
+                    sigma0_of_sea(&spectrum, RadarBand::C, eps, Polarisation::Vv, look, inc, spacing)
                 })
                 .collect();
             series.push(Series {

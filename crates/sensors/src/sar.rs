@@ -16,9 +16,9 @@
 //!   Bragg scale is the background spectrum's (Elfouhaily et al. 1997 by default): KHCC03's own
 //!   short-wave balance ([`ShortWaves`]) with its breaking source taken from that spectrum was
 //!   tried and gave cross-wind C-band sigma0 3-5 dB below CMOD5.N, so it sets only the
-//!   growth and relaxation of the Bragg waves, not their level. Elfouhaily's spreading is
-//!   weaker than the observed one at 40-50 degrees: the up-/cross-wind ratio falls short of
-//!   CMOD5.N's there (see the tests).
+//!   growth and relaxation of the Bragg waves, not their level. Elfouhaily's spreading at
+//!   the Bragg scale is strengthened by a fitted factor (`SHORT_WAVE_SPREADING_GAIN`), so the
+//!   up-/cross-wind ratio follows CMOD5.N's at 30-45 degrees (see the tests).
 //! - Two scales: the tilts are averaged over a Gaussian slope distribution (erratum 6) of the
 //!   waves between the image's resolved scale and the cut k_d = k_B / 4 (KHCC03's d = 1/4); a
 //!   facet tilted so far that its own Bragg wavenumber falls below k_d scatters no Bragg power
@@ -448,11 +448,13 @@ mod tests {
     }
 
     /// C-band VV against CMOD5.N (Hersbach 2010) over 20-50 degrees, 3-15 m/s, up-, cross-
-    /// and down-wind. What holds (measured): up- and down-wind within 2 dB from 25 degrees,
-    /// within 2.5 dB at 20; cross-wind within 4.5 dB (it is up to 4.3 dB low at 20-25 degrees
-    /// and up to 3 dB high at 45-50: the Elfouhaily spreading at the Bragg scale). The
-    /// up-/cross-wind ratio is CMOD5.N's within 1.5 dB at 30 degrees and falls short by up to
-    /// 3 dB at 45.
+    /// and down-wind. What holds (measured): up- and down-wind within 2 dB from 25 degrees and
+    /// within 2.5 dB at 20; cross-wind within 2 dB from 35 degrees and 2.5 dB at 30. Below 30
+    /// degrees cross-wind is up to 4.4 dB low at 5-7 m/s: the 2 dB does not hold there
+    /// (the tilting waves' cross-wind slopes of the Elfouhaily spectrum are about 0.6 of the
+    /// up-wind ones, Cox & Munk observed 0.7-0.9). The up-/cross-wind ratio is CMOD5.N's within
+    /// 1.5 dB at 30-45 degrees and every wind: that is what the spreading gain was fitted to, so
+    /// it checks the fit, not an independent figure.
     #[test]
     fn c_band_vv_is_near_cmod5n() {
         let eps = seawater_permittivity(RadarBand::C.frequency(), 15.0, 35.0);
@@ -471,20 +473,24 @@ mod tests {
                     d(&up),
                     d(&down)
                 );
-                assert!(d(&cross).abs() < 4.5, "{wind} {inc} cross: {}", d(&cross));
+                let cross_limit = match inc {
+                    i if i < 30.0 => 4.5,
+                    i if i < 35.0 => 2.5,
+                    _ => 2.0,
+                };
+                assert!(d(&cross).abs() < cross_limit, "{wind} {inc} cross: {}", d(&cross));
                 worst_along = worst_along.max(d(&up).abs()).max(d(&down).abs());
-                worst_cross = worst_cross.max(d(&cross).abs());
-                if (30.0..=45.0).contains(&inc) && wind >= 5.0 {
+                if inc >= 30.0 {
+                    worst_cross = worst_cross.max(d(&cross).abs());
+                }
+                if (30.0..=45.0).contains(&inc) {
                     let ratio = (up.sigma0_db - cross.sigma0_db) - (up.cmod5n_db.unwrap() - cross.cmod5n_db.unwrap());
-                    assert!(
-                        ratio.abs() < 3.2 && up.sigma0_db > cross.sigma0_db,
-                        "{wind} {inc} ratio {ratio}"
-                    );
+                    assert!(ratio.abs() < 1.5, "{wind} {inc} ratio {ratio}");
                     worst_ratio = worst_ratio.max(ratio.abs());
                 }
             }
         }
-        eprintln!("worst |wakelab - CMOD5.N|: up/down {worst_along:.2} dB, cross {worst_cross:.2} dB, up/cross ratio {worst_ratio:.2} dB");
+        eprintln!("worst |wakelab - CMOD5.N|: up/down {worst_along:.2} dB, cross from 30 deg {worst_cross:.2} dB, up/cross ratio at 30-45 deg {worst_ratio:.2} dB");
     }
 
     /// Up-wind above down-wind (the breakers' asymmetry, A_wb) at 30-50 degrees, as every

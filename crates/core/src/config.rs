@@ -145,7 +145,7 @@ pub enum ProfileKind {
     MixedLayer,
 }
 
-/// A background profile f_b(z) (Eq. 2.7), constant in time.
+/// A background profile f_b(z) (Eq. (2.7)), constant in time.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct Profile {
@@ -190,7 +190,7 @@ pub enum NamedDirection {
     Beam,
 }
 
-/// The swell whose Stokes drift (Eq. 2.1) drives the vortex force (Eq. 2.6).
+/// The swell whose Stokes drift (Eq. (2.1)) drives the vortex force (Eq. (2.6)).
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct SwellConfig {
@@ -248,7 +248,7 @@ pub struct GridConfig {
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct TimeConfig {
-    /// Simulated wake age (s); the wake is U_ship * duration long (Eq. 2.24).
+    /// Simulated wake age (s); the wake is U_ship * duration long (Eq. (2.24)).
     pub duration: f64,
     /// Courant number of the adaptive time step.
     pub cfl: f64,
@@ -287,8 +287,8 @@ pub struct SolverConfig {
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(rename_all = "snake_case")]
 pub enum SpectrumModel {
-    /// Pierson-Moskowitz (Eq. 2.71) for the long waves joined to the Lyzenga-Bennett power law
-    /// B k^-c (Eq. 2.70) for the short waves.
+    /// Pierson-Moskowitz (Eq. (2.71)) for the long waves joined to the Lyzenga-Bennett power law
+    /// B k^-c (Eq. (2.70)) for the short waves.
     PiersonMoskowitz,
     /// Elfouhaily et al. (1997) unified directional spectrum.
     Elfouhaily,
@@ -313,7 +313,7 @@ pub struct SeaConfig {
     pub film_elasticity: f64,
     /// Surface tension of clean sea water tau_w (N/m).
     pub surface_tension: f64,
-    /// Side of the sampling window of the random surface (pixels, even; Eqs. 2.72-2.76).
+    /// Side of the sampling window of the random surface (pixels, even; Eqs. (2.72)-(2.76)).
     pub window: usize,
 }
 
@@ -368,7 +368,7 @@ pub struct SarConfig {
     pub range_to_velocity: f64,
 }
 
-/// The infrared sensor (spec 3.2, Eq. 3.5 and Algorithm 1).
+/// The infrared sensor (spec 3.2, Eq. (3.5) and Algorithm 1).
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct IrConfig {
@@ -378,7 +378,7 @@ pub struct IrConfig {
     pub sun_azimuth: f64,
     /// Brightness temperature of the sun's photosphere (K).
     pub sun_temperature: f64,
-    /// Henyey-Greenstein asymmetry G of the sun's scattering lobe (Eq. 3.19).
+    /// Henyey-Greenstein asymmetry G of the sun's scattering lobe (Eq. (3.19)).
     pub sun_asymmetry: f64,
     /// Sky brightness temperature at the zenith (K), Eq. (3.20).
     pub sky_zenith_temperature: f64,
@@ -476,6 +476,19 @@ impl WakelabConfig {
     /// the preset it names. Unknown keys and out-of-range values are errors.
     pub fn from_toml_str(text: &str, origin: &str) -> Result<Self, WakelabError> {
         Self::from_toml_str_with_preset(text, origin, None)
+    }
+
+    /// The configuration of the TOML file at `path` (`None`: the embedded default), with
+    /// `preset` (from the command line) replacing the file's, validated.
+    pub fn from_file_with_preset(path: Option<&std::path::Path>, preset: Option<Preset>) -> Result<Self, WakelabError> {
+        let (text, origin) = match path {
+            Some(p) => (
+                std::fs::read_to_string(p).map_err(|e| WakelabError::io(p, e))?,
+                p.display().to_string(),
+            ),
+            None => (String::new(), "<embedded default>".to_string()),
+        };
+        Self::from_toml_str_with_preset(&text, &origin, preset)
     }
 
     /// As [`Self::from_toml_str`], with `preset` (from the command line) replacing the file's.

@@ -4,6 +4,7 @@
 
 use serde::{Deserialize, Serialize};
 use wakelab_core::{ConfigError, WakelabError};
+use wakelab_schema::recipe;
 
 /// Training, evaluation and robustness settings of a study.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
@@ -46,14 +47,14 @@ pub struct LearningPlan {
 impl Default for LearningPlan {
     fn default() -> Self {
         Self {
-            repetitions: 5,
-            epochs: 60,
-            learning_rate: 1e-3,
-            batch_size: 8,
-            unet_epochs: 60,
-            unet_learning_rate: 1e-4,
-            unet_width: 64,
-            threshold: 0.5,
+            repetitions: recipe::REPETITIONS,
+            epochs: recipe::CLASSIFIER_EPOCHS,
+            learning_rate: recipe::CLASSIFIER_LEARNING_RATE,
+            batch_size: recipe::CLASSIFIER_BATCH_SIZE,
+            unet_epochs: recipe::UNET_EPOCHS,
+            unet_learning_rate: recipe::UNET_LEARNING_RATE,
+            unet_width: recipe::UNET_WIDTH,
+            threshold: recipe::THRESHOLD,
             seed: 0,
             fused_inputs: None,
             rotations: vec![30.0, 45.0],

@@ -9,45 +9,25 @@
 
 pub mod learning;
 pub mod render;
+pub mod shard;
 pub mod slurm;
 pub mod study;
 
 use ndarray_npy::write_npy;
 use rayon::prelude::*;
 use render::render_pair;
-use serde::{Deserialize, Serialize};
+use serde::Serialize;
+pub use shard::{shard_indices, Shard};
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 use std::sync::Mutex;
 use std::time::Instant;
-use study::{Combination, ScenePair, Study};
+use study::{ScenePair, Study};
 use wakelab_core::io::geotiff::{quantile, write_quicklook};
 use wakelab_core::io::write_atomically;
 use wakelab_core::{WakelabConfig, WakelabError};
 use wakelab_hydro::SurfaceMap;
-
-/// One scene of the dataset (a row of the manifest).
-#[derive(Debug, Clone, Serialize, Deserialize, PartialEq)]
-pub struct SceneRecord {
-    pub id: String,
-    pub pair: usize,
-    /// 1: a ship wake is in the scene; 0: the matching scene without a ship.
-    pub label: u8,
-    /// The label under the study's `min_visibility` policy, per band.
-    pub label_by_band: BTreeMap<String, u8>,
-    /// Contrast-to-clutter ratio of the wake region per band (see `render`).
-    pub visibility: BTreeMap<String, f64>,
-    pub seed: u64,
-    pub environment: String,
-    #[serde(flatten)]
-    pub parameters: Combination,
-    /// Paths relative to the dataset directory.
-    pub images: BTreeMap<String, String>,
-    pub masks: BTreeMap<String, String>,
-    /// "train" or "test" (filled in by the manifest).
-    #[serde(default)]
-    pub split: String,
-}
+pub use wakelab_schema::dataset::SceneRecord;
 
 /// Wall time per stage (s), summed over the scenes rendered in this run.
 #[derive(Debug, Clone, Default, Serialize)]
@@ -60,16 +40,21 @@ pub struct StageTimes {
     pub scenes_skipped: usize,
 }
 
-/// Which part of the study this process renders: pairs with `index % count == shard`.
-#[derive(Debug, Clone, Copy)]
-pub struct Shard {
-    pub shard: usize,
-    pub count: usize,
-}
-
-/// Indices of the pairs a shard renders (every pair in exactly one shard).
-pub fn shard_indices(total: usize, shard: Shard) -> Vec<usize> {
-    (0..total).filter(|i| i % shard.count == shard.shard).collect()
+impl StageTimes {
+    /// One line for a terminal: scenes rendered in `wall` seconds, their rate and the time of
+    /// each stage.
+    pub fn describe(&self, wall: f64) -> String {
+        format!(
+            "rendered {} scenes ({} already done) in {wall:.1} s: {:.1} scenes/min; hydro {:.1} s, then per core: surface {:.1} s, sensors {:.1} s, writing {:.1} s",
+            self.scenes_rendered,
+            self.scenes_skipped,
+            self.scenes_rendered as f64 / wall * 60.0,
+            self.hydro,
+            self.surface,
+            self.sensors,
+            self.writing
+        )
+    }
 }
 
 /// FNV-1a 64-bit hash of text (stable across runs and platforms, for cache keys).

@@ -3,7 +3,18 @@
 //! succeeded, gathers the manifest (`wakelab dataset --merge`), which is the same code that ends
 //! a single-machine run.
 
-use std::path::Path;
+use std::path::{Path, PathBuf};
+use wakelab_core::io::write_atomically;
+use wakelab_core::WakelabError;
+
+/// Write the script for `tasks` array tasks of 2 cores as `out/wakelab_dataset.slurm`, running
+/// the `wakelab` executable at `wakelab`; its path.
+pub fn write_slurm_script(study: &Path, out: &Path, tasks: usize, wakelab: &str) -> Result<PathBuf, WakelabError> {
+    std::fs::create_dir_all(out).map_err(|e| WakelabError::io(out, e))?;
+    let path = out.join("wakelab_dataset.slurm");
+    write_atomically(&path, slurm_script(study, out, tasks, 2, wakelab).as_bytes())?;
+    Ok(path)
+}
 
 /// The script, for `tasks` array tasks of `cpus` cores each.
 pub fn slurm_script(study: &Path, out: &Path, tasks: usize, cpus: usize, wakelab: &str) -> String {

@@ -22,9 +22,7 @@
 use serde::{Deserialize, Serialize};
 use wakelab_core::config::{NamedDirection, Polarisation, ProfileKind, SwellDirection, WakelabConfig};
 use wakelab_core::{ConfigError, WakelabError};
-
-/// Bands every scene is rendered in.
-pub const BANDS: [&str; 5] = ["S", "C", "X", "MWIR", "LWIR"];
+pub use wakelab_schema::dataset::{Combination, BANDS};
 
 /// How the axes combine into scenes.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
@@ -84,24 +82,6 @@ pub struct Study {
     /// How `wakelab run` trains and evaluates on the dataset (default: the spec's recipe).
     #[serde(default)]
     pub learning: crate::learning::LearningPlan,
-}
-
-/// One combination of axis values (a wake/no-wake pair before the seed).
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
-pub struct Combination {
-    pub wind_speed: f64,
-    pub wind_direction: f64,
-    pub swell_amplitude: f64,
-    pub swell_wavelength: f64,
-    pub swell_direction: SwellDirection,
-    pub stratification: ProfileKind,
-    pub ship_speed: f64,
-    pub along_track: f64,
-    pub incidence: f64,
-    pub look_direction: f64,
-    pub polarisation: Polarisation,
-    pub pixel_spacing: f64,
-    pub image_size: usize,
 }
 
 /// A wake scene and its matching no-wake scene: the same environment, platform and seed.

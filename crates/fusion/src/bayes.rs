@@ -7,7 +7,7 @@
 //! source that never said "wake", or never "no wake") carries no information and is taken as 1/2.
 
 use serde::Serialize;
-use wakelab_learn::metrics::Confusion;
+use wakelab_schema::metrics::Confusion;
 
 /// P[y = 1 | c = 1] and P[y = 1 | c = 0] of one source.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize)]

@@ -9,9 +9,9 @@ use crate::bayes::{bayes_fuse, SourceWeights};
 use crate::dempster::{classifier_mass, combine_all, pignistic, Mass};
 use serde::{Deserialize, Serialize};
 use std::collections::BTreeMap;
-use wakelab_learn::evaluate::{summarise, Output, Summary};
-use wakelab_learn::metrics::Confusion;
-use wakelab_learn::models::Architecture;
+use wakelab_schema::metrics::Confusion;
+use wakelab_schema::results::Architecture;
+use wakelab_schema::results::{summarise, Output, Summary};
 
 /// The decision-level methods.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]

@@ -1,4 +1,4 @@
-//! Dempster-Shafer evidence over a finite frame of discernment (spec Eq. 5.6), sets as bit masks.
+//! Dempster-Shafer evidence over a finite frame of discernment (spec Eq. (5.6)), sets as bit masks.
 //!
 //! Dempster's rule: m12(A) = sum_{B cap C = A} m1(B) m2(C) / (1 - k), with the conflict
 //! k = sum_{B cap C = empty} m1(B) m2(C). The rule is associative and commutative, so n sources

@@ -1,7 +1,7 @@
-//! Seawater density from TEOS-10 (spec Eq. 2.4) through the `gsw` crate.
+//! Seawater density from TEOS-10 (spec Eq. (2.4)) through the `gsw` crate.
 //!
 //! The solver carries the perturbations dT, dS of in-situ temperature and practical salinity
-//! about the background T_b(z), S_b(z) (Eqs. 2.7, 2.22-2.23). TEOS-10 needs Absolute Salinity
+//! about the background T_b(z), S_b(z) (Eqs. (2.7), (2.22)-(2.23)). TEOS-10 needs Absolute Salinity
 //! SA and Conservative Temperature CT; `gsw` 0.2 has neither `SA_from_SP` nor `CT_from_t`, so:
 //! - SA is taken as the Reference Salinity SR = SP * 35.16504 / 35 (`gsw::conversions::sr_from_sp`),
 //!   which differs from SA by the Absolute Salinity Anomaly, under 0.03 g/kg in the open ocean

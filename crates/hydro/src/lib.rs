@@ -9,6 +9,7 @@
 #![allow(clippy::needless_range_loop)]
 
 pub mod eos;
+pub mod forcing;
 pub mod idp;
 pub mod momentum;
 pub mod output;
@@ -53,7 +54,7 @@ pub struct WakeSlices {
 }
 
 impl WakeSlices {
-    /// The surface map (Eq. 2.24) at along-track spacing `dx` over the grid's core.
+    /// The surface map (Eq. (2.24)) at along-track spacing `dx` over the grid's core.
     pub fn surface_map(&self, config: &WakelabConfig, dx: f64) -> SurfaceMap {
         let grid = wakelab_core::CrossGrid::new(&config.grid);
         SurfaceMap::from_slices(

@@ -1,7 +1,7 @@
-//! Cross-plane momentum (the y and z components of Eq. 2.3) on the staggered grid:
+//! Cross-plane momentum (the y and z components of Eq. (2.3)) on the staggered grid:
 //! advection in flux form with limited upwind values, the full viscous stress
-//! (nu + nu_t)(dU_i/dx_j + dU_j/dx_i), Boussinesq buoyancy (Eq. 2.5), the Craik-Leibovich vortex
-//! force u_S x omega (Eq. 2.6) and the beach damping. Pressure enters through the projection.
+//! (nu + nu_t)(dU_i/dx_j + dU_j/dx_i), Boussinesq buoyancy (Eq. (2.5)), the Craik-Leibovich vortex
+//! force u_S x omega (Eq. (2.6)) and the beach damping. Pressure enters through the projection.
 //!
 //! With d/dx = 0 (2D+t) and u_S = (u_Sx, u_Sy, 0)(z), omega = (dW/dy - dV/dz, dU/dz, -dU/dy), so
 //! u_S x omega = (-u_Sy dU/dy, u_Sx dU/dy, u_Sx dU/dz - u_Sy (dW/dy - dV/dz)): the swell turns the

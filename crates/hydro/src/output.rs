@@ -187,7 +187,7 @@ pub fn write_surface_map(dir: &Path, config: &WakelabConfig, map: &SurfaceMap) -
             "x",
             &["x"],
             "m",
-            "distance behind the stern (x = U_ship t + x_IDP, Eq. 2.24)",
+            "distance behind the stern (x = U_ship t + x_IDP, Eq. (2.24))",
         )
         .axis("X"),
         y_var(),

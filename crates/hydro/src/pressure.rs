@@ -1,4 +1,5 @@
-//! Direct pressure Poisson solver of the projection step (the discrete form of Eq. 2.65).
+//! The projection step (Eq. (2.65)): the cell divergence, the direct pressure Poisson solver and
+//! the correction of the velocity to divergence-free.
 //!
 //! On the staggered (MAC) grid the pressure Laplacian is D G, with D the cell divergence and G
 //! the face gradient. z is uniform with no-flux lid and bottom, so a DCT-II in z diagonalises the
@@ -7,6 +8,8 @@
 //! factorisation of every mode is computed once, so a solve is two DCTs per column plus two
 //! sweeps per mode: O(N log nz), in parallel over columns and modes.
 
+use crate::setup::Setup;
+use crate::state::WakeState;
 use ndarray::Array2;
 use rayon::prelude::*;
 use rustdct::{DctPlanner, TransformType2And3};
@@ -134,4 +137,111 @@ impl PressureSolver {
             },
         );
     }
+}
+
+/// Cell divergence dV/dy + dW/dz.
+pub fn divergence(s: &Setup, state: &WakeState, out: &mut Array2<f64>) {
+    let nz = s.nz;
+    let v = state.v.as_slice().expect("layout");
+    let w = state.w.as_slice().expect("layout");
+    out.as_slice_mut()
+        .expect("layout")
+        .par_chunks_mut(nz)
+        .enumerate()
+        .for_each(|(j, col)| {
+            for (kk, x) in col.iter_mut().enumerate() {
+                *x = (v[(j + 1) * nz + kk] - v[j * nz + kk]) / s.dy[j]
+                    + (w[j * (nz + 1) + kk] - w[j * (nz + 1) + kk + 1]) / s.dz;
+            }
+        });
+}
+
+/// The projection onto divergence-free velocity: the pressure solver and its work arrays.
+pub struct Projector {
+    solver: PressureSolver,
+    rhs: Array2<f64>,
+    scratch: Array2<f64>,
+}
+
+impl Projector {
+    pub fn new(s: &Setup) -> Self {
+        Self {
+            solver: PressureSolver::new(&s.grid, s.lateral),
+            rhs: Array2::zeros((s.ny, s.nz)),
+            scratch: Array2::zeros((s.nz, s.ny)),
+        }
+    }
+
+    /// Project the velocity of `state` (see [`project`]).
+    pub fn apply(&mut self, s: &Setup, state: &mut WakeState) {
+        project(s, &self.solver, state, &mut self.rhs, &mut self.scratch);
+    }
+}
+
+/// Project (V, W) onto divergence-free fields (Eq. (2.65)): solve D G p = D u*, then
+/// u = u* - G p.
+pub fn project(
+    s: &Setup,
+    solver: &PressureSolver,
+    state: &mut WakeState,
+    rhs: &mut Array2<f64>,
+    scratch: &mut Array2<f64>,
+) {
+    let (ny, nz) = (s.ny, s.nz);
+    {
+        let v = state.v.as_slice_mut().expect("layout");
+        match s.lateral {
+            LateralBoundary::Outlet => {
+                for kk in 0..nz {
+                    v[kk] = v[nz + kk];
+                    v[ny * nz + kk] = v[(ny - 1) * nz + kk];
+                }
+            }
+            LateralBoundary::Wall => {
+                v[..nz].fill(0.0);
+                v[ny * nz..].fill(0.0);
+            }
+        }
+    }
+    divergence(s, state, rhs);
+    solver.solve(rhs, scratch);
+    let p = rhs.as_slice().expect("layout");
+    let outlet = s.lateral == LateralBoundary::Outlet;
+    state
+        .v
+        .as_slice_mut()
+        .expect("layout")
+        .par_chunks_mut(nz)
+        .enumerate()
+        .for_each(|(jf, col)| {
+            for (kk, x) in col.iter_mut().enumerate() {
+                let grad = if jf == 0 {
+                    if outlet {
+                        p[kk] / (0.5 * s.dy[0])
+                    } else {
+                        0.0
+                    }
+                } else if jf == ny {
+                    if outlet {
+                        -p[(ny - 1) * nz + kk] / (0.5 * s.dy[ny - 1])
+                    } else {
+                        0.0
+                    }
+                } else {
+                    (p[jf * nz + kk] - p[(jf - 1) * nz + kk]) / s.dyc[jf]
+                };
+                *x -= grad;
+            }
+        });
+    state
+        .w
+        .as_slice_mut()
+        .expect("layout")
+        .par_chunks_mut(nz + 1)
+        .enumerate()
+        .for_each(|(j, col)| {
+            for kf in 1..nz {
+                col[kf] -= (p[j * nz + kf - 1] - p[j * nz + kf]) / s.dz;
+            }
+        });
 }

@@ -6,7 +6,7 @@ use crate::stokes::StokesProfile;
 use wakelab_core::config::{LateralBoundary, WakelabConfig};
 use wakelab_core::CrossGrid;
 
-/// Constants of Rodi's buoyant k-epsilon model (spec 2.1.1, Eqs. 2.9-2.14).
+/// Constants of Rodi's buoyant k-epsilon model (spec 2.1.1, Eqs. (2.9)-(2.14)).
 #[derive(Debug, Clone, Copy)]
 pub struct KEpsilonConstants {
     pub c1: f64,
@@ -30,9 +30,9 @@ pub const RODI: KEpsilonConstants = KEpsilonConstants {
     sigma_t: 1.0,
 };
 
-/// Molecular Prandtl number of seawater near 15 C (sigma_T of Eq. 2.22).
+/// Molecular Prandtl number of seawater near 15 C (sigma_T of Eq. (2.22)).
 pub const PRANDTL: f64 = 7.0;
-/// Molecular Schmidt number of salt in seawater (sigma_S of Eq. 2.23).
+/// Molecular Schmidt number of salt in seawater (sigma_S of Eq. (2.23)).
 pub const SCHMIDT: f64 = 700.0;
 
 /// Fixed inputs of one solver run.
@@ -125,7 +125,7 @@ impl Setup {
 }
 
 impl Setup {
-    /// Eddy viscosity of the ambient turbulence, C_mu k_amb^2 / eps_amb (Eq. 2.11).
+    /// Eddy viscosity of the ambient turbulence, C_mu k_amb^2 / eps_amb (Eq. (2.11)).
     pub fn ambient_eddy_viscosity(&self) -> f64 {
         (self.constants.c_mu * self.ambient_k * self.ambient_k / self.ambient_eps).min(self.max_eddy_viscosity)
     }

@@ -1,4 +1,4 @@
-//! Saved time slices of the wake and the 2D+t -> 3D transform x = U_ship t (Eqs. 2.24-2.25).
+//! Saved time slices of the wake and the 2D+t -> 3D transform x = U_ship t (Eqs. (2.24)-(2.25)).
 
 use crate::solver::WakeSolver;
 use crate::turbulence::Derived;
@@ -95,7 +95,7 @@ impl WakeSolver {
     }
 }
 
-/// The surface wake as a map over (x, y): x = U_ship t + x_IDP behind the stern (Eq. 2.24),
+/// The surface wake as a map over (x, y): x = U_ship t + x_IDP behind the stern (Eq. (2.24)),
 /// linear interpolation between saved slices, y over the uniform core of the grid.
 #[derive(Debug, Clone, Serialize)]
 pub struct SurfaceMap {

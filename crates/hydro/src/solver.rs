@@ -1,19 +1,20 @@
 //! Time integration of the 2D+t wake: second-order strong-stability-preserving Runge-Kutta
 //! (Heun) with a projection onto divergence-free velocity after each stage (Chorin's projection,
-//! the explicit counterpart of the spec's PISO, Eqs. 2.63-2.65), and an adaptive time step
+//! the explicit counterpart of the spec's PISO, Eqs. (2.63)-(2.65)), and an adaptive time step
 //! bounded by advection (Courant number), diffusion, the turbulence time scale k/eps, the beach
 //! damping and `time.max_dt`.
 
+use crate::forcing::{add_axial_forces, add_background_sources};
 use crate::idp::InitialDataPlane;
 use crate::momentum::{corner_shear, v_tendency, w_tendency, MomentumInputs};
-use crate::pressure::PressureSolver;
+pub use crate::pressure::{divergence, project, Projector};
 use crate::setup::{Setup, PRANDTL, SCHMIDT};
 use crate::state::WakeState;
 use crate::transport::{advect_diffuse, Diffusivity, Transported};
 use crate::turbulence::{add_k_eps_sources, Derived};
 use ndarray::Array2;
 use rayon::prelude::*;
-use wakelab_core::config::{LateralBoundary, WakelabConfig};
+use wakelab_core::config::WakelabConfig;
 use wakelab_core::WakelabError;
 
 /// Smallest time step before the run is declared blown up (s).
@@ -45,7 +46,7 @@ pub enum StepLimit {
 }
 
 impl WakeSolver {
-    /// A solver starting from the ship's initial data plane (Eqs. 2.26-2.62).
+    /// A solver starting from the ship's initial data plane (Eqs. (2.26)-(2.62)).
     pub fn new(config: &WakelabConfig) -> Self {
         let setup = Setup::new(config);
         let env = &config.environment;
@@ -411,157 +412,4 @@ fn evaluate_tendency(s: &Setup, d: &mut Derived, shear: &mut [f64], state: &Wake
         &col.face_dsalinity_dz,
         dsal,
     );
-}
-
-/// Vortex force on U, f_x = -u_Sy dU/dy (Eq. 2.6), and beach damping.
-fn add_axial_forces(s: &Setup, u: &[f64], du: &mut [f64]) {
-    let (ny, nz) = (s.ny, s.nz);
-    du.par_chunks_mut(nz).enumerate().for_each(|(j, col)| {
-        let (jl, jr) = (j.saturating_sub(1), (j + 1).min(ny - 1));
-        let dist = s.grid.y_centres[jr] - s.grid.y_centres[jl];
-        for (kk, x) in col.iter_mut().enumerate() {
-            let dudy = (u[jr * nz + kk] - u[jl * nz + kk]) / dist;
-            *x += -s.stokes_centre.across[kk] * dudy - s.damping_centre[j] * u[j * nz + kk];
-        }
-    });
-}
-
-/// Right-hand sides of Eqs. (2.22)-(2.23): -W d f_b/dz + d/dz(nu_t / sigma_t d f_b/dz), with no
-/// turbulent flux through the lid or bottom, and beach damping of the perturbation.
-///
-/// The background is steady under the ambient turbulence (it solves its own equation, Eq. 2.8),
-/// so only the wake's excess eddy viscosity nu_t - nu_t,amb mixes it.
-fn add_background_sources(
-    s: &Setup,
-    nut: &[f64],
-    w: &[f64],
-    perturbation: &[f64],
-    grad: &[f64],
-    face_grad: &[f64],
-    out: &mut [f64],
-) {
-    let nz = s.nz;
-    let inv_sigma = 1.0 / s.constants.sigma_t;
-    let amb = s.ambient_eddy_viscosity();
-    out.par_chunks_mut(nz).enumerate().for_each(|(j, col)| {
-        let face_flux = |kf: usize| {
-            if kf == 0 || kf == nz {
-                0.0
-            } else {
-                (0.5 * (nut[j * nz + kf - 1] + nut[j * nz + kf]) - amb) * inv_sigma * face_grad[kf]
-            }
-        };
-        for (kk, x) in col.iter_mut().enumerate() {
-            let wc = 0.5 * (w[j * (nz + 1) + kk] + w[j * (nz + 1) + kk + 1]);
-            // flux K df_b/dz is upward-positive gradient flux; its divergence is (top - bottom)/dz
-            let diffusion = (face_flux(kk) - face_flux(kk + 1)) / s.dz;
-            *x += -wc * grad[kk] + diffusion - s.damping_centre[j] * perturbation[j * nz + kk];
-        }
-    });
-}
-
-/// Cell divergence dV/dy + dW/dz.
-pub fn divergence(s: &Setup, state: &WakeState, out: &mut Array2<f64>) {
-    let nz = s.nz;
-    let v = state.v.as_slice().expect("layout");
-    let w = state.w.as_slice().expect("layout");
-    out.as_slice_mut()
-        .expect("layout")
-        .par_chunks_mut(nz)
-        .enumerate()
-        .for_each(|(j, col)| {
-            for (kk, x) in col.iter_mut().enumerate() {
-                *x = (v[(j + 1) * nz + kk] - v[j * nz + kk]) / s.dy[j]
-                    + (w[j * (nz + 1) + kk] - w[j * (nz + 1) + kk + 1]) / s.dz;
-            }
-        });
-}
-
-/// The projection onto divergence-free velocity: the pressure solver and its work arrays.
-pub struct Projector {
-    solver: PressureSolver,
-    rhs: Array2<f64>,
-    scratch: Array2<f64>,
-}
-
-impl Projector {
-    pub fn new(s: &Setup) -> Self {
-        Self {
-            solver: PressureSolver::new(&s.grid, s.lateral),
-            rhs: Array2::zeros((s.ny, s.nz)),
-            scratch: Array2::zeros((s.nz, s.ny)),
-        }
-    }
-
-    /// Project the velocity of `state` (see [`project`]).
-    pub fn apply(&mut self, s: &Setup, state: &mut WakeState) {
-        project(s, &self.solver, state, &mut self.rhs, &mut self.scratch);
-    }
-}
-
-/// Project (V, W) onto divergence-free fields: solve D G p = D u*, then u = u* - G p.
-pub fn project(
-    s: &Setup,
-    solver: &PressureSolver,
-    state: &mut WakeState,
-    rhs: &mut Array2<f64>,
-    scratch: &mut Array2<f64>,
-) {
-    let (ny, nz) = (s.ny, s.nz);
-    {
-        let v = state.v.as_slice_mut().expect("layout");
-        match s.lateral {
-            LateralBoundary::Outlet => {
-                for kk in 0..nz {
-                    v[kk] = v[nz + kk];
-                    v[ny * nz + kk] = v[(ny - 1) * nz + kk];
-                }
-            }
-            LateralBoundary::Wall => {
-                v[..nz].fill(0.0);
-                v[ny * nz..].fill(0.0);
-            }
-        }
-    }
-    divergence(s, state, rhs);
-    solver.solve(rhs, scratch);
-    let p = rhs.as_slice().expect("layout");
-    let outlet = s.lateral == LateralBoundary::Outlet;
-    state
-        .v
-        .as_slice_mut()
-        .expect("layout")
-        .par_chunks_mut(nz)
-        .enumerate()
-        .for_each(|(jf, col)| {
-            for (kk, x) in col.iter_mut().enumerate() {
-                let grad = if jf == 0 {
-                    if outlet {
-                        p[kk] / (0.5 * s.dy[0])
-                    } else {
-                        0.0
-                    }
-                } else if jf == ny {
-                    if outlet {
-                        -p[(ny - 1) * nz + kk] / (0.5 * s.dy[ny - 1])
-                    } else {
-                        0.0
-                    }
-                } else {
-                    (p[jf * nz + kk] - p[(jf - 1) * nz + kk]) / s.dyc[jf]
-                };
-                *x -= grad;
-            }
-        });
-    state
-        .w
-        .as_slice_mut()
-        .expect("layout")
-        .par_chunks_mut(nz + 1)
-        .enumerate()
-        .for_each(|(j, col)| {
-            for kf in 1..nz {
-                col[kf] -= (p[j * nz + kf - 1] - p[j * nz + kf]) / s.dz;
-            }
-        });
 }

@@ -43,7 +43,7 @@ impl WakeState {
         }
     }
 
-    /// The initial data plane (Eqs. 2.26-2.62) on the grid, over the ambient state.
+    /// The initial data plane (Eqs. (2.26)-(2.62)) on the grid, over the ambient state.
     ///
     /// The spec's U_0 is the wake velocity relative to the ship (jet positive); in the Earth frame
     /// a drag wake follows the ship and a jet is thrown back, so the Earth-frame axial velocity

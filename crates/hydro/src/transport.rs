@@ -1,5 +1,5 @@
 //! Advection and diffusion of cell-centred fields in conservative flux form (the left-hand sides
-//! of Eqs. 2.9, 2.10, 2.22 and 2.23, and of the axial momentum component of Eq. 2.3).
+//! of Eqs. (2.9), (2.10), (2.22) and (2.23), and of the axial momentum component of Eq. (2.3)).
 //!
 //! Advective face values are MUSCL reconstructions with the minmod limiter (second order where
 //! the field is smooth, no new extrema at fronts); diffusive fluxes use the face-averaged

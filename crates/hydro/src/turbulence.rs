@@ -1,5 +1,5 @@
-//! Rodi's buoyant k-epsilon model (spec Eqs. 2.9-2.14), the eddy viscosity, the buoyancy field
-//! and Somero's near-surface anisotropy correction (Eqs. 2.15-2.21, with erratum 3).
+//! Rodi's buoyant k-epsilon model (spec Eqs. (2.9)-(2.14)), the eddy viscosity, the buoyancy field
+//! and Somero's near-surface anisotropy correction (Eqs. (2.15)-(2.21), with erratum 3).
 
 use crate::setup::Setup;
 use crate::state::WakeState;
@@ -8,15 +8,15 @@ use rayon::prelude::*;
 /// Fields derived from the state at the start of each stage.
 #[derive(Debug, Clone)]
 pub struct Derived {
-    /// Eddy viscosity nu_t = C_mu k^2 / eps (Eq. 2.11), capped.
+    /// Eddy viscosity nu_t = C_mu k^2 / eps (Eq. (2.11)), capped.
     pub eddy_viscosity: Vec<f64>,
     /// nu + nu_t.
     pub viscosity: Vec<f64>,
-    /// b' = -g (rho - rho_b) / rho_b (Eq. 2.5), m/s^2.
+    /// b' = -g (rho - rho_b) / rho_b (Eq. (2.5)), m/s^2.
     pub buoyancy: Vec<f64>,
-    /// Shear production P (Eq. 2.12).
+    /// Shear production P (Eq. (2.12)).
     pub production: Vec<f64>,
-    /// Buoyancy production G = -N^2 nu_t / sigma_t (Eqs. 2.13-2.14).
+    /// Buoyancy production G = -N^2 nu_t / sigma_t (Eqs. (2.13)-(2.14)).
     pub buoyancy_production: Vec<f64>,
     /// Somero factors: (shear damping of u'w', v'w'; v'v' and w'w' corrections), if enabled.
     pub somero_shear: Option<Vec<f64>>,
@@ -89,7 +89,7 @@ impl Derived {
                     let dwdy = (wc(jr, kk) - wc(jl, kk)) / ydist;
                     let dudy = (u[jr * nz + kk] - u[jl * nz + kk]) / ydist;
                     let dudz = ddz(u, nz, 0);
-                    // S^2 = 2 S_ij S_ij for the 2D+t velocity gradient (Eq. 2.12)
+                    // S^2 = 2 S_ij S_ij for the 2D+t velocity gradient (Eq. (2.12))
                     let s2 = 2.0 * (dvdy * dvdy + dwdz * dwdz) + (dvdz + dwdy).powi(2) + dudy * dudy + dudz * dudz;
                     p[kk] = nut_all[i] * s2;
                     // N^2 = N_b^2 + db'/dz (total stratification); G = -N^2 nu_t / sigma_t.
@@ -103,7 +103,7 @@ impl Derived {
     }
 }
 
-/// Somero (2021) wall factor f(z) = (C k^{3/2} / (eps |z|))^a, C = 0.07, a = 2 (Eq. 2.21).
+/// Somero (2021) wall factor f(z) = (C k^{3/2} / (eps |z|))^a, C = 0.07, a = 2 (Eq. (2.21)).
 pub fn somero_wall_factor(k: f64, eps: f64, depth: f64) -> f64 {
     (0.07 * k.powf(1.5) / (eps * depth.max(1e-6))).powi(2)
 }
@@ -138,7 +138,7 @@ fn somero_corrections(s: &Setup, state: &WakeState, nut: &[f64], shear: &mut [f6
     }
 }
 
-/// Source terms of k and eps (right-hand sides of Eqs. 2.9 and 2.10), added to `dk`, `deps`.
+/// Source terms of k and eps (right-hand sides of Eqs. (2.9) and (2.10)), added to `dk`, `deps`.
 ///
 /// The ambient turbulence (k_amb, eps_amb) is part of the background of Eq. (2.7): a steady
 /// solution of its own equations, held by forcing the model does not resolve. Its tendency is
@@ -187,7 +187,7 @@ mod tests {
         let deep = somero_wall_factor(1e-4, 1e-6, 100.0);
         let (kept, vv, ww) = somero_factors(deep);
         assert!((kept - 1.0).abs() < 1e-6 && vv.abs() < 1e-6 && ww.abs() < 1e-6);
-        // f = (C k^1.5 / (eps z))^a with C = 0.07, a = 2 (Eq. 2.21)
+        // f = (C k^1.5 / (eps z))^a with C = 0.07, a = 2 (Eq. (2.21))
         assert!((somero_wall_factor(1.0, 1.0, 0.07) - 1.0).abs() < 1e-12);
     }
 }

@@ -7,7 +7,7 @@ use rand::{RngExt, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 use std::path::{Path, PathBuf};
 use wakelab_core::WakelabError;
-use wakelab_data::SceneRecord;
+use wakelab_schema::dataset::SceneRecord;
 
 /// A dataset directory and its manifest.
 pub struct Dataset {
@@ -85,9 +85,22 @@ impl Dataset {
         }
     }
 
+    /// The inputs a comma-separated list names, each one band or bands joined by `+` as
+    /// channels ("C,S+X"); `None`: every band of the dataset, one at a time.
+    pub fn inputs(&self, list: Option<&str>) -> Vec<Vec<String>> {
+        match list {
+            None => self.bands().into_iter().map(|b| vec![b]).collect(),
+            Some(t) => t
+                .split(',')
+                .filter(|s| !s.trim().is_empty())
+                .map(|s| s.split('+').map(|b| b.trim().to_string()).collect())
+                .collect(),
+        }
+    }
+
     /// Bands every scene has an image in.
     pub fn bands(&self) -> Vec<String> {
-        wakelab_data::study::BANDS
+        wakelab_schema::dataset::BANDS
             .iter()
             .filter(|b| !self.records.is_empty() && self.records.iter().all(|r| r.images.contains_key(**b)))
             .map(|b| b.to_string())

@@ -98,6 +98,19 @@ pub struct Detection {
     pub mask: Option<Array2<f32>>,
 }
 
+impl Detection {
+    /// "wake probability 0.912 (wake at threshold 0.5), 4 tile(s) of 64 x 64 px".
+    pub fn describe(&self, tile_size: usize) -> String {
+        format!(
+            "wake probability {:.3} ({} at threshold {}), {} tile(s) of {tile_size} x {tile_size} px",
+            self.probability,
+            if self.wake { "wake" } else { "no wake" },
+            self.threshold,
+            self.tiles.len()
+        )
+    }
+}
+
 /// Tile origins along one axis of length `len` for tiles of `size` with half-tile steps; the last
 /// tile ends at the border.
 fn tile_starts(len: usize, size: usize) -> Vec<usize> {

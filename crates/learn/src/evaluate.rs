@@ -1,11 +1,9 @@
 //! Algorithm 2 (spec 4.2): for each repetition, Monte Carlo sample a balanced train/test split,
 //! train, evaluate on the test images and keep every output o_i with its scene id; the metrics
-//! (Eq. 4.3 and beyond) are computed from the kept outputs, per band set and architecture, as in
+//! (Eq. (4.3) and beyond) are computed from the kept outputs, per band set and architecture, as in
 //! Tables 4.4-4.6 (and 5.1 for several bands as channels).
 
 use crate::data::{balanced_split, Dataset};
-use crate::metrics::{mean_and_spread, roc_auc, Confusion};
-use crate::models::Architecture;
 use crate::robustness::Perturbation;
 use crate::store::{Detector, ModelInfo};
 use crate::train::{
@@ -15,6 +13,8 @@ use burn::tensor::Device;
 use ndarray::{Array3, Axis};
 use serde::{Deserialize, Serialize};
 use wakelab_core::{ConfigError, WakelabError};
+use wakelab_schema::results::Architecture;
+pub use wakelab_schema::results::{band_set_name, summarise, summarise_split, Output, Summary};
 
 /// The paper's split: 135 training and 14 test images per band (4.2), i.e. this share of the
 /// images used is held out for testing.
@@ -118,25 +118,6 @@ impl EvalOptions {
     }
 }
 
-/// Name of a band set: "C", or "S+X" for several bands as channels.
-pub fn band_set_name(bands: &[String]) -> String {
-    bands.join("+")
-}
-
-/// One kept output o_i.
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
-pub struct Output {
-    pub bands: String,
-    pub architecture: Architecture,
-    pub repetition: usize,
-    /// "test", or "train" for the training images (what decision-level fusion weights sources
-    /// by; erratum 11).
-    pub split: String,
-    pub scene: String,
-    pub label: u8,
-    pub output: f64,
-}
-
 /// One training curve point.
 #[derive(Debug, Clone, Serialize, Deserialize)]
 pub struct CurvePoint {
@@ -148,86 +129,6 @@ pub struct CurvePoint {
     pub epoch: EpochRecord,
 }
 
-/// Metrics of one band set and architecture over the repetitions (a row of Tables 4.4-4.6).
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
-pub struct Summary {
-    pub bands: String,
-    pub architecture: Architecture,
-    pub repetitions: usize,
-    pub mcc: f64,
-    pub mcc_spread: f64,
-    pub accuracy: f64,
-    pub accuracy_spread: f64,
-    pub f1: f64,
-    /// ROC AUC of all kept outputs together (None when one class is missing).
-    pub roc_auc: Option<f64>,
-    /// Counts summed over the repetitions.
-    pub tp: u64,
-    pub tn: u64,
-    pub fp: u64,
-    #[serde(rename = "fn")]
-    pub fn_: u64,
-}
-
-/// Metrics of the kept test outputs of one band set and architecture: per repetition, then mean
-/// and sample spread.
-pub fn summarise(outputs: &[Output], threshold: f64) -> Vec<Summary> {
-    summarise_split(outputs, "test", threshold)
-}
-
-/// `summarise` on the outputs of another split: `test:<perturbation>`, or `held_out` (where
-/// "repetition" is the held-out group).
-pub fn summarise_split(outputs: &[Output], split: &str, threshold: f64) -> Vec<Summary> {
-    let outputs: Vec<&Output> = outputs.iter().filter(|o| o.split == split).collect();
-    let mut keys: Vec<(String, Architecture)> = outputs.iter().map(|o| (o.bands.clone(), o.architecture)).collect();
-    keys.dedup();
-    let mut seen = std::collections::BTreeSet::new();
-    keys.retain(|k| seen.insert(k.clone()));
-    keys.into_iter()
-        .map(|(bands, architecture)| {
-            let group: Vec<&Output> = outputs
-                .iter()
-                .filter(|o| o.bands == bands && o.architecture == architecture)
-                .copied()
-                .collect();
-            let mut reps: Vec<usize> = group.iter().map(|o| o.repetition).collect();
-            reps.sort();
-            reps.dedup();
-            let confusions: Vec<Confusion> = reps
-                .iter()
-                .map(|&r| {
-                    let (o, l): (Vec<f64>, Vec<u8>) = group
-                        .iter()
-                        .filter(|o| o.repetition == r)
-                        .map(|o| (o.output, o.label))
-                        .unzip();
-                    Confusion::from_outputs(&o, &l, threshold)
-                })
-                .collect();
-            let (mcc, mcc_spread) = mean_and_spread(&confusions.iter().map(Confusion::mcc).collect::<Vec<_>>());
-            let (accuracy, accuracy_spread) =
-                mean_and_spread(&confusions.iter().map(Confusion::accuracy).collect::<Vec<_>>());
-            let (f1, _) = mean_and_spread(&confusions.iter().map(Confusion::f1).collect::<Vec<_>>());
-            let (scores, labels): (Vec<f64>, Vec<u8>) = group.iter().map(|o| (o.output, o.label)).unzip();
-            Summary {
-                bands,
-                architecture,
-                repetitions: reps.len(),
-                mcc,
-                mcc_spread,
-                accuracy,
-                accuracy_spread,
-                f1,
-                roc_auc: roc_auc(&scores, &labels),
-                tp: confusions.iter().map(|c| c.tp).sum(),
-                tn: confusions.iter().map(|c| c.tn).sum(),
-                fp: confusions.iter().map(|c| c.fp).sum(),
-                fn_: confusions.iter().map(|c| c.fn_).sum(),
-            }
-        })
-        .collect()
-}
-
 /// Progress of an evaluation, for a progress display.
 #[derive(Debug, Clone)]
 pub struct EvalProgress<'a> {
@@ -236,6 +137,22 @@ pub struct EvalProgress<'a> {
     pub repetition: usize,
     pub epoch: &'a EpochRecord,
     pub epochs: usize,
+}
+
+impl EvalProgress<'_> {
+    /// "S base rep 1/5 epoch 3/60 loss 0.412 118.0 img/s", of `repetitions` in all.
+    pub fn describe(&self, repetitions: usize) -> String {
+        format!(
+            "{} {} rep {}/{repetitions} epoch {}/{} loss {:.3} {:.1} img/s",
+            self.bands,
+            self.network,
+            self.repetition + 1,
+            self.epoch.epoch,
+            self.epochs,
+            self.epoch.loss,
+            self.epoch.images_per_second
+        )
+    }
 }
 
 /// Everything Algorithm 2 produced.

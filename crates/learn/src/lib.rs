@@ -10,9 +10,11 @@ pub mod data;
 pub mod detect;
 pub mod device;
 pub mod evaluate;
-pub mod metrics;
 pub mod models;
 pub mod robustness;
 pub mod store;
 pub mod synthetic;
 pub mod train;
+
+/// Confusion counts and metrics live in the schema crate (fusion reads them without burn).
+pub use wakelab_schema::metrics;

@@ -9,52 +9,8 @@ use burn::nn::{BatchNorm, BatchNormConfig, Linear, LinearConfig, PaddingConfig2d
 use burn::tensor::module::interpolate;
 use burn::tensor::ops::{InterpolateMode, InterpolateOptions};
 use burn::tensor::{activation, Device, Tensor};
-use serde::{Deserialize, Serialize};
 use std::sync::Mutex;
-
-/// The classifier architectures of spec 4.1.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord, Serialize, Deserialize)]
-#[serde(rename_all = "lowercase")]
-pub enum Architecture {
-    /// One channel per band: the image itself.
-    Base,
-    /// The control: the bands' images and a copy of the first (4.1, 5.2), so the input is as
-    /// wide as "unet"'s.
-    Cls,
-    /// The bands' images and the mask a U-Net trained on the same bands draws on them.
-    Unet,
-}
-
-impl Architecture {
-    pub const ALL: [Architecture; 3] = [Architecture::Base, Architecture::Cls, Architecture::Unet];
-
-    pub fn name(self) -> &'static str {
-        match self {
-            Architecture::Base => "base",
-            Architecture::Cls => "cls",
-            Architecture::Unet => "unet",
-        }
-    }
-
-    /// Input channels of the classifier for `bands` image channels (Table 4.1's `inChannels`):
-    /// one more than the bands for "cls" and "unet" (4.1; 5.2 for several bands).
-    pub fn classifier_channels(self, bands: usize) -> usize {
-        match self {
-            Architecture::Base => bands,
-            Architecture::Cls | Architecture::Unet => bands + 1,
-        }
-    }
-
-    pub fn parse(text: &str) -> Option<Self> {
-        Self::ALL.into_iter().find(|a| a.name() == text)
-    }
-}
-
-impl std::fmt::Display for Architecture {
-    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        f.write_str(self.name())
-    }
-}
+pub use wakelab_schema::results::Architecture;
 
 /// Side of the feature map after one (Conv2d 3x3, valid -> MaxPool 2) stage of Table 4.1.
 fn stage_output(size: usize) -> usize {
@@ -180,7 +136,7 @@ pub struct UNet {
 pub const UNET_SIZE_MULTIPLE: usize = 8;
 
 /// Channels of the U-Net's first level in Table 4.2; the levels below double it.
-pub const UNET_WIDTH: usize = 64;
+pub const UNET_WIDTH: usize = wakelab_schema::recipe::UNET_WIDTH;
 
 impl UNet {
     /// Table 4.2's U-Net.

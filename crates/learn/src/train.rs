@@ -1,6 +1,6 @@
 //! Training (spec 4.1, "Training and Experiment"): the classifiers by SGD (lr 1e-3, L2 0.1) on
 //! binary cross entropy, the U-Net by Adam (lr 1e-4, weight decay 1e-4) on 0.7 BCE + 0.3 log-Dice
-//! (Eq. 4.1, erratum 9), both with inputs rotated at random by multiples of 90 degrees.
+//! (Eq. (4.1), erratum 9), both with inputs rotated at random by multiples of 90 degrees.
 
 use crate::data::rotate_quarter;
 use crate::models::{init_seeded, UNet, WakeClassifier};
@@ -14,6 +14,7 @@ use rand::{RngExt, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 use serde::{Deserialize, Serialize};
 use std::time::Instant;
+use wakelab_schema::recipe;
 
 /// One training or test input: `channels` x h x w (already normalised), its label and, for the
 /// U-Net, its wake mask (0 or 1 per pixel).
@@ -53,24 +54,24 @@ impl Recipe {
     /// the spec: 8).
     pub fn classifier() -> Self {
         Self {
-            epochs: 60,
-            batch_size: 8,
-            learning_rate: 1e-3,
-            weight_decay: 0.1,
+            epochs: recipe::CLASSIFIER_EPOCHS,
+            batch_size: recipe::CLASSIFIER_BATCH_SIZE,
+            learning_rate: recipe::CLASSIFIER_LEARNING_RATE,
+            weight_decay: recipe::CLASSIFIER_WEIGHT_DECAY,
             rotate: true,
-            width: crate::models::UNET_WIDTH,
+            width: recipe::UNET_WIDTH,
         }
     }
 
     /// The U-Net's recipe of 4.1: Adam, lr 1e-4, weight decay 1e-4, 60 epochs (batch size 4).
     pub fn unet() -> Self {
         Self {
-            epochs: 60,
-            batch_size: 4,
-            learning_rate: 1e-4,
-            weight_decay: 1e-4,
+            epochs: recipe::UNET_EPOCHS,
+            batch_size: recipe::UNET_BATCH_SIZE,
+            learning_rate: recipe::UNET_LEARNING_RATE,
+            weight_decay: recipe::UNET_WEIGHT_DECAY,
             rotate: true,
-            width: crate::models::UNET_WIDTH,
+            width: recipe::UNET_WIDTH,
         }
     }
 }
@@ -146,7 +147,7 @@ fn epoch_plan(count: usize, seed: u64, epoch: usize, rotate: bool) -> (Vec<usize
     (order, turns)
 }
 
-/// Binary cross entropy on logits (Eq. 4.1, PyTorch's `BCEWithLogitsLoss`), mean over elements.
+/// Binary cross entropy on logits (Eq. (4.1), PyTorch's `BCEWithLogitsLoss`), mean over elements.
 pub fn bce_with_logits<const D: usize>(logits: Tensor<D>, targets: Tensor<D, Int>) -> Tensor<1> {
     BinaryCrossEntropyLossConfig::new()
         .with_logits(true)

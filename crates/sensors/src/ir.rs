@@ -3,14 +3,14 @@
 //!
 //! - Facets (3.2.2): the normal of each pixel's facet from the scene's long-wave slopes; r the
 //!   unit vector to the sensor (the platform's incidence and look direction); the direction the
-//!   reflected light comes from, i = 2 n cos(beta) - r (Eq. 3.6), cos(beta) = r . n.
+//!   reflected light comes from, i = 2 n cos(beta) - r (Eq. (3.6)), cos(beta) = r . n.
 //! - eps, rho from the Fresnel equations with the sea-water index at the band centre
-//!   (`optics`); R_sea the band radiance of the surface at T_b(0) + dT (Eq. 3.17, integrated).
-//! - Sun (Eqs. 3.18-3.19): (r_sun / D_sun)^2 L(T_sun) phi(Delta theta_s), phi Henyey-Greenstein,
+//!   (`optics`); R_sea the band radiance of the surface at T_b(0) + dT (Eq. (3.17), integrated).
+//! - Sun (Eqs. (3.18)-(3.19)): (r_sun / D_sun)^2 L(T_sun) phi(Delta theta_s), phi Henyey-Greenstein,
 //!   Delta theta_s the angle between i and the direction to the sun.
-//! - Sky (Eq. 3.20): a black body at T_sky(gamma), gamma the zenith angle of i (the downwelling
+//! - Sky (Eq. (3.20)): a black body at T_sky(gamma), gamma the zenith angle of i (the downwelling
 //!   term the spec writes R_ss,down); below the horizon, T_horizon.
-//! - Atmospheric transmission and path radiance (the other terms of Eq. 3.4) are 1 and 0, as in
+//! - Atmospheric transmission and path radiance (the other terms of Eq. (3.4)) are 1 and 0, as in
 //!   the spec; [`RadianceTerms`] keeps them apart so they can be added.
 
 use crate::optics::{reflectance_and_emissivity, seawater_index};
@@ -77,9 +77,9 @@ pub struct RadianceTerms {
     pub sea: f64,
     pub sun: f64,
     pub sky: f64,
-    /// Transmission of the path from the surface to the sensor (1 in the spec's Eq. 3.5).
+    /// Transmission of the path from the surface to the sensor (1 in the spec's Eq. (3.5)).
     pub transmission: f64,
-    /// Upwelling atmospheric and scattered solar path radiance (0 in Eq. 3.5).
+    /// Upwelling atmospheric and scattered solar path radiance (0 in Eq. (3.5)).
     pub path: f64,
 }
 
@@ -97,7 +97,7 @@ pub struct IrView {
     pub to_sensor: [f64; 3],
     /// Unit vector from the surface to the sun.
     pub to_sun: [f64; 3],
-    /// Sun band radiance times (r_sun / D_sun)^2 (Eq. 3.18 without the phase function).
+    /// Sun band radiance times (r_sun / D_sun)^2 (Eq. (3.18) without the phase function).
     pub sun_radiance: f64,
     pub asymmetry: f64,
     pub sky: (f64, f64),
@@ -342,7 +342,7 @@ mod tests {
         assert!((half - 263.15).abs() < 10.0, "{half}");
     }
 
-    /// The spec's check of the sky model (Eq. 3.21, Fig. 3.16): Saunders' (1968) fit of measured
+    /// The spec's check of the sky model (Eq. (3.21), Fig. 3.16): Saunders' (1968) fit of measured
     /// sky radiance over 8.5-12.5 um, N = A - B exp(-C (z - 1)) with A = 3540, B = 2570
     /// uW cm^-2 sr^-1, C = 0.285, z = sqrt(4.9e5 cos^2 + 1401) - 700 cos, against the Planck
     /// radiance of Eq. (3.20) with a 20 C horizon and a -40 C zenith.

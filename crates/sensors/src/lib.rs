@@ -1,16 +1,19 @@
 //! wakelab-sensors: stage 3 of the pipeline (spec chapter 3): SAR images in S, C and X band
-//! (Eqs. 3.1-3.3) and infrared images in a mid-wave and a long-wave band (Eqs. 3.4-3.21,
+//! (Eqs. (3.1)-(3.3)) and infrared images in a mid-wave and a long-wave band (Eqs. (3.4)-(3.21),
 //! Algorithm 1) from the surface stage's scene. Every image of a scene shares its surface and
 //! footprint, pixel for pixel.
 
+pub mod breaking;
 pub mod gmf;
 pub mod ir;
 pub mod optics;
+pub mod optics_report;
 pub mod output;
 pub mod permittivity;
 pub mod planck;
 pub mod sar;
 pub mod sar_image;
+pub mod sigma0_report;
 pub mod spectral;
 
 pub use ir::{render_ir, IrBand, IrImage};

@@ -1,5 +1,5 @@
-//! Infrared optics of sea water (spec 3.2.2): complex refractive index (Eqs. 3.7-3.8), Fresnel
-//! reflectance (Eqs. 3.9-3.13) and Kirchhoff emissivity (Eq. 3.14).
+//! Infrared optics of sea water (spec 3.2.2): complex refractive index (Eqs. (3.7)-(3.8)), Fresnel
+//! reflectance (Eqs. (3.9)-(3.13)) and Kirchhoff emissivity (Eq. (3.14)).
 //!
 //! Data (shipped in `crates/sensors/data` with their provenance headers; erratum 12):
 //! - n_pure, kappa_pure: Hale & Querry (1973), Appl. Opt. 12, 555, pure water, interpolated
@@ -68,7 +68,7 @@ fn interpolate<const N: usize>(table: &[[f64; N]], x: f64) -> [f64; N] {
     std::array::from_fn(|j| a[j] + f * (b[j] - a[j]))
 }
 
-/// Complex refractive index of sea water n - i kappa (Eq. 3.8) at wavelength `um` (0.2-200 um),
+/// Complex refractive index of sea water n - i kappa (Eq. (3.8)) at wavelength `um` (0.2-200 um),
 /// practical salinity `s` (PSU) and temperature `t` (deg C).
 pub fn seawater_index(um: f64, s: f64, t: f64) -> Complex64 {
     let tb = tables();
@@ -112,7 +112,7 @@ pub fn fresnel_reflectance(n1: f64, n2: Complex64, theta: f64) -> (f64, f64) {
     (rs.norm_sqr(), rp.norm_sqr())
 }
 
-/// Unpolarised reflectance (Eq. 3.10) and Kirchhoff emissivity 1 - rho (Eq. 3.14c).
+/// Unpolarised reflectance (Eq. (3.10)) and Kirchhoff emissivity 1 - rho (Eq. (3.14)c).
 pub fn reflectance_and_emissivity(n2: Complex64, theta: f64) -> (f64, f64) {
     let (rs, rp) = fresnel_reflectance(N_AIR, n2, theta);
     let rho = 0.5 * (rs + rp);

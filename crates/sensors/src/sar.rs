@@ -37,11 +37,13 @@
 //!   with the length of breaking crests Lambda = beta_v B / (2 alpha k) of the equilibrium
 //!   range (KHCC03 Eq. 28 with (B / alpha)^n = beta_v), c_q = 10.5, alpha = 5.04e-3.
 
-use crate::gmf::cmod5n;
+use crate::breaking::BREAKING_TILT;
+pub use crate::breaking::{breaking_zone_nrcs, breaking_zones, BreakingZones};
+pub use crate::sigma0_report::{sigma0_of_sea, Sigma0Report};
 use num_complex::Complex64;
 use std::f64::consts::PI;
 use wakelab_core::config::Polarisation;
-use wakelab_surface::short_waves::{breaking_wavenumber, ShortWaves};
+use wakelab_surface::short_waves::ShortWaves;
 use wakelab_surface::spectrum::SeaSpectrum;
 
 /// First-order Bragg coefficients (g_HH, g_VV) at incidence `theta` (rad), Eq. (3.1).
@@ -53,65 +55,10 @@ pub fn bragg_coefficients(theta: f64, eps: Complex64) -> (Complex64, Complex64) 
     (hh, vv)
 }
 
-/// Squared modulus of the normal-incidence Fresnel coefficient |R(0)|^2 (Eq. 3.2, erratum 4).
+/// Squared modulus of the normal-incidence Fresnel coefficient |R(0)|^2 (Eq. (3.2), erratum 4).
 pub fn normal_reflectivity(eps: Complex64) -> f64 {
     let r = eps.sqrt();
     ((1.0 - r) / (1.0 + r)).norm_sqr()
-}
-
-/// Breaking-zone constants of KHCC03 (Eqs. 56-60).
-const BREAKING_SLOPE_VARIANCE: f64 = 0.19;
-const BREAKING_THICKNESS: f64 = 0.005;
-const BREAKING_TILT: f64 = 0.05;
-const BREAKING_FRACTION_CONSTANT: f64 = 10.5;
-const GRAVITY_SATURATION: f64 = 5.04e-3;
-
-/// sigma_wb0(theta) of KHCC03 Eq. 60: the NRCS of breaking zones.
-pub fn breaking_zone_nrcs(theta: f64) -> f64 {
-    let t = theta.tan();
-    ((-t * t / BREAKING_SLOPE_VARIANCE).exp() / theta.cos().powi(4) + BREAKING_THICKNESS) / BREAKING_SLOPE_VARIANCE
-}
-
-/// The breaking waves a radar of wavenumber k0 sees, for look direction `look`: their surface
-/// fraction q and the mean cosine A_wb of their direction to the look (KHCC03 Eqs. 56-60).
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct BreakingZones {
-    pub fraction: f64,
-    pub asymmetry: f64,
-}
-
-/// q and A_wb over the long waves of `spectrum` with the growth of `short_waves`.
-pub fn breaking_zones(spectrum: &SeaSpectrum, short_waves: &ShortWaves, k0: f64, look: f64) -> BreakingZones {
-    let k_hi = breaking_wavenumber(k0);
-    let k_lo = 0.5 * spectrum.peak_wavenumber();
-    if k_hi <= k_lo || spectrum.wind_speed <= 0.0 {
-        return BreakingZones {
-            fraction: 0.0,
-            asymmetry: 0.0,
-        };
-    }
-    let (n, angles) = (120, 72);
-    let step = (k_hi / k_lo).ln() / n as f64;
-    let dphi = 2.0 * PI / angles as f64;
-    let (mut total, mut along) = (0.0, 0.0);
-    for i in 0..n {
-        let k = k_lo * ((i as f64 + 0.5) * step).exp();
-        for a in 0..angles {
-            let phi = (a as f64 + 0.5) * dphi;
-            let beta_v = short_waves.net_growth(k, phi);
-            if beta_v > 0.0 {
-                let b = k.powi(4) * spectrum.directional(k * phi.cos(), k * phi.sin());
-                // Lambda dk dphi = beta_v B / (2 alpha) dln k dphi
-                let lambda = beta_v * b / (2.0 * GRAVITY_SATURATION) * step * dphi;
-                total += lambda;
-                along += lambda * (phi - look).cos();
-            }
-        }
-    }
-    BreakingZones {
-        fraction: (BREAKING_FRACTION_CONSTANT * total).min(1.0),
-        asymmetry: if total > 0.0 { along / total } else { 0.0 },
-    }
 }
 
 /// The sea as a radar sees it in one band, look direction and polarisation.
@@ -234,7 +181,7 @@ impl<'a> RadarSea<'a> {
         8.0 * PI * self.k0.powi(4) * cos_i.powi(4) * g.norm_sqr() * density
     }
 
-    /// Two-scale Bragg NRCS (Eq. 3.1): the tilted Bragg NRCS averaged over the unresolved slopes.
+    /// Two-scale Bragg NRCS (Eq. (3.1)): the tilted Bragg NRCS averaged over the unresolved slopes.
     pub fn bragg(&self, theta: f64) -> f64 {
         let (vr, va) = self.tilt_variance;
         if vr <= 0.0 && va <= 0.0 {
@@ -257,7 +204,7 @@ impl<'a> RadarSea<'a> {
         sum / weight
     }
 
-    /// Specular NRCS (Eq. 3.2 with erratum 4).
+    /// Specular NRCS (Eq. (3.2) with erratum 4).
     pub fn specular(&self, theta: f64) -> f64 {
         let (vr, va) = self.specular_variance;
         let t = theta.tan();
@@ -286,85 +233,6 @@ impl<'a> RadarSea<'a> {
 /// Linear NRCS to dB.
 pub fn to_db(sigma: f64) -> f64 {
     10.0 * sigma.max(1e-30).log10()
-}
-
-/// NRCS of the undisturbed sea for a configuration's wind, band, polarisation, incidence and look
-/// (what `wakelab sar sigma0` prints), at pixel spacing `dx` for the two-scale split.
-#[derive(Debug, Clone, serde::Serialize)]
-pub struct Sigma0Report {
-    pub band: &'static str,
-    pub frequency_hz: f64,
-    pub polarisation: String,
-    pub incidence_deg: f64,
-    pub wind_speed: f64,
-    /// Wind direction relative to the look direction (degrees; 0 = the radar looks down-wind).
-    pub wind_relative_to_look_deg: f64,
-    pub permittivity_real: f64,
-    pub permittivity_imag: f64,
-    pub bragg_wavenumber: f64,
-    /// Two-scale Bragg part, before the (1 - q) of the breakers.
-    pub sigma0_bragg: f64,
-    /// Specular part, before the (1 - q) of the breakers.
-    pub sigma0_specular: f64,
-    /// NRCS of the breaking zones times their fraction q.
-    pub sigma0_breaking: f64,
-    /// The breakers' surface fraction q.
-    pub breaking_fraction: f64,
-    pub sigma0: f64,
-    pub sigma0_db: f64,
-    /// CMOD5.N (Hersbach 2010) for the same wind, incidence and direction: C band only (its
-    /// VV; null in S and X band).
-    pub cmod5n: Option<f64>,
-    pub cmod5n_db: Option<f64>,
-}
-
-/// Compute the [`Sigma0Report`] of the undisturbed sea.
-pub fn sigma0_of_sea(
-    spectrum: &SeaSpectrum,
-    band: wakelab_core::units::RadarBand,
-    permittivity: Complex64,
-    polarisation: Polarisation,
-    look: f64,
-    incidence_deg: f64,
-    dx: f64,
-) -> Sigma0Report {
-    let theta = incidence_deg.to_radians();
-    let short_waves = ShortWaves::new(spectrum);
-    let radar = RadarSea::new(
-        spectrum,
-        &short_waves,
-        band.wavenumber(),
-        permittivity,
-        polarisation,
-        look,
-        theta,
-        dx,
-    );
-    let parts = radar.parts(theta);
-    let total = parts.total();
-    let relative = (spectrum.wind_direction - look).to_degrees();
-    // CMOD5.N's direction is 0 looking up-wind, ours 0 looking down-wind
-    let cmod = (band == wakelab_core::units::RadarBand::C)
-        .then(|| cmod5n(spectrum.wind_speed, incidence_deg, 180.0 - relative));
-    Sigma0Report {
-        band: band.name(),
-        frequency_hz: band.frequency(),
-        polarisation: format!("{polarisation:?}").to_uppercase(),
-        incidence_deg,
-        wind_speed: spectrum.wind_speed,
-        wind_relative_to_look_deg: relative,
-        permittivity_real: permittivity.re,
-        permittivity_imag: permittivity.im,
-        bragg_wavenumber: band.bragg_wavenumber(incidence_deg),
-        sigma0_bragg: parts.bragg,
-        sigma0_specular: parts.specular,
-        sigma0_breaking: parts.fraction * parts.breaking,
-        breaking_fraction: parts.fraction,
-        sigma0: total,
-        sigma0_db: to_db(total),
-        cmod5n: cmod,
-        cmod5n_db: cmod.map(to_db),
-    }
 }
 
 #[cfg(test)]
@@ -434,7 +302,7 @@ mod tests {
         }
     }
 
-    /// The specular term at normal incidence is |R(0)|^2 / (2 s_u s_c) (Eq. 3.2 with
+    /// The specular term at normal incidence is |R(0)|^2 / (2 s_u s_c) (Eq. (3.2) with
     /// erratum 4, Gaussian slopes): the geometric-optics closed form.
     #[test]
     fn specular_at_normal_incidence_is_the_closed_form() {

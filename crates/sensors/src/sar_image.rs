@@ -4,7 +4,7 @@
 //! Per pixel, with the band's Bragg waves modulated by the wake (N/N0 = m from the surface stage),
 //! its breakers' fraction q by m_b (N/N0 of the breaking waves, same balance), and the resolved
 //! long-wave slope s towards the radar tilting the local incidence to theta - psi,
-//! psi = atan(s) (Eq. 3.3, to first order in psi; each part X is X(theta) - psi X'(theta)):
+//! psi = atan(s) (Eq. (3.3), to first order in psi; each part X is X(theta) - psi X'(theta)):
 //!   sigma0 = (1 - m_b q) (m sigma_B + sigma_S) + m_b q sigma_wb   (KHCC03 Eq. 1).
 //! Incidence is taken as constant over the scene (a distant platform).
 

@@ -121,7 +121,7 @@ pub fn modulate_short_waves(
     let (cgx, cgy) = relaxation.group_velocity;
     for r in 1..rows {
         let dxb = map.x[r] - map.x[r - 1];
-        // gradients at this row: d/dx_heading = -d/dx_behind (Eq. 2.25 gives d/dx from d/dt)
+        // gradients at this row: d/dx_heading = -d/dx_behind (Eq. (2.25) gives d/dx from d/dt)
         for j in 0..cols {
             let (jl, jr) = (j.saturating_sub(1), (j + 1).min(cols - 1));
             let ydist = (y[jr] - y[jl]).max(1e-9);

@@ -1,5 +1,5 @@
-//! Damping of short waves (spec Eq. 2.69, film; clean water; turbulence) and the surface film
-//! model. Wind growth (Eq. 2.68) is in [`crate::short_waves`].
+//! Damping of short waves (spec Eq. (2.69), film; clean water; turbulence) and the surface film
+//! model. Wind growth (Eq. (2.68)) is in [`crate::short_waves`].
 //!
 //! The spec leaves the film's equation of state to Somero (2021) (erratum 7). wakelab uses the
 //! von Szyszkowski-Langmuir equation of state for a soluble surfactant monolayer (Adamson & Gast,

@@ -1,7 +1,7 @@
 //! wakelab-surface: stage 2 of the pipeline (spec 2.2-2.3). From the hydro stage's surface map it
-//! computes the surfactant concentration (Eq. 2.66), the wake's modulation of the short (Bragg)
-//! waves through the wave action balance (Eqs. 2.67-2.69), the background spectrum
-//! (Eqs. 2.70-2.71 or Elfouhaily et al. 1997) and a random sea surface (Eqs. 2.72-2.76), all on
+//! computes the surfactant concentration (Eq. (2.66)), the wake's modulation of the short (Bragg)
+//! waves through the wave action balance (Eqs. (2.67)-(2.69)), the background spectrum
+//! (Eqs. (2.70)-(2.71) or Elfouhaily et al. 1997) and a random sea surface (Eqs. (2.72)-(2.76)), all on
 //! the scene the sensors image.
 //!
 //! [`simulate_surface`] is the stage's function: config and (optional) wake in, [`SurfaceScene`]
@@ -14,6 +14,7 @@ pub mod output;
 pub mod scene;
 pub mod short_waves;
 pub mod spectrum;
+pub mod spectrum_report;
 pub mod surfactant;
 pub mod synthesis;
 

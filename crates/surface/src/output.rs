@@ -21,14 +21,14 @@ pub fn write_surface_scene(
         (
             "gamma".into(),
             "1",
-            "surfactant concentration relative to the ambient film (Eq. 2.66)".into(),
+            "surfactant concentration relative to the ambient film (Eq. (2.66))".into(),
             f32s(&scene.surfactant),
             Colormap::Sequential,
         ),
         (
             "elevation".into(),
             "m",
-            "long-wave sea surface elevation (Eqs. 2.72-2.76)".into(),
+            "long-wave sea surface elevation (Eqs. (2.72)-(2.76))".into(),
             f32s(&scene.surface.elevation),
             Colormap::Diverging,
         ),
@@ -59,7 +59,7 @@ pub fn write_surface_scene(
             format!("modulation_{}", b.band.name()),
             "1",
             format!(
-                "N/N0 of the {}-band Bragg waves, k = {:.1} rad/m (Eq. 2.67)",
+                "N/N0 of the {}-band Bragg waves, k = {:.1} rad/m (Eq. (2.67))",
                 b.band.name(),
                 b.wavenumber
             ),

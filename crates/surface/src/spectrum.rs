@@ -1,5 +1,5 @@
-//! Background wave spectra (spec 2.3): Pierson-Moskowitz (Eq. 2.71) with the Lyzenga-Bennett
-//! short-wave power law (Eq. 2.70), or the Elfouhaily et al. (1997) unified spectrum, plus a
+//! Background wave spectra (spec 2.3): Pierson-Moskowitz (Eq. (2.71)) with the Lyzenga-Bennett
+//! short-wave power law (Eq. (2.70)), or the Elfouhaily et al. (1997) unified spectrum, plus a
 //! narrow swell component.
 //!
 //! Conventions: `omni(k)` is the omnidirectional elevation spectrum Psi(k) (m^3), with
@@ -201,7 +201,7 @@ impl SeaSpectrum {
         f
     }
 
-    /// Wave action spectral density N = rho omega F / k, up to the constant rho (Eq. 2.67).
+    /// Wave action spectral density N = rho omega F / k, up to the constant rho (Eq. (2.67)).
     pub fn action(&self, kx: f64, ky: f64) -> f64 {
         let k = kx.hypot(ky);
         angular_frequency(k, self.gravity, self.tension) * self.directional(kx, ky) / k
@@ -281,7 +281,7 @@ mod tests {
     }
 
     /// Hs = 2 sqrt(alpha / beta) U^2 / g = 0.2092 U^2 / g and omega_p = 0.8772 g / U (closed forms
-    /// of Eq. 2.71; Pierson & Moskowitz 1964).
+    /// of Eq. (2.71); Pierson & Moskowitz 1964).
     #[test]
     fn pierson_moskowitz_hs_and_peak_match_closed_forms() {
         for (u, hs) in [(5.0, 0.533), (10.0, 2.133), (15.0, 4.799)] {

@@ -3,8 +3,8 @@
 //!
 //! The scene is covered by square windows of M x M pixels placed every M/2 pixels in both
 //! directions. In each window a random field is synthesised from the spectrum on the window's
-//! wavenumber grid k_m = 2 pi (m - M/2) / L (Eqs. 2.72-2.73), with amplitudes
-//! sqrt(6 F(k) dk_x dk_y) r e^{i psi}, r uniform in [-1, 1] and psi in [0, 2 pi) (Eq. 2.76), and
+//! wavenumber grid k_m = 2 pi (m - M/2) / L (Eqs. (2.72)-(2.73)), with amplitudes
+//! sqrt(6 F(k) dk_x dk_y) r e^{i psi}, r uniform in [-1, 1] and psi in [0, 2 pi) (Eq. (2.76)), and
 //! weighted by the square-root Hann windows of Eqs. (2.74)-(2.75); the windows are summed. The
 //! squares of square-root Hann windows half a window apart sum to one, and E[r^2] = 1/3 with
 //! Re(.) halving the variance, so the factor sqrt(6) (over the spec's 2 pi sqrt(S / (L_x L_y)) =

@@ -1,7 +1,7 @@
 //! Command-line arguments.
 
+use crate::learn::LearnArgs;
 use crate::Result;
-use anyhow::Context;
 use clap::{Args, Parser, Subcommand};
 use std::path::PathBuf;
 use wakelab_core::config::{Preset, WakelabConfig};
@@ -34,14 +34,10 @@ pub struct ConfigArgs {
 
 impl ConfigArgs {
     pub fn load(&self) -> Result<WakelabConfig> {
-        let (text, origin) = match &self.config {
-            Some(path) => (
-                std::fs::read_to_string(path).with_context(|| format!("reading {}", path.display()))?,
-                path.display().to_string(),
-            ),
-            None => (String::new(), "<embedded default>".to_string()),
-        };
-        Ok(WakelabConfig::from_toml_str_with_preset(&text, &origin, self.preset)?)
+        Ok(WakelabConfig::from_file_with_preset(
+            self.config.as_deref(),
+            self.preset,
+        )?)
     }
 
     /// The configuration with the command line's --wind and --incidence applied, validated.
@@ -104,123 +100,26 @@ pub enum Command {
     Scene(RunArgs),
     /// Simulate the ship's wake only (stage 1, spec 2.1) and write its files.
     Wake(RunArgs),
-    /// The initial data plane of the ship (spec Eqs. 2.26-2.62): its derived scalars.
-    Idp {
-        #[command(flatten)]
-        config: ConfigArgs,
-        /// Print the scalars as JSON.
-        #[arg(long)]
-        json: bool,
-        /// Also write the IDP fields on the grid (idp.nc and pictures) into DIR.
-        #[arg(long, value_name = "DIR")]
-        write: Option<PathBuf>,
-    },
+    /// The initial data plane of the ship (spec Eqs. (2.26)-(2.62)): its derived scalars.
+    Idp(IdpArgs),
     /// The background sea of a wind (and the configured swell): Hs, peak frequency, mean-square
     /// slopes and the spectral density at the S, C and X Bragg wavenumbers.
-    Spectrum {
-        #[command(flatten)]
-        config: ConfigArgs,
-        /// Wind speed at 10 m (m/s); default: environment.wind.speed.
-        #[arg(long, value_name = "M/S")]
-        wind: Option<f64>,
-        /// Radar incidence angle (degrees); default: platform.incidence.
-        #[arg(long, value_name = "DEG")]
-        incidence: Option<f64>,
-        /// Print JSON.
-        #[arg(long)]
-        json: bool,
-    },
+    Spectrum(SpectrumArgs),
     /// Infrared optics of sea water: n, kappa, Fresnel reflectances and emissivity at a
     /// wavelength, and the IR radiance of a flat sea in both bands for the configured geometry.
-    Optics {
-        #[command(flatten)]
-        config: ConfigArgs,
-        /// Wavelength (micrometres).
-        #[arg(long, value_name = "UM", default_value_t = 11.0)]
-        wavelength: f64,
-        /// Practical salinity (PSU); default: the surface salinity.
-        #[arg(long)]
-        salinity: Option<f64>,
-        /// Temperature (deg C); default: the surface temperature.
-        #[arg(long)]
-        temperature: Option<f64>,
-        /// Incidence angle (degrees); default: platform.incidence.
-        #[arg(long, value_name = "DEG")]
-        incidence: Option<f64>,
-        /// Print JSON.
-        #[arg(long)]
-        json: bool,
-    },
+    Optics(OpticsArgs),
     /// Render a parametric study into a labelled dataset (stage 4): wake and no-wake scenes in
     /// every band, wake masks, visibility, manifest (CSV, JSON) and train/test splits.
-    Dataset {
-        /// Study file (TOML), or `default` / `paper` for the embedded studies.
-        #[arg(long, value_name = "FILE", default_value = "default")]
-        study: String,
-        /// Dataset directory.
-        #[arg(long, value_name = "DIR")]
-        out: PathBuf,
-        /// Render only pairs with index % N == K, given as K/N (one Slurm array task).
-        #[arg(long, value_name = "K/N")]
-        shard: Option<String>,
-        /// Only gather finished scenes into the manifest and splits.
-        #[arg(long)]
-        merge: bool,
-        /// Write a Slurm job-array script into DIR instead of rendering.
-        #[arg(long)]
-        emit_slurm: bool,
-        /// Array tasks of the Slurm script.
-        #[arg(long, default_value_t = 16)]
-        tasks: usize,
-        /// No progress bar.
-        #[arg(long)]
-        quiet: bool,
-    },
+    Dataset(DatasetArgs),
     /// Train one detector (spec 4.1) on a dataset's training split, save it (safetensors, with a
     /// PyTorch-layout export) and test it on the test split.
-    Train {
-        #[command(flatten)]
-        learn: crate::learn::LearnArgs,
-        /// Architecture: base, cls or unet (Table 4.1).
-        #[arg(long, default_value = "base")]
-        arch: String,
-        /// Model file (default: OUT/BANDS_ARCH.safetensors).
-        #[arg(long, value_name = "FILE")]
-        model: Option<PathBuf>,
-    },
+    Train(TrainArgs),
     /// Algorithm 2 on a dataset: repeated Monte Carlo train/test splits, every output kept, MCC,
     /// accuracy, F1 and ROC AUC per band and architecture (Tables 4.4-4.6).
-    Eval {
-        #[command(flatten)]
-        learn: crate::learn::LearnArgs,
-        /// Architectures, comma-separated.
-        #[arg(long, default_value = "base,cls,unet")]
-        arch: String,
-        /// Repetitions of Algorithm 2 (spec: 5).
-        #[arg(long, default_value_t = 5)]
-        repetitions: usize,
-        /// Print the metrics as JSON.
-        #[arg(long)]
-        json: bool,
-    },
+    Eval(EvalArgs),
     /// Run a saved single-band detector on an image (npy, TIFF or PNG) of any size: prints the
     /// wake probability; with a "unet" detector, --mask writes the U-Net's wake mask as a PNG.
-    Detect {
-        /// The image.
-        image: PathBuf,
-        /// Detector file written by `train` or `eval`.
-        #[arg(long, value_name = "FILE")]
-        model: PathBuf,
-        /// Write the wake mask (PNG) here.
-        #[arg(long, value_name = "FILE")]
-        mask: Option<PathBuf>,
-        /// Backend: cpu, or wgpu / cuda in builds with those features.
-        #[arg(long, default_value = "cpu")]
-        device: String,
-        /// Print JSON.
-        #[arg(long)]
-        json: bool,
-    },
+    Detect(DetectArgs),
     /// SAR tools.
     Sar {
         #[command(subcommand)]
@@ -237,28 +136,7 @@ pub enum Command {
 pub enum SarAction {
     /// sigma0 of the undisturbed sea for a wind, band, polarisation and incidence (spec Eqs.
     /// 3.1-3.2), to compare against the geophysical model functions you know.
-    Sigma0 {
-        #[command(flatten)]
-        config: ConfigArgs,
-        /// Wind speed at 10 m (m/s); default: environment.wind.speed.
-        #[arg(long, value_name = "M/S")]
-        wind: Option<f64>,
-        /// Band: S, C or X.
-        #[arg(long, default_value = "C")]
-        band: String,
-        /// Polarisation: vv or hh; default: sar.polarisation.
-        #[arg(long)]
-        polarisation: Option<String>,
-        /// Incidence angle (degrees); default: platform.incidence.
-        #[arg(long, value_name = "DEG")]
-        incidence: Option<f64>,
-        /// Look direction relative to the wind direction (degrees; 0: looking down-wind).
-        #[arg(long, value_name = "DEG", default_value_t = 90.0)]
-        look: f64,
-        /// Print JSON.
-        #[arg(long)]
-        json: bool,
-    },
+    Sigma0(Sigma0Args),
 }
 
 #[derive(Subcommand, Debug)]
@@ -268,4 +146,154 @@ pub enum ConfigAction {
         #[command(flatten)]
         config: ConfigArgs,
     },
+}
+
+/// Options of `idp`.
+#[derive(Args, Debug)]
+pub struct IdpArgs {
+    #[command(flatten)]
+    pub config: ConfigArgs,
+    /// Print the scalars as JSON.
+    #[arg(long)]
+    pub json: bool,
+    /// Also write the IDP fields on the grid (idp.nc and pictures) into DIR.
+    #[arg(long, value_name = "DIR")]
+    pub write: Option<PathBuf>,
+}
+
+/// Options of `spectrum`.
+#[derive(Args, Debug)]
+pub struct SpectrumArgs {
+    #[command(flatten)]
+    pub config: ConfigArgs,
+    /// Wind speed at 10 m (m/s); default: environment.wind.speed.
+    #[arg(long, value_name = "M/S")]
+    pub wind: Option<f64>,
+    /// Radar incidence angle (degrees); default: platform.incidence.
+    #[arg(long, value_name = "DEG")]
+    pub incidence: Option<f64>,
+    /// Print JSON.
+    #[arg(long)]
+    pub json: bool,
+}
+
+/// Options of `optics`.
+#[derive(Args, Debug)]
+pub struct OpticsArgs {
+    #[command(flatten)]
+    pub config: ConfigArgs,
+    /// Wavelength (micrometres).
+    #[arg(long, value_name = "UM", default_value_t = 11.0)]
+    pub wavelength: f64,
+    /// Practical salinity (PSU); default: the surface salinity.
+    #[arg(long)]
+    pub salinity: Option<f64>,
+    /// Temperature (deg C); default: the surface temperature.
+    #[arg(long)]
+    pub temperature: Option<f64>,
+    /// Incidence angle (degrees); default: platform.incidence.
+    #[arg(long, value_name = "DEG")]
+    pub incidence: Option<f64>,
+    /// Print JSON.
+    #[arg(long)]
+    pub json: bool,
+}
+
+/// Options of `dataset`.
+#[derive(Args, Debug)]
+pub struct DatasetArgs {
+    /// Study file (TOML), or `default` / `paper` for the embedded studies.
+    #[arg(long, value_name = "FILE", default_value = "default")]
+    pub study: String,
+    /// Dataset directory.
+    #[arg(long, value_name = "DIR")]
+    pub out: PathBuf,
+    /// Render only pairs with index % N == K, given as K/N (one Slurm array task).
+    #[arg(long, value_name = "K/N")]
+    pub shard: Option<String>,
+    /// Only gather finished scenes into the manifest and splits.
+    #[arg(long)]
+    pub merge: bool,
+    /// Write a Slurm job-array script into DIR instead of rendering.
+    #[arg(long)]
+    pub emit_slurm: bool,
+    /// Array tasks of the Slurm script.
+    #[arg(long, default_value_t = 16)]
+    pub tasks: usize,
+    /// No progress bar.
+    #[arg(long)]
+    pub quiet: bool,
+}
+
+/// Options of `train`.
+#[derive(Args, Debug)]
+pub struct TrainArgs {
+    #[command(flatten)]
+    pub learn: LearnArgs,
+    /// Architecture: base, cls or unet (Table 4.1).
+    #[arg(long, default_value = "base")]
+    pub arch: String,
+    /// Model file (default: OUT/BANDS_ARCH.safetensors).
+    #[arg(long, value_name = "FILE")]
+    pub model: Option<PathBuf>,
+}
+
+/// Options of `eval`.
+#[derive(Args, Debug)]
+pub struct EvalArgs {
+    #[command(flatten)]
+    pub learn: LearnArgs,
+    /// Architectures, comma-separated.
+    #[arg(long, default_value = "base,cls,unet")]
+    pub arch: String,
+    /// Repetitions of Algorithm 2 (spec: 5).
+    #[arg(long, default_value_t = wakelab_schema::recipe::REPETITIONS)]
+    pub repetitions: usize,
+    /// Print the metrics as JSON.
+    #[arg(long)]
+    pub json: bool,
+}
+
+/// Options of `detect`.
+#[derive(Args, Debug)]
+pub struct DetectArgs {
+    /// The image.
+    pub image: PathBuf,
+    /// Detector file written by `train` or `eval`.
+    #[arg(long, value_name = "FILE")]
+    pub model: PathBuf,
+    /// Write the wake mask (PNG) here.
+    #[arg(long, value_name = "FILE")]
+    pub mask: Option<PathBuf>,
+    /// Backend: cpu, or wgpu / cuda in builds with those features.
+    #[arg(long, default_value = "cpu")]
+    pub device: String,
+    /// Print JSON.
+    #[arg(long)]
+    pub json: bool,
+}
+
+/// Options of `sar sigma0`.
+#[derive(Args, Debug)]
+pub struct Sigma0Args {
+    #[command(flatten)]
+    pub config: ConfigArgs,
+    /// Wind speed at 10 m (m/s); default: environment.wind.speed.
+    #[arg(long, value_name = "M/S")]
+    pub wind: Option<f64>,
+    /// Band: S, C or X.
+    #[arg(long, default_value = "C")]
+    pub band: String,
+    /// Polarisation: vv or hh; default: sar.polarisation.
+    #[arg(long)]
+    pub polarisation: Option<String>,
+    /// Incidence angle (degrees); default: platform.incidence.
+    #[arg(long, value_name = "DEG")]
+    pub incidence: Option<f64>,
+    /// Look direction relative to the wind direction (degrees; 0: looking down-wind).
+    #[arg(long, value_name = "DEG", default_value_t = 90.0)]
+    pub look: f64,
+    /// Print JSON.
+    #[arg(long)]
+    pub json: bool,
 }

@@ -1,77 +1,33 @@
 //! `wakelab dataset`: a parametric study rendered into a labelled dataset.
 
+use crate::cli::DatasetArgs;
 use crate::Result;
-use indicatif::{ProgressBar, ProgressStyle};
 use std::path::Path;
 use std::time::Instant;
 use wakelab_core::io::write_atomically;
 
-pub fn load_study(name: &str) -> Result<wakelab_data::study::Study> {
-    use wakelab_data::study::{Study, DEFAULT_STUDY, PAPER_STUDY};
-    let path = Path::new(name);
-    Ok(match name {
-        _ if path.exists() => Study::from_file(path)?,
-        "default" => Study::from_toml_str(DEFAULT_STUDY, "<embedded default study>")?,
-        "paper" => Study::from_toml_str(PAPER_STUDY, "<embedded paper study>")?,
-        _ => anyhow::bail!("--study {name}: no such file (or use `default` or `paper`)"),
-    })
-}
-
-pub fn run_dataset(
-    study_name: &str,
-    out: &Path,
-    shard: Option<&str>,
-    merge: bool,
-    emit_slurm: bool,
-    tasks: usize,
-    quiet: bool,
-) -> Result<()> {
-    let study = load_study(study_name)?;
+pub fn run_dataset(args: &DatasetArgs) -> Result<()> {
+    let (study_name, out, shard) = (args.study.as_str(), args.out.as_path(), args.shard.as_deref());
+    let (merge, emit_slurm, tasks, quiet) = (args.merge, args.emit_slurm, args.tasks, args.quiet);
+    let study = wakelab_study::load_study(study_name)?;
     let pairs = study.pairs()?.len();
     if emit_slurm {
         if tasks == 0 || tasks > 100_000 {
             anyhow::bail!("--tasks {tasks}: must be in [1, 100000]");
         }
         let exe = std::env::current_exe()?.display().to_string();
-        let script = wakelab_data::slurm::slurm_script(Path::new(study_name), out, tasks.min(pairs), 2, &exe);
-        std::fs::create_dir_all(out)?;
-        let path = out.join("wakelab_dataset.slurm");
-        write_atomically(&path, script.as_bytes())?;
-        eprintln!(
-            "wrote {} ({} pairs over {} tasks)",
-            path.display(),
-            pairs,
-            tasks.min(pairs)
-        );
+        let path = wakelab_data::slurm::write_slurm_script(Path::new(study_name), out, tasks.min(pairs), &exe)?;
+        let tasks = tasks.min(pairs);
+        eprintln!("wrote {} ({pairs} pairs over {tasks} tasks)", path.display());
         return Ok(());
     }
-    let shard = match shard {
-        None => None,
-        Some(text) => {
-            let parsed = text
-                .split_once('/')
-                .and_then(|(k, n)| Some((k.parse::<usize>().ok()?, n.parse::<usize>().ok()?)))
-                .filter(|&(k, n)| n > 0 && k < n);
-            let Some((k, n)) = parsed else {
-                anyhow::bail!("--shard {text}: must be K/N with 0 <= K < N");
-            };
-            Some(wakelab_data::Shard { shard: k, count: n })
-        }
-    };
+    let shard: Option<wakelab_data::Shard> = shard
+        .map(|text| text.parse().map_err(|e| anyhow::anyhow!("--shard {text}: {e}")))
+        .transpose()?;
     let start = Instant::now();
     if !merge {
-        let bar = if quiet {
-            ProgressBar::hidden()
-        } else {
-            ProgressBar::new(pairs as u64)
-        };
-        bar.set_style(
-            ProgressStyle::with_template(
-                "{spinner} {msg} [{bar:40}] {pos}/{len} | {per_sec} | {elapsed_precise}, {eta} left",
-            )
-            .expect("valid template")
-            .progress_chars("=> "),
-        );
+        let template = "{spinner} {msg} [{bar:40}] {pos}/{len} | {per_sec} | {elapsed_precise}, {eta} left";
+        let bar = wakelab_study::progress_bar(quiet, pairs as u64, template);
         bar.set_message("hydro");
         let times = wakelab_data::run_study(&study, out, shard, None, &|p| match p {
             wakelab_data::Progress::Hydro { done, total } => {
@@ -85,16 +41,7 @@ pub fn run_dataset(
         })?;
         bar.finish_and_clear();
         let wall = start.elapsed().as_secs_f64();
-        eprintln!(
-            "rendered {} scenes ({} already done) in {wall:.1} s: {:.1} scenes/min; hydro {:.1} s, then per core: surface {:.1} s, sensors {:.1} s, writing {:.1} s",
-            times.scenes_rendered,
-            times.scenes_skipped,
-            times.scenes_rendered as f64 / wall * 60.0,
-            times.hydro,
-            times.surface,
-            times.sensors,
-            times.writing
-        );
+        eprintln!("{}", times.describe(wall));
         write_atomically(
             out.join("timing.json"),
             serde_json::to_string_pretty(&times)?.as_bytes(),
@@ -102,12 +49,8 @@ pub fn run_dataset(
     }
     if shard.is_none() || merge {
         let records = wakelab_data::write_manifest(&study, out)?;
-        eprintln!(
-            "manifest: {} scenes ({} expected) in {}",
-            records.len(),
-            2 * pairs,
-            out.display()
-        );
+        let (n, dir) = (records.len(), out.display());
+        eprintln!("manifest: {n} scenes ({} expected) in {dir}", 2 * pairs);
     }
     Ok(())
 }

@@ -4,7 +4,7 @@ mod cli;
 mod dataset;
 mod learn;
 mod reports;
-mod run;
+mod scene;
 mod study;
 
 use clap::Parser;
@@ -29,58 +29,18 @@ fn main() {
 fn dispatch(cli: Cli) -> Result<()> {
     match cli.command {
         Command::Run(args) => study::run_study_command(&args),
-        Command::Scene(args) => run::run_pipeline(&args),
-        Command::Wake(args) => run::run_wake_only(&args),
-        Command::Idp { config, json, write } => reports::idp(&config, json, write.as_deref()),
-        Command::Spectrum {
-            config,
-            wind,
-            incidence,
-            json,
-        } => reports::spectrum(&config, wind, incidence, json),
-        Command::Optics {
-            config,
-            wavelength,
-            salinity,
-            temperature,
-            incidence,
-            json,
-        } => reports::optics(&config, wavelength, salinity, temperature, incidence, json),
+        Command::Scene(args) => scene::run_pipeline(&args),
+        Command::Wake(args) => scene::run_wake_only(&args),
+        Command::Idp(args) => reports::idp(&args),
+        Command::Spectrum(args) => reports::spectrum(&args),
+        Command::Optics(args) => reports::optics(&args),
         Command::Sar {
-            action:
-                SarAction::Sigma0 {
-                    config,
-                    wind,
-                    band,
-                    polarisation,
-                    incidence,
-                    look,
-                    json,
-                },
-        } => reports::sar_sigma0(&config, wind, &band, polarisation.as_deref(), incidence, look, json),
-        Command::Dataset {
-            study,
-            out,
-            shard,
-            merge,
-            emit_slurm,
-            tasks,
-            quiet,
-        } => dataset::run_dataset(&study, &out, shard.as_deref(), merge, emit_slurm, tasks, quiet),
-        Command::Train { learn, arch, model } => learn::run_train(&learn, &arch, model.as_deref()),
-        Command::Eval {
-            learn,
-            arch,
-            repetitions,
-            json,
-        } => learn::run_eval(&learn, &arch, repetitions, json),
-        Command::Detect {
-            image,
-            model,
-            mask,
-            device,
-            json,
-        } => learn::run_detect(&image, &model, &device, mask.as_deref(), json),
+            action: SarAction::Sigma0(args),
+        } => reports::sar_sigma0(&args),
+        Command::Dataset(args) => dataset::run_dataset(&args),
+        Command::Train(args) => learn::run_train(&args),
+        Command::Eval(args) => learn::run_eval(&args),
+        Command::Detect(args) => learn::run_detect(&args),
         Command::Config {
             action: ConfigAction::Show { config },
         } => {

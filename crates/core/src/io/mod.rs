@@ -4,5 +4,6 @@ pub mod atomic;
 pub mod geotiff;
 pub mod netcdf;
 pub mod picture;
+pub mod text;
 
 pub use atomic::{write_atomically, AtomicFile};

@@ -1,7 +1,7 @@
 //! The study's tables (mirroring the spec's Tables 4.4-4.6 and 5.1-5.3, with the paper's own
 //! numbers beside ours), written as CSV and Markdown; `html` puts them into the report page.
 
-use super::stages::StudyRun;
+use crate::stages::StudyRun;
 use crate::Result;
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
@@ -388,8 +388,8 @@ pub fn write_report(dir: &Path, study: &Study, run: &StudyRun) -> Result<Vec<Pat
     }
     let md = write_atomically(out.join("report.md"), markdown.as_bytes())?;
     // the radar-physics figures, also as files a user can open or put in a paper
-    let mut figures = super::radar::sigma0_against_cmod5n(&study.base_config()?);
-    figures.extend(super::radar::across_wake_contrast(run)?);
+    let mut figures = crate::radar::sigma0_against_cmod5n(&study.base_config()?);
+    figures.extend(crate::radar::across_wake_contrast(run)?);
     let names = [
         "sigma0_vs_cmod5n_upwind",
         "sigma0_vs_cmod5n_crosswind",
@@ -399,7 +399,7 @@ pub fn write_report(dir: &Path, study: &Study, run: &StudyRun) -> Result<Vec<Pat
     for (name, svg) in names.iter().zip(&svgs) {
         write_atomically(out.join(format!("{name}.svg")), svg.as_bytes())?;
     }
-    let page = super::html::report_page(study, run, &tables, &timing, &svgs)?;
+    let page = crate::html::report_page(study, run, &tables, &timing, &svgs)?;
     let html = write_atomically(out.join("report.html"), page.as_bytes())?;
     Ok(vec![html, md, tables_dir])
 }

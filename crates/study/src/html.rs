@@ -1,9 +1,9 @@
 //! The report page: one self-contained HTML file (styles inline, pictures as base64 PNG, plots
 //! as inline SVG), so it opens in a browser with no network and can be mailed as one file.
 
-use super::report::{confusion_rows, Table};
-use super::stages::StudyRun;
-use super::svg::{escape, roc_points, LinePlot, Series};
+use crate::report::{confusion_rows, Table};
+use crate::stages::StudyRun;
+use crate::svg::{escape, roc_points, LinePlot, Series};
 use crate::Result;
 use base64::Engine as _;
 use ndarray::Array2;

@@ -66,6 +66,22 @@ impl Confusion {
     }
 }
 
+/// "MCC 0.812, accuracy 90.0%, TP/TN/FP/FN 9/9/1/1".
+impl std::fmt::Display for Confusion {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(
+            f,
+            "MCC {:.3}, accuracy {:.1}%, TP/TN/FP/FN {}/{}/{}/{}",
+            self.mcc(),
+            100.0 * self.accuracy(),
+            self.tp,
+            self.tn,
+            self.fp,
+            self.fn_
+        )
+    }
+}
+
 /// Area under the ROC curve by the Mann-Whitney statistic, ties counted one half; None when
 /// one class is missing.
 pub fn roc_auc(scores: &[f64], labels: &[u8]) -> Option<f64> {

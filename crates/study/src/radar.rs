@@ -2,8 +2,8 @@
 //! CMOD5.N (Hersbach 2010), and the across-wake contrast of the example scene pair in S, C and
 //! X band.
 
-use super::stages::StudyRun;
-use super::svg::{LinePlot, Series};
+use crate::stages::StudyRun;
+use crate::svg::{LinePlot, Series};
 use anyhow::Result;
 use ndarray::Array2;
 use wakelab_core::config::Polarisation;

@@ -1,8 +1,8 @@
 //! The stages of `wakelab run`, each reused when its inputs have not changed.
 
-use super::{Display, StageTime};
-use crate::learn::{csv, write_evaluation};
+use crate::output::{csv, write_evaluation};
 use crate::Result;
+use crate::{Display, StageTime};
 use serde::{Deserialize, Serialize};
 use std::collections::BTreeMap;
 use std::path::Path;

@@ -1,0 +1,25 @@
+//! The spec's training recipe (4.1-4.2), in one place: the CLI's defaults, the study file's
+//! `[learning]` defaults and the learning library's recipes all read these.
+
+/// Repetitions of Algorithm 2 (4.2: 5).
+pub const REPETITIONS: usize = 5;
+/// Classifier epochs (4.1: 60).
+pub const CLASSIFIER_EPOCHS: usize = 60;
+/// Classifier batch size (4.1: 8).
+pub const CLASSIFIER_BATCH_SIZE: usize = 8;
+/// Classifier learning rate, SGD (4.1: 1e-3).
+pub const CLASSIFIER_LEARNING_RATE: f64 = 1e-3;
+/// Classifier weight decay (4.1: 0.1).
+pub const CLASSIFIER_WEIGHT_DECAY: f64 = 0.1;
+/// U-Net epochs (4.1: 60).
+pub const UNET_EPOCHS: usize = 60;
+/// U-Net batch size (4.1: 4).
+pub const UNET_BATCH_SIZE: usize = 4;
+/// U-Net learning rate, Adam (4.1: 1e-4).
+pub const UNET_LEARNING_RATE: f64 = 1e-4;
+/// U-Net weight decay (4.1: 1e-4).
+pub const UNET_WEIGHT_DECAY: f64 = 1e-4;
+/// First-level channels of the U-Net (Table 4.2: 64).
+pub const UNET_WIDTH: usize = 64;
+/// Decision threshold on the wake probability (4.2: 0.5; erratum 2).
+pub const THRESHOLD: f64 = 0.5;

@@ -1,0 +1,155 @@
+//! The results' schema: the network architectures of spec 4.1, a detector's kept outputs
+//! (Algorithm 2's o_i) and their summaries over repetitions (a row of Tables 4.4-4.6).
+
+use crate::metrics::{mean_and_spread, roc_auc, Confusion};
+use serde::{Deserialize, Serialize};
+
+/// The classifier architectures of spec 4.1.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord, Serialize, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum Architecture {
+    /// One channel per band: the image itself.
+    Base,
+    /// The control: the bands' images and a copy of the first (4.1, 5.2), so the input is as
+    /// wide as "unet"'s.
+    Cls,
+    /// The bands' images and the mask a U-Net trained on the same bands draws on them.
+    Unet,
+}
+
+impl Architecture {
+    pub const ALL: [Architecture; 3] = [Architecture::Base, Architecture::Cls, Architecture::Unet];
+
+    pub fn name(self) -> &'static str {
+        match self {
+            Architecture::Base => "base",
+            Architecture::Cls => "cls",
+            Architecture::Unet => "unet",
+        }
+    }
+
+    /// Input channels of the classifier for `bands` image channels (Table 4.1's `inChannels`):
+    /// one more than the bands for "cls" and "unet" (4.1; 5.2 for several bands).
+    pub fn classifier_channels(self, bands: usize) -> usize {
+        match self {
+            Architecture::Base => bands,
+            Architecture::Cls | Architecture::Unet => bands + 1,
+        }
+    }
+
+    pub fn parse(text: &str) -> Option<Self> {
+        Self::ALL.into_iter().find(|a| a.name() == text)
+    }
+
+    /// A comma-separated list of names ("base,cls,unet"); the first unknown name is the error.
+    pub fn parse_list(text: &str) -> Result<Vec<Self>, String> {
+        text.split(',')
+            .map(|a| Self::parse(a.trim()).ok_or_else(|| a.to_string()))
+            .collect()
+    }
+}
+
+impl std::fmt::Display for Architecture {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(self.name())
+    }
+}
+
+/// Name of a band set: "C", or "S+X" for several bands as channels.
+pub fn band_set_name(bands: &[String]) -> String {
+    bands.join("+")
+}
+
+/// One kept output o_i.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct Output {
+    pub bands: String,
+    pub architecture: Architecture,
+    pub repetition: usize,
+    /// "test", or "train" for the training images (what decision-level fusion weights sources
+    /// by; erratum 11).
+    pub split: String,
+    pub scene: String,
+    pub label: u8,
+    pub output: f64,
+}
+
+/// Metrics of one band set and architecture over the repetitions (a row of Tables 4.4-4.6).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct Summary {
+    pub bands: String,
+    pub architecture: Architecture,
+    pub repetitions: usize,
+    pub mcc: f64,
+    pub mcc_spread: f64,
+    pub accuracy: f64,
+    pub accuracy_spread: f64,
+    pub f1: f64,
+    /// ROC AUC of all kept outputs together (None when one class is missing).
+    pub roc_auc: Option<f64>,
+    /// Counts summed over the repetitions.
+    pub tp: u64,
+    pub tn: u64,
+    pub fp: u64,
+    #[serde(rename = "fn")]
+    pub fn_: u64,
+}
+
+/// Metrics of the kept test outputs of one band set and architecture: per repetition, then mean
+/// and sample spread.
+pub fn summarise(outputs: &[Output], threshold: f64) -> Vec<Summary> {
+    summarise_split(outputs, "test", threshold)
+}
+
+/// `summarise` on the outputs of another split: `test:<perturbation>`, or `held_out` (where
+/// "repetition" is the held-out group).
+pub fn summarise_split(outputs: &[Output], split: &str, threshold: f64) -> Vec<Summary> {
+    let outputs: Vec<&Output> = outputs.iter().filter(|o| o.split == split).collect();
+    let mut keys: Vec<(String, Architecture)> = outputs.iter().map(|o| (o.bands.clone(), o.architecture)).collect();
+    keys.dedup();
+    let mut seen = std::collections::BTreeSet::new();
+    keys.retain(|k| seen.insert(k.clone()));
+    keys.into_iter()
+        .map(|(bands, architecture)| {
+            let group: Vec<&Output> = outputs
+                .iter()
+                .filter(|o| o.bands == bands && o.architecture == architecture)
+                .copied()
+                .collect();
+            let mut reps: Vec<usize> = group.iter().map(|o| o.repetition).collect();
+            reps.sort();
+            reps.dedup();
+            let confusions: Vec<Confusion> = reps
+                .iter()
+                .map(|&r| {
+                    let (o, l): (Vec<f64>, Vec<u8>) = group
+                        .iter()
+                        .filter(|o| o.repetition == r)
+                        .map(|o| (o.output, o.label))
+                        .unzip();
+                    Confusion::from_outputs(&o, &l, threshold)
+                })
+                .collect();
+            let (mcc, mcc_spread) = mean_and_spread(&confusions.iter().map(Confusion::mcc).collect::<Vec<_>>());
+            let (accuracy, accuracy_spread) =
+                mean_and_spread(&confusions.iter().map(Confusion::accuracy).collect::<Vec<_>>());
+            let (f1, _) = mean_and_spread(&confusions.iter().map(Confusion::f1).collect::<Vec<_>>());
+            let (scores, labels): (Vec<f64>, Vec<u8>) = group.iter().map(|o| (o.output, o.label)).unzip();
+            Summary {
+                bands,
+                architecture,
+                repetitions: reps.len(),
+                mcc,
+                mcc_spread,
+                accuracy,
+                accuracy_spread,
+                f1,
+                roc_auc: roc_auc(&scores, &labels),
+                tp: confusions.iter().map(|c| c.tp).sum(),
+                tn: confusions.iter().map(|c| c.tn).sum(),
+                fp: confusions.iter().map(|c| c.fp).sum(),
+                fn_: confusions.iter().map(|c| c.fn_).sum(),
+            }
+        })
+        .collect()
+}

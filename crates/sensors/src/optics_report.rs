@@ -1,0 +1,42 @@
+//! What `wakelab optics` prints: the sea water's refractive index at one wavelength (Eq. (3.8)),
+//! its Fresnel reflectance (Eqs. (3.9)-(3.13)) and Kirchhoff emissivity (1 - rho) at the configured
+//! incidence, and the radiance of a flat sea in each infrared band (Eq. (3.5) of a level facet).
+
+use wakelab_core::config::WakelabConfig;
+
+/// The optics of sea water of salinity `s` (PSU) and temperature `t` (deg C) at `wavelength`
+/// (micrometres), seen at the configuration's incidence, as JSON.
+pub fn optics_report(cfg: &WakelabConfig, wavelength: f64, s: f64, t: f64) -> serde_json::Value {
+    let env = &cfg.environment;
+    let index = crate::optics::seawater_index(wavelength, s, t);
+    let theta = cfg.platform.incidence.to_radians();
+    let (rho_s, rho_p) = crate::optics::fresnel_reflectance(crate::optics::N_AIR, index, theta);
+    let flat: Vec<serde_json::Value> = crate::IrBand::ALL
+        .iter()
+        .map(|&band| {
+            let view = crate::ir::IrView::new(cfg, band);
+            let terms = view.facet(0.0, 0.0, env.temperature.at_depth(0.0) + 273.15);
+            let (lo, hi) = band.range();
+            serde_json::json!({
+                "band": band.name(),
+                "wavelength_range_um": [lo, hi],
+                "radiance": terms.total(),
+                "brightness_temperature_k": crate::planck::brightness_temperature(lo, hi, terms.total()),
+                "terms": terms,
+            })
+        })
+        .collect();
+    serde_json::json!({
+        "wavelength_um": wavelength,
+        "salinity": s,
+        "temperature_c": t,
+        "incidence_deg": cfg.platform.incidence,
+        "n": index.re,
+        "kappa": -index.im,
+        "rho_s": rho_s,
+        "rho_p": rho_p,
+        "rho": 0.5 * (rho_s + rho_p),
+        "emissivity": 1.0 - 0.5 * (rho_s + rho_p),
+        "flat_sea_radiance": flat,
+    })
+}

@@ -1,0 +1,188 @@
+//! The learning commands' work on a dataset directory (`wakelab eval`, `wakelab train`): Algorithm
+//! 2 with its files and the decision-level fusion of its outputs, one detector trained and
+//! tested, and the U-Net mask of `wakelab detect` as a PNG.
+
+use crate::output::{csv, write_evaluation};
+use crate::Result;
+use std::path::{Path, PathBuf};
+use wakelab_core::io::write_atomically;
+use wakelab_learn::data::Dataset;
+use wakelab_learn::device::Device;
+use wakelab_learn::evaluate::{
+    band_set_name, detect, evaluate, load_examples, train_detector, CurvePoint, EvalOptions, EvalProgress, Evaluation,
+    Summary,
+};
+use wakelab_learn::metrics::{roc_auc, Confusion};
+use wakelab_learn::models::Architecture;
+use wakelab_learn::store::{save_detector, ModelInfo};
+use wakelab_learn::train::EpochRecord;
+
+/// Epochs one evaluation trains in all (for a progress bar).
+pub fn total_epochs(o: &EvalOptions) -> u64 {
+    let per_rep: usize = o
+        .architectures
+        .iter()
+        .map(|a| o.classifier.epochs + if *a == Architecture::Unet { o.unet.epochs } else { 0 })
+        .sum();
+    (per_rep * o.repetitions * o.band_sets.len()) as u64
+}
+
+/// A fusion row of Tables 5.1-5.3 with Dempster-Shafer's mean conflict (0 for Bayes).
+#[derive(serde::Serialize)]
+struct FusionRow {
+    #[serde(flatten)]
+    summary: Summary,
+    mean_conflict: f64,
+}
+
+/// Algorithm 2 on `dataset` with `options`, its files written into `dir`, and the decision-level
+/// fusion of the single bands (spec 5.1-5.2, 5.4) from the kept outputs: the evaluation and the
+/// fusion rows with their mean conflict.
+pub fn evaluate_into(
+    dataset: &Dataset,
+    options: &EvalOptions,
+    dir: &Path,
+    device: &Device,
+    progress: &mut dyn FnMut(&EvalProgress),
+) -> Result<(Evaluation, Vec<(Summary, f64)>)> {
+    let evaluation = evaluate(dataset, options, device, progress)?;
+    write_evaluation(dir, &evaluation)?;
+    let (fused, fusion) = wakelab_fusion::decision::fuse_all(&evaluation.outputs, options.threshold);
+    if !fused.is_empty() {
+        write_atomically(dir.join("fusion_outputs.csv"), &csv(&fused)?)?;
+        let rows: Vec<FusionRow> = fusion
+            .iter()
+            .map(|(s, k)| FusionRow {
+                summary: s.clone(),
+                mean_conflict: *k,
+            })
+            .collect();
+        write_atomically(dir.join("fusion_metrics.csv"), &csv(&rows)?)?;
+    }
+    Ok((evaluation, fusion))
+}
+
+/// A trained detector's files and its score on the test split.
+pub struct Trained {
+    pub path: PathBuf,
+    /// The same weights in PyTorch's layout.
+    pub export: PathBuf,
+    /// Test scenes, their confusion counts and ROC AUC (None without a test split).
+    pub test: Option<(usize, Confusion, Option<f64>)>,
+}
+
+/// One detector of `architecture` on the input `bands`, trained on the dataset's training split
+/// and tested on its test split; saved at `model` (default `dir/<input>_<arch>.safetensors`)
+/// with its training curve beside it.
+#[allow(clippy::too_many_arguments)]
+pub fn train_into(
+    dataset: &Dataset,
+    architecture: Architecture,
+    bands: &[String],
+    options: &EvalOptions,
+    dir: &Path,
+    model: Option<&Path>,
+    device: &Device,
+    progress: &mut dyn FnMut(&str, &EpochRecord),
+) -> Result<Trained> {
+    let split = |name: &str| -> Vec<usize> {
+        (0..dataset.records.len())
+            .filter(|&i| dataset.records[i].split == name)
+            .collect()
+    };
+    let (train_idx, test_idx) = (split("train"), split("test"));
+    if train_idx.is_empty() {
+        anyhow::bail!("{}: no scenes in the training split", dataset.dir.display());
+    }
+    let train = load_examples(dataset, bands, &train_idx)?;
+    let mut curves = Vec::new();
+    let name = band_set_name(bands);
+    let detector = train_detector(
+        architecture,
+        &train,
+        options,
+        options.seed,
+        device,
+        &mut |network, e| {
+            progress(network, e);
+            curves.push(CurvePoint {
+                bands: name.clone(),
+                network: network.to_string(),
+                repetition: 0,
+                epoch: e.clone(),
+            });
+        },
+    );
+    let info = ModelInfo {
+        architecture,
+        bands: bands.to_vec(),
+        input_size: train[0].size(),
+        threshold: options.threshold,
+        unet_width: options.unet.width,
+    };
+    std::fs::create_dir_all(dir).map_err(|e| anyhow::anyhow!("{}: {e}", dir.display()))?;
+    let path = model
+        .map(Path::to_path_buf)
+        .unwrap_or_else(|| dir.join(format!("{name}_{architecture}.safetensors")));
+    let (path, export) = save_detector(&detector, &info, &path)?;
+    write_atomically(dir.join(format!("{name}_{architecture}_curve.csv")), &csv(&curves)?)?;
+    let test = if test_idx.is_empty() {
+        None
+    } else {
+        let test = load_examples(dataset, bands, &test_idx)?;
+        let outputs = detect(&detector, architecture, &test, device);
+        let labels: Vec<u8> = test.iter().map(|e| e.label).collect();
+        let c = Confusion::from_outputs(&outputs, &labels, options.threshold);
+        Some((test.len(), c, roc_auc(&outputs, &labels)))
+    };
+    Ok(Trained { path, export, test })
+}
+
+/// A mask of values in [0, 1] as an 8-bit grey PNG, written atomically.
+pub fn write_mask_png(path: &Path, mask: &ndarray::Array2<f32>) -> Result<()> {
+    let (h, w) = mask.dim();
+    let bytes: Vec<u8> = mask
+        .iter()
+        .map(|&v| (v.clamp(0.0, 1.0) * 255.0).round() as u8)
+        .collect();
+    let png = image::GrayImage::from_raw(w as u32, h as u32, bytes).expect("h x w bytes");
+    let mut buffer = std::io::Cursor::new(Vec::new());
+    png.write_to(&mut buffer, image::ImageFormat::Png)?;
+    write_atomically(path, buffer.get_ref())?;
+    Ok(())
+}
+
+/// Summaries as an aligned text table: input, architecture, repetitions, MCC and accuracy with
+/// their spread, F1, ROC AUC and the confusion counts.
+pub fn summary_table(summaries: &[Summary]) -> String {
+    use std::fmt::Write;
+    let mut out = String::new();
+    let w = summaries.iter().map(|s| s.bands.len()).max().unwrap_or(5).max(5);
+    writeln!(
+        out,
+        "{:<w$} {:<5} {:>5} {:>14} {:>16} {:>6} {:>6}  TP/TN/FP/FN",
+        "input", "arch", "reps", "MCC", "accuracy", "F1", "AUC"
+    )
+    .expect("writing to a string");
+    for s in summaries {
+        writeln!(
+            out,
+            "{:<w$} {:<5} {:>5} {:>7.2} ± {:<4.2} {:>8.1}% ± {:<4.1} {:>6.2} {:>6}  {}/{}/{}/{}",
+            s.bands,
+            s.architecture.name(),
+            s.repetitions,
+            s.mcc,
+            s.mcc_spread,
+            100.0 * s.accuracy,
+            100.0 * s.accuracy_spread,
+            s.f1,
+            s.roc_auc.map(|a| format!("{a:.2}")).unwrap_or_else(|| "-".into()),
+            s.tp,
+            s.tn,
+            s.fp,
+            s.fn_
+        )
+        .expect("writing to a string");
+    }
+    out
+}

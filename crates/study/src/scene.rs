@@ -1,0 +1,74 @@
+//! `wakelab scene` and `wakelab wake`: the wake of one configuration with a progress bar, then
+//! the sea surface of the configured scene and its five images (SAR in S, C and X band, IR in
+//! MWIR and LWIR), written with their pictures.
+
+use crate::Result;
+use std::path::{Path, PathBuf};
+use std::time::Instant;
+use wakelab_core::config::WakelabConfig;
+use wakelab_core::io::write_atomically;
+use wakelab_core::units::RadarBand;
+
+/// The files of a rendered scene and the wall time of its two stages.
+pub struct RenderedScene {
+    pub files: Vec<PathBuf>,
+    pub surface_seconds: f64,
+    pub sensor_seconds: f64,
+}
+
+/// The surface stage on the wake's surface map, then every band's image, written into `dir`.
+pub fn render_scene(cfg: &WakelabConfig, map: &wakelab_hydro::SurfaceMap, dir: &Path) -> Result<RenderedScene> {
+    let start = Instant::now();
+    let scene = wakelab_surface::simulate_surface(cfg, Some(map));
+    let mut files = wakelab_surface::output::write_surface_scene(dir, cfg, &scene)?;
+    let surface_seconds = start.elapsed().as_secs_f64();
+    let start = Instant::now();
+    for band in RadarBand::ALL {
+        let image = wakelab_sensors::render_sar(cfg, &scene, band);
+        files.extend(wakelab_sensors::output::write_sar(dir, cfg, &scene.grid, &image)?);
+    }
+    for band in wakelab_sensors::IrBand::ALL {
+        let image = wakelab_sensors::render_ir(cfg, &scene, band);
+        files.extend(wakelab_sensors::output::write_ir(dir, cfg, &scene.grid, &image)?);
+    }
+    Ok(RenderedScene {
+        files,
+        surface_seconds,
+        sensor_seconds: start.elapsed().as_secs_f64(),
+    })
+}
+
+/// The wake of a configuration, its files and the solver's steps.
+pub struct SimulatedWake {
+    pub map: wakelab_hydro::SurfaceMap,
+    pub files: Vec<PathBuf>,
+    pub steps: usize,
+}
+
+/// The hydro stage (spec 2.1) in `dir` with the configuration beside its files, showing the
+/// simulated time and the solver's rate on a progress bar unless `quiet`.
+pub fn simulate_wake(cfg: &WakelabConfig, dir: &Path, quiet: bool) -> Result<SimulatedWake> {
+    std::fs::create_dir_all(dir).map_err(|e| anyhow::anyhow!("creating {}: {e}", dir.display()))?;
+    write_atomically(dir.join("config.toml"), cfg.to_toml_string().as_bytes())?;
+    let template = "{spinner} wake [{bar:40}] {pos}/{len} s simulated | {msg} | {elapsed_precise} elapsed, {eta} left";
+    let bar = crate::progress_bar(quiet, cfg.time.duration.ceil() as u64, template);
+    let mut last_steps = (0usize, Instant::now());
+    let mut rate = 0.0;
+    let (run, outputs) = wakelab_hydro::output::run_hydro_stage(cfg, dir, &mut |t, steps| {
+        let now = Instant::now();
+        let dt = now.duration_since(last_steps.1).as_secs_f64();
+        if dt > 0.5 {
+            rate = (steps - last_steps.0) as f64 / dt;
+            last_steps = (steps, now);
+        }
+        bar.set_position(t.floor() as u64);
+        bar.set_message(format!("step {steps}, {rate:.1} steps/s"));
+        Ok(())
+    })?;
+    bar.finish_and_clear();
+    Ok(SimulatedWake {
+        map: run.surface_map(cfg, cfg.output.map_dx),
+        files: outputs.files,
+        steps: outputs.steps,
+    })
+}

@@ -276,6 +276,23 @@ mod tests {
         }
     }
 
+    /// The high-permittivity limits of the Bragg coefficients (Valenzuela 1978): g_HH -> 1 and
+    /// g_VV -> (1 + sin^2) / cos^2 as eps -> infinity; and g_HH = g_VV at normal incidence.
+    #[test]
+    fn bragg_coefficients_reach_their_perfect_conductor_limits() {
+        let eps = Complex64::new(1e12, 1e10);
+        for inc in [10.0f64, 30.0, 50.0] {
+            let t = inc.to_radians();
+            let (hh, vv) = bragg_coefficients(t, eps);
+            assert!((hh - 1.0).norm() < 1e-5, "{inc}: g_HH {hh}");
+            let limit = (1.0 + t.sin().powi(2)) / t.cos().powi(2);
+            assert!((vv - limit).norm() < 1e-5 * limit, "{inc}: g_VV {vv} vs {limit}");
+        }
+        let sea = Complex64::new(60.0, 35.0);
+        let (hh, vv) = bragg_coefficients(0.0, sea);
+        assert!((hh - vv).norm() < 1e-12 * hh.norm());
+    }
+
     /// A perfectly conducting flat surface (eps -> infinity, no tilt): g_HH -> 1 and
     /// g_VV -> (1 + sin^2) / cos^2, so sigma_HH = 16 pi k0^4 cos^4(theta) F(k_B) for the
     /// centro-symmetric F of a wind sea (Valenzuela 1978; erratum 15).

@@ -4,119 +4,16 @@
 //! Tables 4.4-4.6 (and 5.1 for several bands as channels).
 
 use crate::data::{balanced_split, Dataset};
-use crate::robustness::Perturbation;
+pub use crate::eval_options::{EvalOptions, PAPER_TEST_FRACTION};
+pub use crate::held_out::evaluate_held_out;
 use crate::store::{Detector, ModelInfo};
-use crate::train::{
-    classify, duplicated, segment, train_classifier, train_unet, with_masks, EpochRecord, Example, Recipe,
-};
+use crate::train::{classify, duplicated, segment, train_classifier, train_unet, with_masks, EpochRecord, Example};
 use burn::tensor::Device;
 use ndarray::{Array3, Axis};
 use serde::{Deserialize, Serialize};
 use wakelab_core::{ConfigError, WakelabError};
 use wakelab_schema::results::Architecture;
 pub use wakelab_schema::results::{band_set_name, summarise, summarise_split, Output, Summary};
-
-/// The paper's split: 135 training and 14 test images per band (4.2), i.e. this share of the
-/// images used is held out for testing.
-pub const PAPER_TEST_FRACTION: f64 = 14.0 / 149.0;
-
-/// What to evaluate and how.
-#[derive(Debug, Clone)]
-pub struct EvalOptions {
-    pub architectures: Vec<Architecture>,
-    /// Each entry one input: a single band, or several bands as channels (feature-level fusion).
-    pub band_sets: Vec<Vec<String>>,
-    /// Repetitions of Algorithm 2 (5 in the spec).
-    pub repetitions: usize,
-    /// Share of each class held out for testing in each repetition.
-    pub test_fraction: f64,
-    pub classifier: Recipe,
-    pub unet: Recipe,
-    pub threshold: f64,
-    pub seed: u64,
-    /// Perturbed copies of each repetition's test images the detectors are also run on
-    /// (robustness, spec 6.2); their outputs are kept with split `test:<name>`.
-    pub perturbations: Vec<Perturbation>,
-}
-
-impl EvalOptions {
-    /// The spec's experiment on the given bands, one at a time.
-    pub fn spec(bands: &[String]) -> Self {
-        Self {
-            architectures: Architecture::ALL.to_vec(),
-            band_sets: bands.iter().map(|b| vec![b.clone()]).collect(),
-            repetitions: 5,
-            test_fraction: PAPER_TEST_FRACTION,
-            classifier: Recipe::classifier(),
-            unet: Recipe::unet(),
-            threshold: 0.5,
-            seed: 0,
-            perturbations: Vec::new(),
-        }
-    }
-
-    /// Epochs of a network as `train_detector` names it ("segmenter" is the U-Net).
-    pub fn epochs_of(&self, network: &str) -> usize {
-        match network {
-            "segmenter" => self.unet.epochs,
-            _ => self.classifier.epochs,
-        }
-    }
-
-    pub fn validate(&self) -> Result<(), WakelabError> {
-        let err = |f: &str, v: String, a: &str| Err(ConfigError::new(f, v, a).into());
-        if self.repetitions == 0 || self.repetitions > 1000 {
-            return err("repetitions", self.repetitions.to_string(), "an integer in [1, 1000]");
-        }
-        if !(self.test_fraction > 0.0 && self.test_fraction < 1.0) {
-            return err("test_fraction", self.test_fraction.to_string(), "in (0, 1)");
-        }
-        if !(0.0..=1.0).contains(&self.threshold) {
-            return err("threshold", self.threshold.to_string(), "in [0, 1]");
-        }
-        if !(4..=256).contains(&self.unet.width) {
-            return err("unet_width", self.unet.width.to_string(), "an integer in [4, 256]");
-        }
-        for (name, r) in [("classifier", &self.classifier), ("unet", &self.unet)] {
-            if r.epochs == 0 || r.epochs > 10_000 {
-                return err(
-                    &format!("{name}.epochs"),
-                    r.epochs.to_string(),
-                    "an integer in [1, 10000]",
-                );
-            }
-            if r.batch_size == 0 || r.batch_size > 4096 {
-                return err(
-                    &format!("{name}.batch_size"),
-                    r.batch_size.to_string(),
-                    "an integer in [1, 4096]",
-                );
-            }
-            if !(r.learning_rate > 0.0 && r.learning_rate <= 10.0) {
-                return err(
-                    &format!("{name}.learning_rate"),
-                    r.learning_rate.to_string(),
-                    "in (0, 10]",
-                );
-            }
-            if !(0.0..=10.0).contains(&r.weight_decay) {
-                return err(
-                    &format!("{name}.weight_decay"),
-                    r.weight_decay.to_string(),
-                    "in [0, 10]",
-                );
-            }
-        }
-        if self.architectures.is_empty() || self.band_sets.is_empty() || self.band_sets.iter().any(|s| s.is_empty()) {
-            return err(
-                "bands/architectures",
-                "empty".into(),
-                "at least one band and one architecture",
-            );
-        }
-        Ok(())
-    }
-}
 
 /// One training curve point.
 #[derive(Debug, Clone, Serialize, Deserialize)]
@@ -341,52 +238,4 @@ pub fn evaluate(
         summaries,
         detectors,
     })
-}
-
-/// Environments held out of training (robustness, spec 6.2): for each group of scenes, train on
-/// every other scene and test on the group. Outputs are kept with split `held_out` and the
-/// group's index as `repetition`, so `summarise_split(.., "held_out", ..)` averages over groups.
-pub fn evaluate_held_out(
-    dataset: &Dataset,
-    options: &EvalOptions,
-    groups: &[Vec<usize>],
-    device: &Device,
-    progress: &mut dyn FnMut(&EvalProgress),
-) -> Result<Vec<Output>, WakelabError> {
-    options.validate()?;
-    let mut outputs = Vec::new();
-    for bands in &options.band_sets {
-        let name = band_set_name(bands);
-        for (g, test_idx) in groups.iter().enumerate() {
-            let train_idx: Vec<usize> = (0..dataset.records.len()).filter(|i| !test_idx.contains(i)).collect();
-            if train_idx.is_empty() || test_idx.is_empty() {
-                continue;
-            }
-            let train = load_examples(dataset, bands, &train_idx)?;
-            let test = load_examples(dataset, bands, test_idx)?;
-            let seed = options.seed.wrapping_add(7919 * (g as u64 + 1));
-            for &architecture in &options.architectures {
-                let detector = train_detector(architecture, &train, options, seed, device, &mut |network, e| {
-                    progress(&EvalProgress {
-                        bands: &name,
-                        network,
-                        repetition: g,
-                        epoch: e,
-                        epochs: options.epochs_of(network),
-                    })
-                });
-                let o = detect(&detector, architecture, &test, device);
-                outputs.extend(test_idx.iter().zip(&test).zip(o).map(|((&i, e), output)| Output {
-                    bands: name.clone(),
-                    architecture,
-                    repetition: g,
-                    split: "held_out".to_string(),
-                    scene: dataset.records[i].id.clone(),
-                    label: e.label,
-                    output,
-                }));
-            }
-        }
-    }
-    Ok(outputs)
 }

@@ -9,7 +9,9 @@
 pub mod data;
 pub mod detect;
 pub mod device;
+pub mod eval_options;
 pub mod evaluate;
+pub mod held_out;
 pub mod models;
 pub mod robustness;
 pub mod store;

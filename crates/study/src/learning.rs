@@ -138,17 +138,11 @@ pub fn train_into(
     Ok(Trained { path, export, test })
 }
 
-/// A mask of values in [0, 1] as an 8-bit grey PNG, written atomically.
+/// A mask of values in [0, 1] as an 8-bit grey PNG (0 black, 1 white), written atomically.
 pub fn write_mask_png(path: &Path, mask: &ndarray::Array2<f32>) -> Result<()> {
     let (h, w) = mask.dim();
-    let bytes: Vec<u8> = mask
-        .iter()
-        .map(|&v| (v.clamp(0.0, 1.0) * 255.0).round() as u8)
-        .collect();
-    let png = image::GrayImage::from_raw(w as u32, h as u32, bytes).expect("h x w bytes");
-    let mut buffer = std::io::Cursor::new(Vec::new());
-    png.write_to(&mut buffer, image::ImageFormat::Png)?;
-    write_atomically(path, buffer.get_ref())?;
+    let values: Vec<f32> = mask.iter().copied().collect();
+    wakelab_core::io::geotiff::write_quicklook(path, &values, h, w, 0.0, 1.0)?;
     Ok(())
 }
 

@@ -13,7 +13,7 @@ use wakelab_data::study::Study;
 use wakelab_fusion::decision::{fuse_all, FusedOutput};
 use wakelab_learn::data::Dataset;
 use wakelab_learn::evaluate::{
-    band_set_name, evaluate, evaluate_held_out, summarise, CurvePoint, EvalOptions, EvalProgress, Output, Summary,
+    band_set_name, evaluate, evaluate_held_out, summarise, CurvePoint, EvalOptions, Output, Summary,
 };
 use wakelab_learn::models::Architecture;
 use wakelab_learn::robustness::Perturbation;
@@ -120,20 +120,6 @@ pub fn eval_options(plan: &LearningPlan, dataset: &Dataset) -> EvalOptions {
     }
 }
 
-fn progress_message(p: &EvalProgress, repetitions: usize) -> String {
-    format!(
-        "{} {} {}/{} epoch {}/{} loss {:.3} {:.0} img/s",
-        p.bands,
-        p.network,
-        p.repetition + 1,
-        repetitions,
-        p.epoch.epoch,
-        p.epochs,
-        p.epoch.loss,
-        p.epoch.images_per_second
-    )
-}
-
 fn stage_time(stage: &str, start: Instant, computed: Option<f64>) -> StageTime {
     let seconds = start.elapsed().as_secs_f64();
     StageTime {
@@ -231,10 +217,7 @@ fn learning_stage(
         let unet = unet_cost(options.unet.width);
         let evaluation = evaluate(dataset, &one, device, &mut |p| {
             let per_image = if p.network == "segmenter" { unet } else { 1 };
-            display.advance(
-                per_image * train_images as u64,
-                progress_message(p, options.repetitions),
-            );
+            display.advance(per_image * train_images as u64, p.describe(options.repetitions));
         })?;
         write_evaluation(&stage_dir, &evaluation)?;
         let seconds = t.elapsed().as_secs_f64();
@@ -317,7 +300,7 @@ fn held_out_stage(
     }
     let indices: Vec<Vec<usize>> = groups.into_iter().map(|(_, idx)| idx).collect();
     let outputs = evaluate_held_out(dataset, &o, &indices, device, &mut |p| {
-        display.advance(train_images as u64, progress_message(p, indices.len()))
+        display.advance(train_images as u64, p.describe(indices.len()))
     })?;
     let seconds = start.elapsed().as_secs_f64();
     std::fs::create_dir_all(dir)?;

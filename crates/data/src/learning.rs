@@ -4,6 +4,7 @@
 
 use serde::{Deserialize, Serialize};
 use wakelab_core::{ConfigError, WakelabError};
+use wakelab_schema::band::{Band, Input};
 use wakelab_schema::recipe;
 
 /// Training, evaluation and robustness settings of a study.
@@ -30,7 +31,7 @@ pub struct LearningPlan {
     pub seed: u64,
     /// Feature-level fusions: bands joined by `+` as channels of one input (5.1's "SX").
     /// Default: S+X (5.1) and C+LWIR (SAR with IR, 5.4), those of them the study renders.
-    pub fused_inputs: Option<Vec<String>>,
+    pub fused_inputs: Option<Vec<Input>>,
     /// Robustness: test images rotated by these angles (degrees, not multiples of 90).
     pub rotations: Vec<f64>,
     /// Robustness: square patches dropped (set to the image mean) from each test image.
@@ -66,35 +67,21 @@ impl Default for LearningPlan {
     }
 }
 
-/// Study axes a held-out robustness test can group scenes by.
-pub const HELD_OUT_AXES: [&str; 9] = [
-    "wind_speed",
-    "wind_direction",
-    "swell_amplitude",
-    "swell_wavelength",
-    "swell_direction",
-    "stratification",
-    "ship_speed",
-    "along_track",
-    "incidence",
-];
-
 impl LearningPlan {
     /// The feature-level fusions to train, each a list of bands.
-    pub fn fused_inputs(&self, bands: &[String]) -> Vec<Vec<String>> {
-        let split = |s: &str| s.split('+').map(str::to_string).collect::<Vec<_>>();
+    pub fn fused_inputs(&self, bands: &[Band]) -> Vec<Input> {
         match &self.fused_inputs {
-            Some(list) => list.iter().map(|s| split(s)).collect(),
-            None => ["S+X", "C+LWIR"]
-                .iter()
-                .map(|s| split(s))
+            Some(list) => list.clone(),
+            None => [[Band::S, Band::X], [Band::C, Band::Lwir]]
+                .into_iter()
                 .filter(|set| set.iter().all(|b| bands.contains(b)))
+                .filter_map(|set| Input::new(set.to_vec()))
                 .collect(),
         }
     }
 
     /// Check every value's range; `bands` are the study's bands.
-    pub fn validate(&self, bands: &[String]) -> Result<(), WakelabError> {
+    pub fn validate(&self, bands: &[Band]) -> Result<(), WakelabError> {
         let err = |f: &str, v: String, a: &str| -> Result<(), WakelabError> {
             Err(ConfigError::new(format!("learning.{f}"), v, a).into())
         };
@@ -133,21 +120,18 @@ impl LearningPlan {
             return err("rotations", a.to_string(), "angles in [-360, 360] degrees");
         }
         for input in self.fused_inputs.iter().flatten() {
-            let parts: Vec<&str> = input.split('+').collect();
-            if parts.len() < 2 || parts.iter().any(|b| !bands.iter().any(|s| s == b)) {
+            if !input.is_fused() || input.bands().iter().any(|b| !bands.contains(b)) {
+                let names: Vec<&str> = bands.iter().map(|b| b.name()).collect();
                 return err(
                     "fused_inputs",
-                    input.clone(),
-                    &format!("two or more of the study's bands {bands:?} joined by +"),
+                    input.to_string(),
+                    &format!("two or more of the study's bands {names:?} joined by +"),
                 );
             }
         }
-        if !self.held_out.is_empty() && !HELD_OUT_AXES.contains(&self.held_out.as_str()) {
-            return err(
-                "held_out",
-                self.held_out.clone(),
-                &format!("empty, or one of {HELD_OUT_AXES:?}"),
-            );
+        let axes = wakelab_schema::axes::held_out_axes();
+        if !self.held_out.is_empty() && !axes.contains(&self.held_out.as_str()) {
+            return err("held_out", self.held_out.clone(), &format!("empty, or one of {axes:?}"));
         }
         Ok(())
     }
@@ -157,8 +141,8 @@ impl LearningPlan {
 mod tests {
     use super::*;
 
-    fn bands() -> Vec<String> {
-        crate::study::BANDS.iter().map(|b| b.to_string()).collect()
+    fn bands() -> Vec<Band> {
+        Band::ALL.to_vec()
     }
 
     #[test]
@@ -168,7 +152,7 @@ mod tests {
         assert_eq!((p.learning_rate, p.unet_learning_rate, p.threshold), (1e-3, 1e-4, 0.5));
         p.validate(&bands()).unwrap();
         assert_eq!(p.fused_inputs(&bands()).len(), 2);
-        assert_eq!(p.fused_inputs(&["C".into(), "LWIR".into()]), vec![vec!["C", "LWIR"]]);
+        assert_eq!(p.fused_inputs(&[Band::C, Band::Lwir]), vec!["C+LWIR".parse().unwrap()]);
     }
 
     #[test]
@@ -177,7 +161,10 @@ mod tests {
         let cases: [(Change, &str); 5] = [
             (|p| p.epochs = 0, "learning.epochs"),
             (|p| p.unet_width = 2, "learning.unet_width"),
-            (|p| p.fused_inputs = Some(vec!["S+Q".into()]), "learning.fused_inputs"),
+            (
+                |p| p.fused_inputs = Some(vec!["S".parse().unwrap()]),
+                "learning.fused_inputs",
+            ),
             (|p| p.held_out = "colour".into(), "learning.held_out"),
             (|p| p.rotations = vec![f64::NAN], "learning.rotations"),
         ];

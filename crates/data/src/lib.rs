@@ -24,10 +24,13 @@ use std::sync::Mutex;
 use std::time::Instant;
 use study::{ScenePair, Study};
 use wakelab_core::io::geotiff::{quantile, write_quicklook};
-use wakelab_core::io::write_atomically;
+use wakelab_core::io::{csv_record, write_atomically};
 use wakelab_core::{WakelabConfig, WakelabError};
 use wakelab_hydro::SurfaceMap;
+use wakelab_schema::axes::AXES;
+use wakelab_schema::band::Band;
 pub use wakelab_schema::dataset::SceneRecord;
+use wakelab_schema::split::Split;
 
 /// Wall time per stage (s), summed over the scenes rendered in this run.
 #[derive(Debug, Clone, Default, Serialize)]
@@ -223,7 +226,7 @@ fn write_pair(dir: &Path, study: &Study, pair: &ScenePair, bands: &[render::Band
             let mask_path = sdir.join(format!("mask_{}.npy", b.band));
             write_npy_atomically(&mask_path, &mask)?;
             let (rows, cols) = image.dim();
-            let display: Vec<f32> = if b.band.len() == 1 {
+            let display: Vec<f32> = if b.band.is_radar() {
                 image
                     .iter()
                     .map(|&v| (10.0 * (v.max(1e-30) as f64).log10()) as f32)
@@ -232,7 +235,7 @@ fn write_pair(dir: &Path, study: &Study, pair: &ScenePair, bands: &[render::Band
                 image.iter().copied().collect()
             };
             // both scenes of a pair share the wake scene's stretch, so they compare by eye
-            let wake_display: Vec<f32> = if b.band.len() == 1 {
+            let wake_display: Vec<f32> = if b.band.is_radar() {
                 b.wake
                     .iter()
                     .map(|&v| (10.0 * (v.max(1e-30) as f64).log10()) as f32)
@@ -243,11 +246,11 @@ fn write_pair(dir: &Path, study: &Study, pair: &ScenePair, bands: &[render::Band
             let (lo, hi) = (quantile(&wake_display, 0.02), quantile(&wake_display, 0.98));
             write_quicklook(&sdir.join(format!("{}.png", b.band)), &display, rows, cols, lo, hi)?;
             let rel = |p: &Path| p.strip_prefix(dir).expect("inside the dataset").display().to_string();
-            images.insert(b.band.to_string(), rel(&npy));
-            masks.insert(b.band.to_string(), rel(&mask_path));
+            images.insert(b.band, rel(&npy));
+            masks.insert(b.band, rel(&mask_path));
             let v = if is_wake { b.visibility.0 } else { b.visibility.1 };
-            visibility.insert(b.band.to_string(), v);
-            label_by_band.insert(b.band.to_string(), u8::from(is_wake && v >= study.study.min_visibility));
+            visibility.insert(b.band, v);
+            label_by_band.insert(b.band, u8::from(is_wake && v >= study.study.min_visibility));
         }
         let record = SceneRecord {
             id: id.clone(),
@@ -260,7 +263,7 @@ fn write_pair(dir: &Path, study: &Study, pair: &ScenePair, bands: &[render::Band
             parameters: pair.combination.clone(),
             images,
             masks,
-            split: String::new(),
+            split: None,
         };
         write_atomically(
             sdir.join("scene.json"),
@@ -331,12 +334,11 @@ pub fn write_manifest(study: &Study, dir: &Path) -> Result<Vec<SceneRecord>, Wak
         in_test += n;
     }
     for r in &mut records {
-        r.split = if test_groups.contains(&group_of(r)) {
-            "test"
+        r.split = Some(if test_groups.contains(&group_of(r)) {
+            Split::Test
         } else {
-            "train"
-        }
-        .into();
+            Split::Train
+        });
     }
     write_atomically(
         dir.join("manifest.json"),
@@ -346,13 +348,14 @@ pub fn write_manifest(study: &Study, dir: &Path) -> Result<Vec<SceneRecord>, Wak
         dir.join("manifest.csv"),
         manifest_csv(&records, &study.study.bands).as_bytes(),
     )?;
-    let split: BTreeMap<&str, Vec<&str>> = ["train", "test"]
+    let split: BTreeMap<String, Vec<&str>> = [Split::Train, Split::Test]
         .into_iter()
         .map(|s| {
-            (
-                s,
-                records.iter().filter(|r| r.split == s).map(|r| r.id.as_str()).collect(),
-            )
+            let ids = records
+                .iter()
+                .filter(|r| r.split.as_ref() == Some(&s))
+                .map(|r| r.id.as_str());
+            (s.to_string(), ids.collect())
         })
         .collect();
     write_atomically(
@@ -363,67 +366,32 @@ pub fn write_manifest(study: &Study, dir: &Path) -> Result<Vec<SceneRecord>, Wak
 }
 
 /// The manifest as CSV, one row per scene.
-fn manifest_csv(records: &[SceneRecord], bands: &[String]) -> String {
-    let mut header: Vec<String> = [
-        "id",
-        "pair",
-        "label",
-        "split",
-        "seed",
-        "wind_speed",
-        "wind_direction",
-        "swell_amplitude",
-        "swell_wavelength",
-        "swell_direction",
-        "stratification",
-        "ship_speed",
-        "along_track",
-        "incidence",
-        "look_direction",
-        "polarisation",
-        "pixel_spacing",
-        "image_size",
-    ]
-    .iter()
-    .map(|s| s.to_string())
-    .collect();
+fn manifest_csv(records: &[SceneRecord], bands: &[Band]) -> String {
+    let mut header: Vec<String> = ["id", "pair", "label", "split", "seed"].map(String::from).to_vec();
+    header.extend(AXES.iter().map(|a| a.name.to_string()));
     for b in bands {
         header.push(format!("visibility_{b}"));
         header.push(format!("label_{b}"));
         header.push(format!("image_{b}"));
         header.push(format!("mask_{b}"));
     }
-    let mut out = header.join(",") + "\n";
+    let mut out = csv_record(&header);
     for r in records {
-        let p = &r.parameters;
-        let direction = serde_json::to_value(p.swell_direction).expect("serialisable");
         let mut row: Vec<String> = vec![
             r.id.clone(),
             r.pair.to_string(),
             r.label.to_string(),
-            r.split.clone(),
+            r.split.as_ref().map(Split::to_string).unwrap_or_default(),
             r.seed.to_string(),
-            p.wind_speed.to_string(),
-            p.wind_direction.to_string(),
-            p.swell_amplitude.to_string(),
-            p.swell_wavelength.to_string(),
-            direction.as_str().map_or(direction.to_string(), str::to_string),
-            format!("{:?}", p.stratification).to_lowercase(),
-            p.ship_speed.to_string(),
-            p.along_track.to_string(),
-            p.incidence.to_string(),
-            p.look_direction.to_string(),
-            format!("{:?}", p.polarisation).to_lowercase(),
-            p.pixel_spacing.to_string(),
-            p.image_size.to_string(),
         ];
+        row.extend(AXES.iter().map(|a| r.parameters.value_text(a.name).unwrap_or_default()));
         for b in bands {
             row.push(format!("{:.6}", r.visibility.get(b).copied().unwrap_or(0.0)));
             row.push(r.label_by_band.get(b).copied().unwrap_or(0).to_string());
             row.push(r.images.get(b).cloned().unwrap_or_default());
             row.push(r.masks.get(b).cloned().unwrap_or_default());
         }
-        out += &(row.join(",") + "\n");
+        out += &csv_record(&row);
     }
     out
 }

@@ -13,6 +13,7 @@ use crate::study::ScenePair;
 use ndarray::Array2;
 use wakelab_core::units::RadarBand;
 use wakelab_hydro::SurfaceMap;
+use wakelab_schema::band::Band;
 use wakelab_sensors::{render_ir, render_sar, IrBand};
 use wakelab_surface::{simulate_surface, SurfaceScene};
 
@@ -23,7 +24,7 @@ pub const MASK_TEMPERATURE: f64 = 0.02;
 
 /// One band of a rendered pair.
 pub struct BandPair {
-    pub band: &'static str,
+    pub band: Band,
     pub wake: Array2<f32>,
     pub no_wake: Array2<f32>,
     pub mask: Array2<u8>,
@@ -31,16 +32,22 @@ pub struct BandPair {
     pub visibility: (f64, f64),
     /// What the images hold.
     pub quantity: &'static str,
-    /// A SAR band (sigma0) rather than an IR band (brightness temperature).
-    pub radar: bool,
 }
 
-fn sar_band(name: &str) -> Option<RadarBand> {
-    RadarBand::ALL.into_iter().find(|b| b.name() == name)
+/// The sensor that renders a band: a radar band of the SAR or an infrared band of the imager.
+enum Sensor {
+    Radar(RadarBand),
+    Infrared(IrBand),
 }
 
-fn ir_band(name: &str) -> Option<IrBand> {
-    IrBand::ALL.into_iter().find(|b| b.name() == name)
+fn sensor(band: Band) -> Sensor {
+    match band {
+        Band::S => Sensor::Radar(RadarBand::S),
+        Band::C => Sensor::Radar(RadarBand::C),
+        Band::X => Sensor::Radar(RadarBand::X),
+        Band::Mwir => Sensor::Infrared(IrBand::Mwir),
+        Band::Lwir => Sensor::Infrared(IrBand::Lwir),
+    }
 }
 
 /// Contrast-to-clutter ratio of `image` over `mask`.
@@ -74,7 +81,7 @@ pub fn visibility(image: &Array2<f32>, mask: &Array2<u8>) -> f64 {
 
 /// Render a pair in `bands` from the wake's surface map; also returns the seconds spent in the
 /// surface stage and in the sensors.
-pub fn render_pair(pair: &ScenePair, map: &SurfaceMap, bands: &[String]) -> (Vec<BandPair>, f64, f64) {
+pub fn render_pair(pair: &ScenePair, map: &SurfaceMap, bands: &[Band]) -> (Vec<BandPair>, f64, f64) {
     let cfg = &pair.config;
     let t = std::time::Instant::now();
     let with: SurfaceScene = simulate_surface(cfg, Some(map));
@@ -83,33 +90,26 @@ pub fn render_pair(pair: &ScenePair, map: &SurfaceMap, bands: &[String]) -> (Vec
     let t = std::time::Instant::now();
     let out = bands
         .iter()
-        .map(|name| {
-            if let Some(b) = sar_band(name) {
+        .map(|&band| match sensor(band) {
+            Sensor::Radar(b) => {
                 let m = &with.bragg.iter().find(|x| x.band == b).expect("every band").modulation;
                 let mask = m.mapv(|v| u8::from((v - 1.0).abs() > MASK_MODULATION));
                 let wake = render_sar(cfg, &with, b).sigma0.mapv(|v| v as f32);
                 let no_wake = render_sar(cfg, &without, b).sigma0.mapv(|v| v as f32);
-                finish(b.name(), wake, no_wake, mask, "sigma0 (linear)", true)
-            } else {
-                let b = ir_band(name).expect("validated band");
+                finish(band, wake, no_wake, mask, "sigma0 (linear)")
+            }
+            Sensor::Infrared(b) => {
                 let mask = with.temperature_anomaly.mapv(|v| u8::from(v.abs() > MASK_TEMPERATURE));
                 let wake = render_ir(cfg, &with, b).brightness_temperature.mapv(|v| v as f32);
                 let no_wake = render_ir(cfg, &without, b).brightness_temperature.mapv(|v| v as f32);
-                finish(b.name(), wake, no_wake, mask, "brightness temperature (K)", false)
+                finish(band, wake, no_wake, mask, "brightness temperature (K)")
             }
         })
         .collect();
     (out, surface, t.elapsed().as_secs_f64())
 }
 
-fn finish(
-    band: &'static str,
-    wake: Array2<f32>,
-    no_wake: Array2<f32>,
-    mask: Array2<u8>,
-    quantity: &'static str,
-    radar: bool,
-) -> BandPair {
+fn finish(band: Band, wake: Array2<f32>, no_wake: Array2<f32>, mask: Array2<u8>, quantity: &'static str) -> BandPair {
     let visibility = (visibility(&wake, &mask), visibility(&no_wake, &mask));
     BandPair {
         band,
@@ -118,7 +118,6 @@ fn finish(
         mask,
         visibility,
         quantity,
-        radar,
     }
 }
 

@@ -2,8 +2,9 @@
 
 use std::collections::BTreeMap;
 use std::path::Path;
-use wakelab_data::study::Study;
+use wakelab_data::study::{Band, Study};
 use wakelab_data::{run_study, shard_indices, write_manifest, Shard};
+use wakelab_schema::split::Split;
 
 fn quiet(_: wakelab_data::Progress) {}
 
@@ -126,7 +127,9 @@ fn shards_cover_every_pair_once_and_their_merge_equals_one_run() {
             r.environment
         );
     }
-    assert!(records.iter().any(|r| r.split == "test") && records.iter().any(|r| r.split == "train"));
+    assert!(
+        records.iter().any(|r| r.split == Some(Split::Test)) && records.iter().any(|r| r.split == Some(Split::Train))
+    );
 }
 
 #[test]
@@ -206,7 +209,7 @@ preset = "quick"
             .iter()
             .find(|r| r.label == 1 && serde_json::to_value(r.parameters.swell_direction).unwrap() == dir)
             .unwrap()
-            .visibility["C"]
+            .visibility[&Band::C]
     };
     let (following, calm) = (vis("following"), vis("calm"));
     eprintln!("C-band visibility 16 km behind the ship: following {following:.3}, calm {calm:.3}");
@@ -225,7 +228,10 @@ fn bad_study_files_are_refused_before_any_work() {
         )
     };
     for (text, field) in [
-        (base("", "[\"C\", \"K\"]"), "study.bands"),
+        (
+            base("", "[\"C\", \"K\"]"),
+            "unknown band `K`: one of S, C, X, MWIR, LWIR",
+        ),
         (base("wind_speed = [-3.0]", "[\"C\"]"), "axes.wind_speed"),
         (base("incidence = []", "[\"C\"]"), "axes.incidence"),
         (

@@ -9,31 +9,18 @@ use crate::bayes::{bayes_fuse, SourceWeights};
 use crate::dempster::{classifier_mass, combine_all, pignistic, Mass};
 use serde::{Deserialize, Serialize};
 use std::collections::BTreeMap;
+use wakelab_schema::band::{Band, Input};
+pub use wakelab_schema::fusion_row::{FusionRow, Method, Source};
 use wakelab_schema::metrics::Confusion;
-use wakelab_schema::results::Architecture;
-use wakelab_schema::results::{summarise, Output, Summary};
-
-/// The decision-level methods.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
-pub enum Method {
-    Bayes,
-    DempsterShafer,
-}
-
-impl Method {
-    pub fn name(self) -> &'static str {
-        match self {
-            Method::Bayes => "Bayes classifier",
-            Method::DempsterShafer => "Dempster-Shafer",
-        }
-    }
-}
+use wakelab_schema::results::{summarise_scores, Architecture, Output, Scored, Summary};
+use wakelab_schema::split::Split;
 
 /// One fused decision on one test scene.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct FusedOutput {
-    /// "Bayes classifier (S, X)" and the like: the row name of Tables 5.1-5.3.
-    pub fusion: String,
+    /// The method and the fused inputs, named "Bayes classifier (S, X)" and the like: the row
+    /// name of Tables 5.1-5.3.
+    pub fusion: FusionRow,
     pub architecture: Architecture,
     pub repetition: usize,
     pub scene: String,
@@ -48,22 +35,25 @@ pub struct FusedOutput {
 /// wake, another certain of no wake); masses are kept this far from 0 and 1.
 const CERTAINTY_LIMIT: f64 = 1e-6;
 
-/// Fuse the single-source outputs of `sources` (band-set names such as "S" and "X") of one
+/// Fuse the single-source outputs of `sources` (inputs such as "S" and "X") of one
 /// architecture, repetition by repetition, on the test scenes every source saw.
 pub fn fuse_decisions(
     outputs: &[Output],
-    sources: &[String],
+    sources: &[Input],
     architecture: Architecture,
     method: Method,
     threshold: f64,
 ) -> Vec<FusedOutput> {
-    let name = format!("{} ({})", method.name(), sources.join(", "));
+    let row = FusionRow {
+        method,
+        sources: sources.to_vec(),
+    };
     let mut repetitions: Vec<usize> = outputs.iter().map(|o| o.repetition).collect();
     repetitions.sort();
     repetitions.dedup();
     let mut fused = Vec::new();
     for r in repetitions {
-        let of = |source: &String, split: &str| -> Vec<&Output> {
+        let of = |source: &Input, split: Split| -> Vec<&Output> {
             outputs
                 .iter()
                 .filter(|o| {
@@ -75,13 +65,13 @@ pub fn fuse_decisions(
         let weights: Vec<SourceWeights> = sources
             .iter()
             .map(|s| {
-                let (o, l): (Vec<f64>, Vec<u8>) = of(s, "train").iter().map(|o| (o.output, o.label)).unzip();
+                let (o, l): (Vec<f64>, Vec<u8>) = of(s, Split::Train).iter().map(|o| (o.output, o.label)).unzip();
                 SourceWeights::from_confusion(&Confusion::from_outputs(&o, &l, threshold))
             })
             .collect();
         let tests: Vec<BTreeMap<&str, &Output>> = sources
             .iter()
-            .map(|s| of(s, "test").into_iter().map(|o| (o.scene.as_str(), o)).collect())
+            .map(|s| of(s, Split::Test).into_iter().map(|o| (o.scene.as_str(), o)).collect())
             .collect();
         let Some(first) = tests.first() else { continue };
         for (&scene, o0) in first {
@@ -108,7 +98,7 @@ pub fn fuse_decisions(
                 }
             };
             fused.push(FusedOutput {
-                fusion: name.clone(),
+                fusion: row.clone(),
                 architecture,
                 repetition: r,
                 scene: scene.to_string(),
@@ -124,15 +114,21 @@ pub fn fuse_decisions(
 /// Source sets fused at decision level from the single bands evaluated: the spec's (S, X) of
 /// 5.2, every SAR band together, and SAR with IR (5.4): each set only when all its bands were
 /// evaluated alone.
-pub fn decision_sets(single_bands: &[String]) -> Vec<Vec<String>> {
-    let has = |b: &str| single_bands.iter().any(|s| s == b);
-    let pick = |names: &[&str]| -> Vec<String> { names.iter().filter(|b| has(b)).map(|b| b.to_string()).collect() };
+pub fn decision_sets(single_bands: &[Band]) -> Vec<Vec<Input>> {
+    use Band::*;
+    let pick = |bands: &[Band]| -> Vec<Input> {
+        bands
+            .iter()
+            .filter(|b| single_bands.contains(b))
+            .map(|&b| Input::single(b))
+            .collect()
+    };
     let mut sets = Vec::new();
     for candidate in [
-        pick(&["S", "X"]),
-        pick(&["S", "C", "X"]),
-        pick(&["C", "LWIR"]),
-        pick(&["S", "C", "X", "MWIR", "LWIR"]),
+        pick(&[S, X]),
+        pick(&[S, C, X]),
+        pick(&[C, Lwir]),
+        pick(&[S, C, X, Mwir, Lwir]),
     ] {
         if candidate.len() >= 2 && !sets.contains(&candidate) {
             sets.push(candidate);
@@ -145,11 +141,7 @@ pub fn decision_sets(single_bands: &[String]) -> Vec<Vec<String>> {
 /// set, Bayes and Dempster-Shafer; returns the fused outputs and their metrics (the fusion rows
 /// of Tables 5.1-5.3) with the mean conflict of each Dempster-Shafer row.
 pub fn fuse_all(outputs: &[Output], threshold: f64) -> (Vec<FusedOutput>, Vec<(Summary, f64)>) {
-    let mut singles: Vec<String> = outputs
-        .iter()
-        .filter(|o| !o.bands.contains('+'))
-        .map(|o| o.bands.clone())
-        .collect();
+    let mut singles: Vec<Band> = outputs.iter().filter_map(|o| o.bands.as_single()).collect();
     singles.sort();
     singles.dedup();
     let mut architectures: Vec<Architecture> = outputs.iter().map(|o| o.architecture).collect();
@@ -158,29 +150,29 @@ pub fn fuse_all(outputs: &[Output], threshold: f64) -> (Vec<FusedOutput>, Vec<(S
     let mut fused = Vec::new();
     for &a in &architectures {
         for set in decision_sets(&singles) {
-            for method in [Method::Bayes, Method::DempsterShafer] {
+            for method in Method::ALL {
                 fused.extend(fuse_decisions(outputs, &set, a, method, threshold));
             }
         }
     }
-    let as_outputs: Vec<Output> = fused
+    let scored: Vec<Scored> = fused
         .iter()
-        .map(|f| Output {
-            bands: f.fusion.clone(),
-            architecture: f.architecture,
-            repetition: f.repetition,
-            split: "test".into(),
-            scene: f.scene.clone(),
-            label: f.label,
-            output: f.output,
+        .map(|f| {
+            Scored::new(
+                Source::Fusion(f.fusion.clone()),
+                f.architecture,
+                f.repetition,
+                f.label,
+                f.output,
+            )
         })
         .collect();
-    let summaries = summarise(&as_outputs, threshold)
+    let summaries = summarise_scores(&scored, threshold)
         .into_iter()
         .map(|s| {
             let ks: Vec<f64> = fused
                 .iter()
-                .filter(|f| f.fusion == s.bands && f.architecture == s.architecture)
+                .filter(|f| s.bands.fusion() == Some(&f.fusion) && f.architecture == s.architecture)
                 .map(|f| f.conflict)
                 .collect();
             let mean_conflict = ks.iter().sum::<f64>() / ks.len().max(1) as f64;
@@ -196,15 +188,16 @@ mod tests {
 
     #[test]
     fn decision_sets_follow_the_bands_evaluated() {
-        let b = |v: &[&str]| v.iter().map(|s| s.to_string()).collect::<Vec<_>>();
-        assert_eq!(decision_sets(&b(&["S", "X"])), vec![b(&["S", "X"])]);
+        let b = |v: &[&str]| v.iter().map(|s| s.parse::<Band>().unwrap()).collect::<Vec<_>>();
+        let i = |v: &[&str]| v.iter().map(|s| s.parse::<Input>().unwrap()).collect::<Vec<_>>();
+        assert_eq!(decision_sets(&b(&["S", "X"])), vec![i(&["S", "X"])]);
         assert_eq!(
             decision_sets(&b(&["C", "LWIR", "MWIR", "S", "X"])),
             vec![
-                b(&["S", "X"]),
-                b(&["S", "C", "X"]),
-                b(&["C", "LWIR"]),
-                b(&["S", "C", "X", "MWIR", "LWIR"])
+                i(&["S", "X"]),
+                i(&["S", "C", "X"]),
+                i(&["C", "LWIR"]),
+                i(&["S", "C", "X", "MWIR", "LWIR"])
             ]
         );
         assert!(decision_sets(&b(&["C"])).is_empty());
@@ -212,10 +205,10 @@ mod tests {
 
     fn out(bands: &str, split: &str, r: usize, scene: &str, label: u8, output: f64) -> Output {
         Output {
-            bands: bands.into(),
+            bands: bands.parse().unwrap(),
             architecture: Architecture::Base,
             repetition: r,
-            split: split.into(),
+            split: split.parse().unwrap(),
             scene: scene.into(),
             label,
             output,
@@ -236,14 +229,14 @@ mod tests {
         outputs.push(out("X", "test", 0, "a", 0, 0.8));
         outputs.push(out("S", "test", 0, "b", 1, 0.8));
         outputs.push(out("X", "test", 0, "b", 1, 0.8));
-        let sources = vec!["S".to_string(), "X".to_string()];
+        let sources = vec![Input::single(Band::S), Input::single(Band::X)];
         let fused = fuse_decisions(&outputs, &sources, Architecture::Base, Method::Bayes, 0.5);
         assert_eq!(fused.len(), 2);
         let a = fused.iter().find(|f| f.scene == "a").unwrap();
         // S: precision 1, false omission 0; X: precision 1/2, false omission 1/2 (no "no wake" ever)
         // P_wake = (1 * 0.2 + 0) + (0.5 * 0.8 + 0.5 * 0.2) = 0.7; P_no = 0.8 + 0.5 = 1.3
         assert!((a.output - 0.7 / 2.0).abs() < 1e-12, "{}", a.output);
-        assert_eq!(a.fusion, "Bayes classifier (S, X)");
+        assert_eq!(a.fusion.to_string(), "Bayes classifier (S, X)");
         let ds = fuse_decisions(&outputs, &sources, Architecture::Base, Method::DempsterShafer, 0.5);
         let a = ds.iter().find(|f| f.scene == "a").unwrap();
         // m1 = (0.2, 0.8), m2 = (0.8, 0.2): k = 0.2*0.2 + 0.8*0.8 = 0.68, wake = 0.16 / 0.32

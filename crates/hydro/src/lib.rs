@@ -23,7 +23,7 @@ pub mod transport;
 pub mod turbulence;
 
 pub use idp::{IdpScalars, InitialDataPlane};
-pub use slices::{CrossSection, SurfaceMap, SurfaceSlice, SLICE_FIELDS};
+pub use slices::{CrossSection, SliceField, SurfaceMap, SurfaceSlice, SLICE_FIELDS};
 pub use solver::WakeSolver;
 pub use state::WakeState;
 pub use stokes::stokes_drift;

@@ -5,7 +5,7 @@
 //! Every file is written to a temporary name and renamed when complete, so a failed run leaves
 //! no half-written output.
 
-use crate::slices::{CrossSection, SurfaceMap, SLICE_FIELDS};
+use crate::slices::{CrossSection, SliceField, SurfaceMap, SLICE_FIELDS};
 use crate::{simulate_wake_with, WakeEvent, WakeSlices};
 use netcdf3::{FileWriter, Version};
 use std::path::{Path, PathBuf};
@@ -211,11 +211,13 @@ pub fn write_surface_map(dir: &Path, config: &WakelabConfig, map: &SurfaceMap) -
 }
 
 /// Fields drawn in pictures: (name, diverging colour map).
-const PICTURED: [(&str, bool); 5] = [("U", true), ("V", true), ("k", false), ("dT", true), ("nu_t", false)];
-
-fn field_index(name: &str) -> usize {
-    SLICE_FIELDS.iter().position(|f| f.0 == name).expect("known field")
-}
+const PICTURED: [(SliceField, bool); 5] = [
+    (SliceField::U, true),
+    (SliceField::V, true),
+    (SliceField::K, false),
+    (SliceField::DT, true),
+    (SliceField::NuT, false),
+];
 
 /// Half-width (m) of the strip drawn in surface pictures.
 const SURFACE_WINDOW: f64 = 250.0;
@@ -230,14 +232,14 @@ pub fn write_surface_pictures(dir: &Path, map: &SurfaceMap) -> Result<Vec<PathBu
         .collect();
     let (y_lo, y_hi) = (map.y[cols[cols.len() - 1]], map.y[cols[0]]);
     let mut files = Vec::new();
-    for (name, diverging) in PICTURED {
-        let i = field_index(name);
+    for (field, diverging) in PICTURED {
+        let i = field.index();
         let src = &map.fields[i];
         let mut t = Vec::with_capacity(rows * cols.len());
         for &c in &cols {
             t.extend((0..rows).map(|r| src[r * map.y.len() + c]));
         }
-        let (_, units, long) = SLICE_FIELDS[i];
+        let (name, units, long) = field.cf();
         let pic = FieldPicture {
             values: &t,
             rows: cols.len(),
@@ -278,14 +280,14 @@ pub fn write_section_pictures(dir: &Path, grid: &CrossGrid, s: &CrossSection) ->
     let (y0, y1) = (grid.y_faces[cols[0]], grid.y_faces[cols[cols.len() - 1] + 1]);
     let depth = (rows.len() as f64 * grid.dz).min(grid.depth);
     let mut files = Vec::new();
-    for (name, diverging) in PICTURED {
-        let i = field_index(name);
+    for (field, diverging) in PICTURED {
+        let i = field.index();
         let src = &s.fields[i];
         let mut t = Vec::with_capacity(rows.len() * cols.len());
         for &k in &rows {
             t.extend(cols.iter().map(|&j| src[j * nz + k]));
         }
-        let (_, units, long) = SLICE_FIELDS[i];
+        let (name, units, long) = field.cf();
         let pic = FieldPicture {
             values: &t,
             rows: rows.len(),

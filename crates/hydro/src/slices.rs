@@ -4,22 +4,73 @@ use crate::solver::WakeSolver;
 use crate::turbulence::Derived;
 use serde::Serialize;
 
-/// The quantities saved for every slice, in output order, with CF names and units.
-pub const SLICE_FIELDS: [(&str, &str, &str); 9] = [
-    (
-        "U",
-        "m s-1",
-        "axial (along-track) velocity, Earth frame, positive along the heading",
-    ),
-    ("V", "m s-1", "cross-track velocity, positive to port"),
-    ("W", "m s-1", "vertical velocity, positive up"),
-    ("k", "m2 s-2", "turbulence kinetic energy"),
-    ("eps", "m2 s-3", "dissipation rate of turbulence kinetic energy"),
-    ("nu_t", "m2 s-1", "eddy viscosity"),
-    ("dT", "K", "temperature perturbation from the background"),
-    ("dS", "1e-3", "practical salinity perturbation from the background"),
-    ("rho_anomaly", "kg m-3", "density perturbation from the background"),
-];
+/// A quantity saved for every slice, in output order.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub enum SliceField {
+    U,
+    V,
+    W,
+    K,
+    Eps,
+    NuT,
+    DT,
+    DS,
+    RhoAnomaly,
+}
+
+impl SliceField {
+    /// Every field, in the order of the slices' `fields` and of the NetCDF variables.
+    pub const ALL: [SliceField; 9] = [
+        SliceField::U,
+        SliceField::V,
+        SliceField::W,
+        SliceField::K,
+        SliceField::Eps,
+        SliceField::NuT,
+        SliceField::DT,
+        SliceField::DS,
+        SliceField::RhoAnomaly,
+    ];
+
+    /// The NetCDF variable's name, CF units and long name.
+    pub const fn cf(self) -> (&'static str, &'static str, &'static str) {
+        match self {
+            SliceField::U => (
+                "U",
+                "m s-1",
+                "axial (along-track) velocity, Earth frame, positive along the heading",
+            ),
+            SliceField::V => ("V", "m s-1", "cross-track velocity, positive to port"),
+            SliceField::W => ("W", "m s-1", "vertical velocity, positive up"),
+            SliceField::K => ("k", "m2 s-2", "turbulence kinetic energy"),
+            SliceField::Eps => ("eps", "m2 s-3", "dissipation rate of turbulence kinetic energy"),
+            SliceField::NuT => ("nu_t", "m2 s-1", "eddy viscosity"),
+            SliceField::DT => ("dT", "K", "temperature perturbation from the background"),
+            SliceField::DS => ("dS", "1e-3", "practical salinity perturbation from the background"),
+            SliceField::RhoAnomaly => ("rho_anomaly", "kg m-3", "density perturbation from the background"),
+        }
+    }
+
+    pub fn name(self) -> &'static str {
+        self.cf().0
+    }
+
+    /// Position in a slice's `fields`.
+    pub fn index(self) -> usize {
+        self as usize
+    }
+}
+
+/// The saved quantities' (name, units, long name), in output order.
+pub const SLICE_FIELDS: [(&str, &str, &str); 9] = {
+    let mut out = [("", "", ""); 9];
+    let mut i = 0;
+    while i < 9 {
+        out[i] = SliceField::ALL[i].cf();
+        i += 1;
+    }
+    out
+};
 
 /// Every saved field at cell centres of one time (ny x nz each, z fastest), as f32.
 #[derive(Debug, Clone, Serialize)]
@@ -38,9 +89,8 @@ pub struct SurfaceSlice {
 }
 
 impl SurfaceSlice {
-    pub fn field(&self, name: &str) -> &[f32] {
-        let i = SLICE_FIELDS.iter().position(|f| f.0 == name).expect("known field");
-        &self.fields[i]
+    pub fn field(&self, field: SliceField) -> &[f32] {
+        &self.fields[field.index()]
     }
 }
 
@@ -147,9 +197,8 @@ impl SurfaceMap {
         Self { x, y, fields }
     }
 
-    pub fn field(&self, name: &str) -> &[f32] {
-        let i = SLICE_FIELDS.iter().position(|f| f.0 == name).expect("known field");
-        &self.fields[i]
+    pub fn field(&self, field: SliceField) -> &[f32] {
+        &self.fields[field.index()]
     }
 }
 
@@ -167,7 +216,7 @@ mod tests {
         let map = SurfaceMap::from_slices(&slices, 7.0, 71.0, &[-1.0, 0.0, 1.0], 0..3, 35.0);
         // rows at t = 0, 5, 10, 15, 20 s
         assert_eq!(map.x.len(), 5);
-        let u = map.field("U");
+        let u = map.field(SliceField::U);
         let want = [0.0, 0.5, 1.0, 2.0, 3.0];
         for (r, w) in want.iter().enumerate() {
             assert!((u[r * 3 + 1] - w).abs() < 1e-6, "row {r}: {}", u[r * 3 + 1]);

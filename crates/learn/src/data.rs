@@ -6,8 +6,10 @@ use ndarray::Array2;
 use rand::{RngExt, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 use std::path::{Path, PathBuf};
-use wakelab_core::WakelabError;
+use wakelab_core::{ConfigError, WakelabError};
+use wakelab_schema::band::{Band, Input};
 use wakelab_schema::dataset::SceneRecord;
+use wakelab_schema::split::Split;
 
 /// A dataset directory and its manifest.
 pub struct Dataset {
@@ -31,9 +33,9 @@ impl Dataset {
     }
 
     /// The image of scene `i` in `band`, normalised to zero mean and unit variance.
-    pub fn image(&self, i: usize, band: &str) -> Result<Array2<f32>, WakelabError> {
+    pub fn image(&self, i: usize, band: Band) -> Result<Array2<f32>, WakelabError> {
         let r = &self.records[i];
-        let rel = r.images.get(band).ok_or_else(|| WakelabError::Parse {
+        let rel = r.images.get(&band).ok_or_else(|| WakelabError::Parse {
             path: self.dir.join("manifest.json").display().to_string(),
             message: format!(
                 "scene {} has no band {band} (bands: {:?})",
@@ -50,13 +52,13 @@ impl Dataset {
     }
 
     /// The wake mask of scene `i` in `band` (1 on the wake, 0 elsewhere; all 0 without a ship).
-    pub fn mask(&self, i: usize, band: &str) -> Result<Array2<f32>, WakelabError> {
+    pub fn mask(&self, i: usize, band: Band) -> Result<Array2<f32>, WakelabError> {
         let r = &self.records[i];
         let missing = || WakelabError::Parse {
             path: self.dir.join("manifest.json").display().to_string(),
             message: format!("scene {} has no mask for band {band}", r.id),
         };
-        let path = self.dir.join(r.masks.get(band).ok_or_else(missing)?);
+        let path = self.dir.join(r.masks.get(&band).ok_or_else(missing)?);
         let mask: Array2<u8> = ndarray_npy::read_npy(&path).map_err(|e| WakelabError::Image {
             path: path.display().to_string(),
             message: e.to_string(),
@@ -66,18 +68,18 @@ impl Dataset {
 
     /// The label of scene `i` for a set of bands: the band's own label (the study's visibility
     /// policy) for one band, whether a ship is in the scene for several.
-    pub fn label(&self, i: usize, bands: &[String]) -> u8 {
+    pub fn label(&self, i: usize, input: &Input) -> u8 {
         let r = &self.records[i];
-        match bands {
-            [band] => r.label_by_band.get(band).copied().unwrap_or(r.label),
-            _ => r.label,
+        match input.as_single() {
+            Some(band) => r.label_by_band.get(&band).copied().unwrap_or(r.label),
+            None => r.label,
         }
     }
 
     /// The share of scenes the study put in its test split (the paper study's 0.1 is the
     /// spec's 14 of 149), or the spec's 14/149 when the manifest has no test split.
     pub fn test_fraction(&self) -> f64 {
-        let test = self.records.iter().filter(|r| r.split == "test").count();
+        let test = self.records.iter().filter(|r| r.split == Some(Split::Test)).count();
         if test > 0 {
             test as f64 / self.records.len() as f64
         } else {
@@ -87,23 +89,26 @@ impl Dataset {
 
     /// The inputs a comma-separated list names, each one band or bands joined by `+` as
     /// channels ("C,S+X"); `None`: every band of the dataset, one at a time.
-    pub fn inputs(&self, list: Option<&str>) -> Vec<Vec<String>> {
+    pub fn inputs(&self, list: Option<&str>) -> Result<Vec<Input>, WakelabError> {
         match list {
-            None => self.bands().into_iter().map(|b| vec![b]).collect(),
+            None => Ok(self.bands().into_iter().map(Input::single).collect()),
             Some(t) => t
                 .split(',')
                 .filter(|s| !s.trim().is_empty())
-                .map(|s| s.split('+').map(|b| b.trim().to_string()).collect())
+                .map(|s| {
+                    s.trim()
+                        .parse::<Input>()
+                        .map_err(|e| ConfigError::new("bands", s.trim(), format!("{e}; several joined by +")).into())
+                })
                 .collect(),
         }
     }
 
     /// Bands every scene has an image in.
-    pub fn bands(&self) -> Vec<String> {
-        wakelab_schema::dataset::BANDS
-            .iter()
-            .filter(|b| !self.records.is_empty() && self.records.iter().all(|r| r.images.contains_key(**b)))
-            .map(|b| b.to_string())
+    pub fn bands(&self) -> Vec<Band> {
+        Band::ALL
+            .into_iter()
+            .filter(|b| !self.records.is_empty() && self.records.iter().all(|r| r.images.contains_key(b)))
             .collect()
     }
 }

@@ -133,10 +133,10 @@ pub fn detect_image(
     device: &Device,
 ) -> Result<Detection, WakelabError> {
     let n = info.input_size;
-    if info.image_channels() != 1 {
+    if info.bands.is_fused() {
         return Err(ConfigError::new(
             "--model",
-            format!("a detector of {} bands ({})", info.bands.len(), info.bands.join("+")),
+            format!("a detector of {} bands ({})", info.image_channels(), info.bands),
             "a single-band detector",
         )
         .into());

@@ -4,7 +4,9 @@
 use crate::robustness::Perturbation;
 use crate::train::Recipe;
 use wakelab_core::{ConfigError, WakelabError};
+use wakelab_schema::band::{Band, Input};
 use wakelab_schema::results::Architecture;
+use wakelab_schema::split::Network;
 
 /// The paper's split: 135 training and 14 test images per band (4.2), i.e. this share of the
 /// images used is held out for testing.
@@ -15,7 +17,7 @@ pub const PAPER_TEST_FRACTION: f64 = 14.0 / 149.0;
 pub struct EvalOptions {
     pub architectures: Vec<Architecture>,
     /// Each entry one input: a single band, or several bands as channels (feature-level fusion).
-    pub band_sets: Vec<Vec<String>>,
+    pub band_sets: Vec<Input>,
     /// Repetitions of Algorithm 2 (5 in the spec).
     pub repetitions: usize,
     /// Share of each class held out for testing in each repetition.
@@ -31,10 +33,10 @@ pub struct EvalOptions {
 
 impl EvalOptions {
     /// The spec's experiment on the given bands, one at a time.
-    pub fn spec(bands: &[String]) -> Self {
+    pub fn spec(bands: &[Band]) -> Self {
         Self {
             architectures: Architecture::ALL.to_vec(),
-            band_sets: bands.iter().map(|b| vec![b.clone()]).collect(),
+            band_sets: bands.iter().map(|&b| Input::single(b)).collect(),
             repetitions: 5,
             test_fraction: PAPER_TEST_FRACTION,
             classifier: Recipe::classifier(),
@@ -45,11 +47,11 @@ impl EvalOptions {
         }
     }
 
-    /// Epochs of a network as `train_detector` names it ("segmenter" is the U-Net).
-    pub fn epochs_of(&self, network: &str) -> usize {
+    /// Epochs of a network.
+    pub fn epochs_of(&self, network: Network) -> usize {
         match network {
-            "segmenter" => self.unet.epochs,
-            _ => self.classifier.epochs,
+            Network::Segmenter => self.unet.epochs,
+            Network::Classifier(_) => self.classifier.epochs,
         }
     }
 
@@ -97,7 +99,7 @@ impl EvalOptions {
                 );
             }
         }
-        if self.architectures.is_empty() || self.band_sets.is_empty() || self.band_sets.iter().any(|s| s.is_empty()) {
+        if self.architectures.is_empty() || self.band_sets.is_empty() {
             return err(
                 "bands/architectures",
                 "empty".into(),

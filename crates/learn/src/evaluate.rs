@@ -12,15 +12,16 @@ use burn::tensor::Device;
 use ndarray::{Array3, Axis};
 use serde::{Deserialize, Serialize};
 use wakelab_core::{ConfigError, WakelabError};
+use wakelab_schema::band::Input;
 use wakelab_schema::results::Architecture;
-pub use wakelab_schema::results::{band_set_name, summarise, summarise_split, Output, Summary};
+pub use wakelab_schema::results::{summarise, summarise_split, Output, Summary};
+use wakelab_schema::split::{Network, Split};
 
 /// One training curve point.
 #[derive(Debug, Clone, Serialize, Deserialize)]
 pub struct CurvePoint {
-    pub bands: String,
-    /// "base", "cls", "unet", or "segmenter" for the U-Net itself.
-    pub network: String,
+    pub bands: Input,
+    pub network: Network,
     pub repetition: usize,
     #[serde(flatten)]
     pub epoch: EpochRecord,
@@ -29,8 +30,8 @@ pub struct CurvePoint {
 /// Progress of an evaluation, for a progress display.
 #[derive(Debug, Clone)]
 pub struct EvalProgress<'a> {
-    pub bands: &'a str,
-    pub network: &'a str,
+    pub bands: &'a Input,
+    pub network: Network,
     pub repetition: usize,
     pub epoch: &'a EpochRecord,
     pub epochs: usize,
@@ -63,52 +64,55 @@ pub struct Evaluation {
 
 /// Images of `bands` stacked as channels, with the label for that band set and the mask of the
 /// first band.
-pub fn load_examples(dataset: &Dataset, bands: &[String], scenes: &[usize]) -> Result<Vec<Example>, WakelabError> {
+pub fn load_examples(dataset: &Dataset, input: &Input, scenes: &[usize]) -> Result<Vec<Example>, WakelabError> {
     scenes
         .iter()
         .map(|&i| {
-            let images = bands
+            let images = input
+                .bands()
                 .iter()
-                .map(|b| dataset.image(i, b))
+                .map(|&b| dataset.image(i, b))
                 .collect::<Result<Vec<_>, _>>()?;
             let views: Vec<_> = images.iter().map(|a| a.view().insert_axis(Axis(0))).collect();
             let image: Array3<f32> = ndarray::concatenate(Axis(0), &views).map_err(|e| WakelabError::Image {
                 path: dataset.dir.display().to_string(),
-                message: format!("bands {bands:?} of scene {} differ in size: {e}", dataset.records[i].id),
+                message: format!("bands {input} of scene {} differ in size: {e}", dataset.records[i].id),
             })?;
             Ok(Example {
                 image,
-                label: dataset.label(i, bands),
-                mask: Some(dataset.mask(i, &bands[0])?),
+                label: dataset.label(i, input),
+                mask: Some(dataset.mask(i, input.bands()[0])?),
             })
         })
         .collect()
 }
 
 /// Train a detector of `architecture` on `train` (the U-Net first for "unet"); every epoch is
-/// reported to `on_epoch` with the network's name.
+/// reported to `on_epoch` with the network.
 pub fn train_detector(
     architecture: Architecture,
     train: &[Example],
     options: &EvalOptions,
     seed: u64,
     device: &Device,
-    on_epoch: &mut dyn FnMut(&str, &EpochRecord),
+    on_epoch: &mut dyn FnMut(Network, &EpochRecord),
 ) -> Detector {
     match architecture {
         Architecture::Base => Detector {
-            classifier: train_classifier(train, &options.classifier, seed, device, &mut |e| on_epoch("base", e)),
+            classifier: train_classifier(train, &options.classifier, seed, device, &mut |e| {
+                on_epoch(Network::Classifier(Architecture::Base), e)
+            }),
             segmenter: None,
         },
         Architecture::Cls => Detector {
             classifier: train_classifier(&duplicated(train), &options.classifier, seed, device, &mut |e| {
-                on_epoch("cls", e)
+                on_epoch(Network::Classifier(Architecture::Cls), e)
             }),
             segmenter: None,
         },
         Architecture::Unet => {
             let unet = train_unet(train, &options.unet, seed ^ 0x5555, device, &mut |e| {
-                on_epoch("segmenter", e)
+                on_epoch(Network::Segmenter, e)
             });
             let masks = segment(&unet, train, options.unet.batch_size, device);
             let classifier = train_classifier(
@@ -116,7 +120,7 @@ pub fn train_detector(
                 &options.classifier,
                 seed,
                 device,
-                &mut |e| on_epoch("unet", e),
+                &mut |e| on_epoch(Network::Classifier(Architecture::Unet), e),
             );
             Detector {
                 classifier,
@@ -153,11 +157,11 @@ pub fn evaluate(
     let mut outputs = Vec::new();
     let mut curves = Vec::new();
     let mut detectors = Vec::new();
-    for bands in &options.band_sets {
-        if let Some(b) = bands.iter().find(|b| !available.contains(b)) {
-            return Err(ConfigError::new("bands", b, format!("one of the dataset's bands {available:?}")).into());
+    for input in &options.band_sets {
+        if let Some(b) = input.bands().iter().find(|b| !available.contains(b)) {
+            let names: Vec<&str> = available.iter().map(|b| b.name()).collect();
+            return Err(ConfigError::new("bands", b, format!("one of the dataset's bands {names:?}")).into());
         }
-        let name = band_set_name(bands);
         // split on whether a ship is in the scene, so that every band set of a repetition sees
         // the same scenes (decision-level fusion needs them); metrics use each band's label
         let labels: Vec<u8> = dataset.records.iter().map(|r| r.label).collect();
@@ -170,7 +174,7 @@ pub fn evaluate(
         if per_class < test_per_class + 1 {
             return Err(ConfigError::new(
                 "dataset",
-                format!("{per_class} scenes of the rarer class in bands {name}"),
+                format!("{per_class} scenes of the rarer class in bands {input}"),
                 "at least 2 of each class (wake and no wake)",
             )
             .into());
@@ -179,34 +183,34 @@ pub fn evaluate(
         for repetition in 0..options.repetitions {
             let seed = options.seed.wrapping_add(1000 * repetition as u64);
             let (train_idx, test_idx) = balanced_split(&labels, train_per_class, test_per_class, seed)?;
-            let train = load_examples(dataset, bands, &train_idx)?;
-            let test = load_examples(dataset, bands, &test_idx)?;
+            let train = load_examples(dataset, input, &train_idx)?;
+            let test = load_examples(dataset, input, &test_idx)?;
             for &architecture in &options.architectures {
                 let detector = train_detector(architecture, &train, options, seed, device, &mut |network, e| {
                     progress(&EvalProgress {
-                        bands: &name,
+                        bands: input,
                         network,
                         repetition,
                         epoch: e,
                         epochs: options.epochs_of(network),
                     });
                     curves.push(CurvePoint {
-                        bands: name.clone(),
-                        network: network.to_string(),
+                        bands: input.clone(),
+                        network,
                         repetition,
                         epoch: e.clone(),
                     });
                 });
-                let mut splits = vec![("train".to_string(), train.clone()), ("test".to_string(), test.clone())];
+                let mut splits = vec![(Split::Train, train.clone()), (Split::Test, test.clone())];
                 for (k, p) in options.perturbations.iter().enumerate() {
                     let perturbed = p.apply(&test, seed.wrapping_add(k as u64 + 1));
-                    splits.push((format!("test:{}", p.name()), perturbed));
+                    splits.push((Split::Perturbed(p.name()), perturbed));
                 }
                 for (split, examples) in &splits {
-                    let idx = if split == "train" { &train_idx } else { &test_idx };
+                    let idx = if *split == Split::Train { &train_idx } else { &test_idx };
                     let o = detect(&detector, architecture, examples, device);
                     outputs.extend(idx.iter().zip(examples.iter()).zip(o).map(|((&i, e), output)| Output {
-                        bands: name.clone(),
+                        bands: input.clone(),
                         architecture,
                         repetition,
                         split: split.clone(),
@@ -221,7 +225,7 @@ pub fn evaluate(
                         detector,
                         ModelInfo {
                             architecture,
-                            bands: bands.clone(),
+                            bands: input.clone(),
                             input_size: size,
                             threshold: options.threshold,
                             unet_width: options.unet.width,

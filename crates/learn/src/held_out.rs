@@ -5,11 +5,12 @@ use crate::data::Dataset;
 use crate::evaluate::{detect, load_examples, train_detector, EvalOptions, EvalProgress};
 use burn::tensor::Device;
 use wakelab_core::WakelabError;
-use wakelab_schema::results::{band_set_name, Output};
+use wakelab_schema::results::Output;
+use wakelab_schema::split::Split;
 
 /// Environments held out of training (robustness, spec 6.2): for each group of scenes, train on
 /// every other scene and test on the group. Outputs are kept with split `held_out` and the
-/// group's index as `repetition`, so `summarise_split(.., "held_out", ..)` averages over groups.
+/// group's index as `repetition`, so `summarise_split(.., &Split::HeldOut, ..)` averages over groups.
 pub fn evaluate_held_out(
     dataset: &Dataset,
     options: &EvalOptions,
@@ -19,20 +20,19 @@ pub fn evaluate_held_out(
 ) -> Result<Vec<Output>, WakelabError> {
     options.validate()?;
     let mut outputs = Vec::new();
-    for bands in &options.band_sets {
-        let name = band_set_name(bands);
+    for input in &options.band_sets {
         for (g, test_idx) in groups.iter().enumerate() {
             let train_idx: Vec<usize> = (0..dataset.records.len()).filter(|i| !test_idx.contains(i)).collect();
             if train_idx.is_empty() || test_idx.is_empty() {
                 continue;
             }
-            let train = load_examples(dataset, bands, &train_idx)?;
-            let test = load_examples(dataset, bands, test_idx)?;
+            let train = load_examples(dataset, input, &train_idx)?;
+            let test = load_examples(dataset, input, test_idx)?;
             let seed = options.seed.wrapping_add(7919 * (g as u64 + 1));
             for &architecture in &options.architectures {
                 let detector = train_detector(architecture, &train, options, seed, device, &mut |network, e| {
                     progress(&EvalProgress {
-                        bands: &name,
+                        bands: input,
                         network,
                         repetition: g,
                         epoch: e,
@@ -41,10 +41,10 @@ pub fn evaluate_held_out(
                 });
                 let o = detect(&detector, architecture, &test, device);
                 outputs.extend(test_idx.iter().zip(&test).zip(o).map(|((&i, e), output)| Output {
-                    bands: name.clone(),
+                    bands: input.clone(),
                     architecture,
                     repetition: g,
-                    split: "held_out".to_string(),
+                    split: Split::HeldOut,
                     scene: dataset.records[i].id.clone(),
                     label: e.label,
                     output,

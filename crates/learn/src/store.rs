@@ -12,6 +12,7 @@ use std::collections::BTreeMap;
 use std::path::Path;
 use wakelab_core::io::write_atomically;
 use wakelab_core::WakelabError;
+use wakelab_schema::band::Input;
 
 /// A trained detector: the classifier and, for the "unet" architecture, the U-Net whose mask it
 /// reads.
@@ -26,7 +27,7 @@ pub struct Detector {
 pub struct ModelInfo {
     pub architecture: Architecture,
     /// Bands the input channels come from, in order.
-    pub bands: Vec<String>,
+    pub bands: Input,
     /// Side of the square input images (pixels).
     pub input_size: usize,
     /// Decision threshold on the wake probability.
@@ -45,7 +46,7 @@ impl ModelInfo {
         BTreeMap::from([
             ("wakelab.format".to_string(), "wakelab-detector-1".to_string()),
             ("wakelab.architecture".to_string(), self.architecture.name().to_string()),
-            ("wakelab.bands".to_string(), self.bands.join(",")),
+            ("wakelab.bands".to_string(), band_list(&self.bands)),
             ("wakelab.input_size".to_string(), self.input_size.to_string()),
             ("wakelab.threshold".to_string(), self.threshold.to_string()),
             ("wakelab.unet_width".to_string(), self.unet_width.to_string()),
@@ -69,7 +70,10 @@ impl ModelInfo {
             .ok_or_else(|| err(format!("unknown architecture {}", meta["wakelab.architecture"])))?;
         Ok(Self {
             architecture,
-            bands: get("wakelab.bands")?.split(',').map(str::to_string).collect(),
+            bands: get("wakelab.bands")?
+                .replace(',', "+")
+                .parse()
+                .map_err(|e| err(format!("bands: {e}")))?,
             input_size: get("wakelab.input_size")?
                 .parse()
                 .map_err(|e| err(format!("input_size: {e}")))?,
@@ -86,8 +90,13 @@ impl ModelInfo {
 
     /// Image channels the detector reads (one per band).
     pub fn image_channels(&self) -> usize {
-        self.bands.len()
+        self.bands.bands().len()
     }
+}
+
+/// The metadata's band list: names joined by commas ("S,X").
+fn band_list(input: &Input) -> String {
+    input.bands().iter().map(|b| b.name()).collect::<Vec<_>>().join(",")
 }
 
 fn store_error(path: &Path, e: impl std::fmt::Display) -> WakelabError {

@@ -138,7 +138,7 @@ fn every_model_loss_gradient_matches_finite_differences() {
 /// The spec's recipes, shortened, with the classifiers' SGD learning rate raised from 1e-3 to
 /// 1e-2: at 1e-3 (and L2 0.1) SGD needs about ten times as many steps as "a few epochs" give.
 fn quick_options() -> EvalOptions {
-    let mut o = EvalOptions::spec(&["S".to_string()]);
+    let mut o = EvalOptions::spec(&[wakelab_schema::band::Band::S]);
     o.classifier = Recipe {
         epochs: 10,
         batch_size: 8,
@@ -203,7 +203,7 @@ fn same_seed_gives_the_same_weights_and_outputs_bit_for_bit() {
         let dir = tempfile::tempdir().unwrap();
         let info = ModelInfo {
             architecture: Architecture::Unet,
-            bands: vec!["X".into()],
+            bands: "X".parse().unwrap(),
             input_size: 24,
             threshold: 0.5,
             unet_width: options.unet.width,
@@ -236,7 +236,7 @@ fn saved_detector_reloads_with_the_same_outputs_and_refuses_the_wrong_architectu
     let path = dir.path().join("cls.safetensors");
     let info = ModelInfo {
         architecture: Architecture::Cls,
-        bands: vec!["C".into()],
+        bands: "C".parse().unwrap(),
         input_size: 24,
         threshold: 0.5,
         unet_width: wakelab_learn::models::UNET_WIDTH,

@@ -1,30 +1,14 @@
 //! The dataset's schema: one row of the manifest (a scene) and the study combination it was
 //! rendered from.
 
+pub use crate::axes::Combination;
+use crate::band::Band;
+use crate::split::Split;
 use serde::{Deserialize, Serialize};
 use std::collections::BTreeMap;
-use wakelab_core::config::{Polarisation, ProfileKind, SwellDirection};
 
-/// Bands every scene is rendered in.
-pub const BANDS: [&str; 5] = ["S", "C", "X", "MWIR", "LWIR"];
-
-/// One combination of axis values (a wake/no-wake pair before the seed).
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
-pub struct Combination {
-    pub wind_speed: f64,
-    pub wind_direction: f64,
-    pub swell_amplitude: f64,
-    pub swell_wavelength: f64,
-    pub swell_direction: SwellDirection,
-    pub stratification: ProfileKind,
-    pub ship_speed: f64,
-    pub along_track: f64,
-    pub incidence: f64,
-    pub look_direction: f64,
-    pub polarisation: Polarisation,
-    pub pixel_spacing: f64,
-    pub image_size: usize,
-}
+/// Bands every scene can be rendered in.
+pub const BANDS: [Band; 5] = Band::ALL;
 
 /// One scene of the dataset (a row of the manifest).
 #[derive(Debug, Clone, Serialize, Deserialize, PartialEq)]
@@ -34,17 +18,26 @@ pub struct SceneRecord {
     /// 1: a ship wake is in the scene; 0: the matching scene without a ship.
     pub label: u8,
     /// The label under the study's `min_visibility` policy, per band.
-    pub label_by_band: BTreeMap<String, u8>,
+    pub label_by_band: BTreeMap<Band, u8>,
     /// Contrast-to-clutter ratio of the wake region per band (see `wakelab_data::render`).
-    pub visibility: BTreeMap<String, f64>,
+    pub visibility: BTreeMap<Band, f64>,
     pub seed: u64,
     pub environment: String,
     #[serde(flatten)]
     pub parameters: Combination,
     /// Paths relative to the dataset directory.
-    pub images: BTreeMap<String, String>,
-    pub masks: BTreeMap<String, String>,
-    /// "train" or "test" (filled in by the manifest).
-    #[serde(default)]
-    pub split: String,
+    pub images: BTreeMap<Band, String>,
+    pub masks: BTreeMap<Band, String>,
+    /// Train or test (filled in by the manifest; none in a scene's own `scene.json`).
+    #[serde(default, deserialize_with = "split_or_empty")]
+    pub split: Option<Split>,
+}
+
+/// A scene's split as written, where an empty string (written before splits had a type) is none.
+fn split_or_empty<'de, D: serde::Deserializer<'de>>(deserializer: D) -> Result<Option<Split>, D::Error> {
+    let text = Option::<String>::deserialize(deserializer)?;
+    match text.as_deref() {
+        None | Some("") => Ok(None),
+        Some(t) => t.parse().map(Some).map_err(serde::de::Error::custom),
+    }
 }

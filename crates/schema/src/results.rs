@@ -1,7 +1,10 @@
 //! The results' schema: the network architectures of spec 4.1, a detector's kept outputs
 //! (Algorithm 2's o_i) and their summaries over repetitions (a row of Tables 4.4-4.6).
 
+use crate::band::Input;
+use crate::fusion_row::Source;
 use crate::metrics::{mean_and_spread, roc_auc, Confusion};
+use crate::split::Split;
 use serde::{Deserialize, Serialize};
 
 /// The classifier architectures of spec 4.1.
@@ -51,33 +54,27 @@ impl Architecture {
 
 impl std::fmt::Display for Architecture {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        f.write_str(self.name())
+        f.pad(self.name())
     }
-}
-
-/// Name of a band set: "C", or "S+X" for several bands as channels.
-pub fn band_set_name(bands: &[String]) -> String {
-    bands.join("+")
 }
 
 /// One kept output o_i.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct Output {
-    pub bands: String,
+    pub bands: Input,
     pub architecture: Architecture,
     pub repetition: usize,
-    /// "test", or "train" for the training images (what decision-level fusion weights sources
-    /// by; erratum 11).
-    pub split: String,
+    pub split: Split,
     pub scene: String,
     pub label: u8,
     pub output: f64,
 }
 
-/// Metrics of one band set and architecture over the repetitions (a row of Tables 4.4-4.6).
+/// Metrics of one row (an input, or a fusion of inputs) and architecture over the repetitions
+/// (a row of Tables 4.4-4.6 and 5.1-5.3).
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct Summary {
-    pub bands: String,
+    pub bands: Source,
     pub architecture: Architecture,
     pub repetitions: usize,
     pub mcc: f64,
@@ -95,26 +92,67 @@ pub struct Summary {
     pub fn_: u64,
 }
 
-/// Metrics of the kept test outputs of one band set and architecture: per repetition, then mean
-/// and sample spread.
-pub fn summarise(outputs: &[Output], threshold: f64) -> Vec<Summary> {
-    summarise_split(outputs, "test", threshold)
+/// One scored decision, whatever made it: what [`summarise_scores`] groups.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Scored {
+    pub source: Source,
+    pub architecture: Architecture,
+    pub repetition: usize,
+    pub label: u8,
+    pub output: f64,
 }
 
-/// `summarise` on the outputs of another split: `test:<perturbation>`, or `held_out` (where
-/// "repetition" is the held-out group).
-pub fn summarise_split(outputs: &[Output], split: &str, threshold: f64) -> Vec<Summary> {
-    let outputs: Vec<&Output> = outputs.iter().filter(|o| o.split == split).collect();
-    let mut keys: Vec<(String, Architecture)> = outputs.iter().map(|o| (o.bands.clone(), o.architecture)).collect();
-    keys.dedup();
-    let mut seen = std::collections::BTreeSet::new();
-    keys.retain(|k| seen.insert(k.clone()));
+impl Scored {
+    pub fn new(source: Source, architecture: Architecture, repetition: usize, label: u8, output: f64) -> Self {
+        Self {
+            source,
+            architecture,
+            repetition,
+            label,
+            output,
+        }
+    }
+}
+
+/// Metrics of the kept test outputs of one input and architecture: per repetition, then mean
+/// and sample spread.
+pub fn summarise(outputs: &[Output], threshold: f64) -> Vec<Summary> {
+    summarise_split(outputs, &Split::Test, threshold)
+}
+
+/// `summarise` on the outputs of another split: a perturbed test, or the held-out groups
+/// (where "repetition" is the held-out group).
+pub fn summarise_split(outputs: &[Output], split: &Split, threshold: f64) -> Vec<Summary> {
+    let scored: Vec<Scored> = outputs
+        .iter()
+        .filter(|o| &o.split == split)
+        .map(|o| {
+            Scored::new(
+                Source::Input(o.bands.clone()),
+                o.architecture,
+                o.repetition,
+                o.label,
+                o.output,
+            )
+        })
+        .collect();
+    summarise_scores(&scored, threshold)
+}
+
+/// Metrics of scored decisions per source and architecture, in order of first appearance:
+/// confusion counts per repetition, then their mean and sample spread.
+pub fn summarise_scores(scored: &[Scored], threshold: f64) -> Vec<Summary> {
+    let mut keys: Vec<(&Source, Architecture)> = Vec::new();
+    for o in scored {
+        if !keys.contains(&(&o.source, o.architecture)) {
+            keys.push((&o.source, o.architecture));
+        }
+    }
     keys.into_iter()
-        .map(|(bands, architecture)| {
-            let group: Vec<&Output> = outputs
+        .map(|(source, architecture)| {
+            let group: Vec<&Scored> = scored
                 .iter()
-                .filter(|o| o.bands == bands && o.architecture == architecture)
-                .copied()
+                .filter(|o| &o.source == source && o.architecture == architecture)
                 .collect();
             let mut reps: Vec<usize> = group.iter().map(|o| o.repetition).collect();
             reps.sort();
@@ -136,7 +174,7 @@ pub fn summarise_split(outputs: &[Output], split: &str, threshold: f64) -> Vec<S
             let (f1, _) = mean_and_spread(&confusions.iter().map(Confusion::f1).collect::<Vec<_>>());
             let (scores, labels): (Vec<f64>, Vec<u8>) = group.iter().map(|o| (o.output, o.label)).unzip();
             Summary {
-                bands,
+                bands: source.clone(),
                 architecture,
                 repetitions: reps.len(),
                 mcc,

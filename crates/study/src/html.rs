@@ -13,6 +13,9 @@ use wakelab_core::io::picture::{Colormap, FieldPicture};
 use wakelab_data::learning::LearningPlan;
 use wakelab_data::study::Study;
 use wakelab_learn::models::Architecture;
+use wakelab_schema::band::{Band, Input};
+use wakelab_schema::fusion_row::Source;
+use wakelab_schema::split::{Network, Split};
 
 const STYLE: &str = "body{font-family:sans-serif;max-width:1200px;margin:2em auto;padding:0 1em;color:#222}\
 table{border-collapse:collapse;margin:0.5em 0 1.5em}th,td{border:1px solid #ccc;padding:3px 8px;text-align:right}\
@@ -82,7 +85,7 @@ fn example_scenes(run: &StudyRun) -> Result<String> {
         escape(&wake.environment)
     );
     for band in dataset.bands() {
-        let radar = band.len() == 1;
+        let radar = band.is_radar();
         let read = |rel: &str| -> Result<Array2<f32>> { Ok(ndarray_npy::read_npy(dataset.dir.join(rel))?) };
         let to_display = |a: &Array2<f32>| -> Vec<f32> {
             if radar {
@@ -155,7 +158,7 @@ fn confusion_matrices(run: &StudyRun) -> String {
             r.fn_,
             r.tn,
             r.architecture,
-            escape(&r.bands)
+            escape(&r.bands.to_string())
         );
     }
     s.push_str("</div>");
@@ -166,32 +169,41 @@ fn confusion_matrices(run: &StudyRun) -> String {
 fn roc_plots(run: &StudyRun) -> String {
     let mut s = String::from("<div class=\"grid\">");
     for a in Architecture::ALL {
-        let mut groups: BTreeMap<String, (Vec<f64>, Vec<u8>)> = BTreeMap::new();
-        for o in run.outputs.iter().filter(|o| o.architecture == a && o.split == "test") {
-            let g = groups.entry(o.bands.clone()).or_default();
+        let mut groups: BTreeMap<Source, (Vec<f64>, Vec<u8>)> = BTreeMap::new();
+        for o in run
+            .outputs
+            .iter()
+            .filter(|o| o.architecture == a && o.split == Split::Test)
+        {
+            let g = groups.entry(Source::Input(o.bands.clone())).or_default();
             g.0.push(o.output);
             g.1.push(o.label);
         }
+        let s_and_x = [Input::single(Band::S), Input::single(Band::X)];
         for f in run
             .fused
             .iter()
-            .filter(|f| f.architecture == a && f.fusion.contains("(S, X)"))
+            .filter(|f| f.architecture == a && f.fusion.sources == s_and_x)
         {
-            let g = groups.entry(f.fusion.clone()).or_default();
+            let g = groups.entry(Source::Fusion(f.fusion.clone())).or_default();
             g.0.push(f.output);
             g.1.push(f.label);
         }
-        let order: Vec<String> = run
+        let order: Vec<Source> = run
             .inputs
             .iter()
             .cloned()
-            .chain(groups.keys().filter(|k| !run.inputs.contains(k)).cloned())
+            .map(Source::Input)
+            .chain(groups.keys().filter(|k| k.fusion().is_some()).cloned())
             .collect();
         let series = order
             .iter()
             .filter_map(|k| groups.get(k).map(|(sc, l)| (k, sc, l)))
             .map(|(k, sc, l)| Series {
-                name: k.replace("Bayes classifier", "Bayes").replace("Dempster-Shafer", "DS"),
+                name: k
+                    .to_string()
+                    .replace("Bayes classifier", "Bayes")
+                    .replace("Dempster-Shafer", "DS"),
                 points: roc_points(sc, l),
             })
             .collect();
@@ -214,8 +226,12 @@ fn roc_plots(run: &StudyRun) -> String {
 /// Training loss per epoch (mean over repetitions), one plot per network.
 fn training_plots(run: &StudyRun) -> String {
     let mut s = String::from("<div class=\"grid\">");
-    for network in ["base", "cls", "unet", "segmenter"] {
-        let mut by_input: BTreeMap<String, BTreeMap<usize, (f64, usize)>> = BTreeMap::new();
+    let networks = Architecture::ALL
+        .map(Network::Classifier)
+        .into_iter()
+        .chain([Network::Segmenter]);
+    for network in networks {
+        let mut by_input: BTreeMap<Input, BTreeMap<usize, (f64, usize)>> = BTreeMap::new();
         for c in run.curves.iter().filter(|c| c.network == network) {
             let e = by_input
                 .entry(c.bands.clone())
@@ -233,14 +249,13 @@ fn training_plots(run: &StudyRun) -> String {
             .iter()
             .filter_map(|i| by_input.get(i).map(|m| (i, m)))
             .map(|(i, m)| Series {
-                name: i.clone(),
+                name: i.to_string(),
                 points: m.iter().map(|(&e, &(sum, n))| (e as f64, sum / n as f64)).collect(),
             })
             .collect();
         let title = match network {
-            "segmenter" => "U-Net (0.7 BCE + 0.3 Dice loss)".to_string(),
-            "unet" => "\"unet\" classifier (BCE)".to_string(),
-            other => format!("\"{other}\" classifier (BCE)"),
+            Network::Segmenter => "U-Net (0.7 BCE + 0.3 Dice loss)".to_string(),
+            Network::Classifier(a) => format!("\"{a}\" classifier (BCE)"),
         };
         let plot = LinePlot {
             title,
@@ -329,7 +344,12 @@ pub fn report_page(
         records.len(),
         wakes,
         records.len() - wakes,
-        run.dataset.bands().join(", "),
+        run.dataset
+            .bands()
+            .iter()
+            .map(|b| b.name())
+            .collect::<Vec<_>>()
+            .join(", "),
         run.inputs.len(),
         run.plan.repetitions,
         run.plan.seed

@@ -9,13 +9,14 @@ use wakelab_core::io::write_atomically;
 use wakelab_learn::data::Dataset;
 use wakelab_learn::device::Device;
 use wakelab_learn::evaluate::{
-    band_set_name, detect, evaluate, load_examples, train_detector, CurvePoint, EvalOptions, EvalProgress, Evaluation,
-    Summary,
+    detect, evaluate, load_examples, train_detector, CurvePoint, EvalOptions, EvalProgress, Evaluation, Summary,
 };
 use wakelab_learn::metrics::{roc_auc, Confusion};
 use wakelab_learn::models::Architecture;
 use wakelab_learn::store::{save_detector, ModelInfo};
 use wakelab_learn::train::EpochRecord;
+use wakelab_schema::band::Input;
+use wakelab_schema::split::{Network, Split};
 
 /// Epochs one evaluation trains in all (for a progress bar).
 pub fn total_epochs(o: &EvalOptions) -> u64 {
@@ -71,32 +72,32 @@ pub struct Trained {
     pub test: Option<(usize, Confusion, Option<f64>)>,
 }
 
-/// One detector of `architecture` on the input `bands`, trained on the dataset's training split
+/// One detector of `architecture` on `input`, trained on the dataset's training split
 /// and tested on its test split; saved at `model` (default `dir/<input>_<arch>.safetensors`)
 /// with its training curve beside it.
 #[allow(clippy::too_many_arguments)]
 pub fn train_into(
     dataset: &Dataset,
     architecture: Architecture,
-    bands: &[String],
+    input: &Input,
     options: &EvalOptions,
     dir: &Path,
     model: Option<&Path>,
     device: &Device,
-    progress: &mut dyn FnMut(&str, &EpochRecord),
+    progress: &mut dyn FnMut(Network, &EpochRecord),
 ) -> Result<Trained> {
-    let split = |name: &str| -> Vec<usize> {
+    let split = |split: Split| -> Vec<usize> {
         (0..dataset.records.len())
-            .filter(|&i| dataset.records[i].split == name)
+            .filter(|&i| dataset.records[i].split.as_ref() == Some(&split))
             .collect()
     };
-    let (train_idx, test_idx) = (split("train"), split("test"));
+    let (train_idx, test_idx) = (split(Split::Train), split(Split::Test));
     if train_idx.is_empty() {
         anyhow::bail!("{}: no scenes in the training split", dataset.dir.display());
     }
-    let train = load_examples(dataset, bands, &train_idx)?;
+    let train = load_examples(dataset, input, &train_idx)?;
     let mut curves = Vec::new();
-    let name = band_set_name(bands);
+    let name = input.name();
     let detector = train_detector(
         architecture,
         &train,
@@ -106,8 +107,8 @@ pub fn train_into(
         &mut |network, e| {
             progress(network, e);
             curves.push(CurvePoint {
-                bands: name.clone(),
-                network: network.to_string(),
+                bands: input.clone(),
+                network,
                 repetition: 0,
                 epoch: e.clone(),
             });
@@ -115,7 +116,7 @@ pub fn train_into(
     );
     let info = ModelInfo {
         architecture,
-        bands: bands.to_vec(),
+        bands: input.clone(),
         input_size: train[0].size(),
         threshold: options.threshold,
         unet_width: options.unet.width,
@@ -129,7 +130,7 @@ pub fn train_into(
     let test = if test_idx.is_empty() {
         None
     } else {
-        let test = load_examples(dataset, bands, &test_idx)?;
+        let test = load_examples(dataset, input, &test_idx)?;
         let outputs = detect(&detector, architecture, &test, device);
         let labels: Vec<u8> = test.iter().map(|e| e.label).collect();
         let c = Confusion::from_outputs(&outputs, &labels, options.threshold);
@@ -151,7 +152,12 @@ pub fn write_mask_png(path: &Path, mask: &ndarray::Array2<f32>) -> Result<()> {
 pub fn summary_table(summaries: &[Summary]) -> String {
     use std::fmt::Write;
     let mut out = String::new();
-    let w = summaries.iter().map(|s| s.bands.len()).max().unwrap_or(5).max(5);
+    let w = summaries
+        .iter()
+        .map(|s| s.bands.to_string().len())
+        .max()
+        .unwrap_or(5)
+        .max(5);
     writeln!(
         out,
         "{:<w$} {:<5} {:>5} {:>14} {:>16} {:>6} {:>6}  TP/TN/FP/FN",

@@ -2,36 +2,14 @@
 //! trained detectors (safetensors).
 
 use crate::Result;
-use std::io::Write;
 use std::path::Path;
 use wakelab_core::io::write_atomically;
-use wakelab_learn::evaluate::{band_set_name, CurvePoint, Evaluation, Output, Summary};
+use wakelab_learn::evaluate::{CurvePoint, Evaluation, Output, Summary};
 use wakelab_learn::store::save_detector;
 
-/// Rows as CSV, one column per field of the first row (strings unquoted, null empty).
+/// Rows as CSV (RFC 4180), one column per field of the first row.
 pub fn csv<T: serde::Serialize>(rows: &[T]) -> Result<Vec<u8>> {
-    let mut out = Vec::new();
-    let values: Vec<serde_json::Value> = rows
-        .iter()
-        .map(serde_json::to_value)
-        .collect::<std::result::Result<_, _>>()?;
-    let Some(first) = values.first().and_then(|v| v.as_object()) else {
-        return Ok(out);
-    };
-    let keys: Vec<String> = first.keys().cloned().collect();
-    writeln!(out, "{}", keys.join(","))?;
-    for v in &values {
-        let cells: Vec<String> = keys
-            .iter()
-            .map(|k| match &v[k] {
-                serde_json::Value::String(s) => s.clone(),
-                serde_json::Value::Null => String::new(),
-                other => other.to_string(),
-            })
-            .collect();
-        writeln!(out, "{}", cells.join(","))?;
-    }
-    Ok(out)
+    Ok(wakelab_core::io::csv_of_rows(rows)?.into_bytes())
 }
 
 /// Write an evaluation's files: outputs, metrics (CSV, JSON), curves and the detectors.
@@ -45,7 +23,7 @@ pub fn write_evaluation(dir: &Path, evaluation: &Evaluation) -> Result<()> {
     )?;
     write_atomically(dir.join("curves.csv"), &csv::<CurvePoint>(&evaluation.curves)?)?;
     for (detector, info) in &evaluation.detectors {
-        let name = format!("{}_{}.safetensors", band_set_name(&info.bands), info.architecture);
+        let name = format!("{}_{}.safetensors", info.bands, info.architecture);
         save_detector(detector, info, &dir.join("models").join(name))?;
     }
     Ok(())

@@ -74,11 +74,7 @@ pub fn across_wake_contrast(run: &StudyRun) -> Result<Option<LinePlot>> {
     };
     let spacing = wake.parameters.pixel_spacing;
     let mut series = Vec::new();
-    for band in dataset
-        .bands()
-        .into_iter()
-        .filter(|b| RadarBand::ALL.iter().any(|r| r.name() == b))
-    {
+    for band in dataset.bands().into_iter().filter(|b| b.is_radar()) {
         let read = |rel: &str| -> Result<Array2<f32>> { Ok(ndarray_npy::read_npy(dataset.dir.join(rel))?) };
         let (w, n) = (read(&wake.images[&band])?, read(&no_wake.images[&band])?);
         let rows = w.nrows();
@@ -89,7 +85,10 @@ pub fn across_wake_contrast(run: &StudyRun) -> Result<Option<LinePlot>> {
                 (y, 10.0 * (mean(&w) / mean(&n)).log10())
             })
             .collect();
-        series.push(Series { name: band, points });
+        series.push(Series {
+            name: band.to_string(),
+            points,
+        });
     }
     if series.is_empty() {
         return Ok(None);

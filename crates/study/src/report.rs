@@ -5,10 +5,13 @@ use crate::stages::StudyRun;
 use crate::Result;
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
-use wakelab_core::io::write_atomically;
+use wakelab_core::io::{csv_record, write_atomically};
 use wakelab_data::study::Study;
 use wakelab_learn::evaluate::{summarise_split, Summary};
 use wakelab_learn::models::Architecture;
+use wakelab_schema::band::{Band, Input};
+use wakelab_schema::fusion_row::{Method, Source};
+use wakelab_schema::split::Split;
 
 /// A table of the report.
 pub struct Table {
@@ -33,18 +36,10 @@ impl Table {
     }
 
     pub fn csv(&self) -> String {
-        let quote = |c: &String| {
-            if c.contains(',') || c.contains('"') {
-                format!("\"{}\"", c.replace('"', "\"\""))
-            } else {
-                c.clone()
-            }
-        };
-        let mut s = String::new();
-        for r in std::iter::once(&self.header).chain(&self.rows) {
-            let _ = writeln!(s, "{}", r.iter().map(quote).collect::<Vec<_>>().join(","));
-        }
-        s
+        std::iter::once(&self.header)
+            .chain(&self.rows)
+            .map(|r| csv_record(r))
+            .collect()
     }
 }
 
@@ -82,8 +77,8 @@ fn plus_minus(mean: f64, spread: f64, percent: bool) -> String {
     }
 }
 
-fn paper_cells(architecture: Architecture, row: &str) -> [String; 2] {
-    match paper_value(architecture, row) {
+fn paper_cells(architecture: Architecture, row: &Source) -> [String; 2] {
+    match paper_value(architecture, &row.to_string()) {
         Some((mcc, acc)) => [format!("{mcc:.2}"), format!("{:.0}%", 100.0 * acc)],
         None => ["-".into(), "-".into()],
     }
@@ -91,6 +86,10 @@ fn paper_cells(architecture: Architecture, row: &str) -> [String; 2] {
 
 fn auc(s: &Summary) -> String {
     s.roc_auc.map(|a| format!("{a:.2}")).unwrap_or_else(|| "-".into())
+}
+
+fn is_dempster_shafer(s: &Summary) -> bool {
+    s.bands.fusion().is_some_and(|f| f.method == Method::DempsterShafer)
 }
 
 /// The spec's table number of an architecture's single-band table and fusion table.
@@ -108,11 +107,11 @@ fn single_input_table(run: &StudyRun, a: Architecture) -> Table {
     let rows = run
         .inputs
         .iter()
-        .filter_map(|input| run.summaries.iter().find(|s| &s.bands == input && s.architecture == a))
+        .filter_map(|input| run.summaries.iter().find(|s| s.bands == *input && s.architecture == a))
         .map(|s| {
             let [pm, pa] = paper_cells(a, &s.bands);
             vec![
-                s.bands.clone(),
+                s.bands.to_string(),
                 plus_minus(s.mcc, s.mcc_spread, false),
                 plus_minus(s.accuracy, s.accuracy_spread, true),
                 auc(s),
@@ -142,13 +141,13 @@ fn single_input_table(run: &StudyRun, a: Architecture) -> Table {
 fn fusion_table(run: &StudyRun, a: Architecture) -> Table {
     let (_, number) = table_numbers(a);
     let mut rows = Vec::new();
-    for input in run.inputs.iter().filter(|i| i.contains('+')) {
-        if let Some(s) = run.summaries.iter().find(|s| &s.bands == input && s.architecture == a) {
+    for input in run.inputs.iter().filter(|i| i.is_fused()) {
+        if let Some(s) = run.summaries.iter().find(|s| s.bands == *input && s.architecture == a) {
             rows.push(fusion_row(a, s, "feature level", None));
         }
     }
     for (s, k) in run.fusion.iter().filter(|(s, _)| s.architecture == a) {
-        let conflict = s.bands.starts_with("Dempster").then_some(*k);
+        let conflict = is_dempster_shafer(s).then_some(*k);
         rows.push(fusion_row(a, s, "decision level", conflict));
     }
     Table {
@@ -180,7 +179,7 @@ fn fusion_table(run: &StudyRun, a: Architecture) -> Table {
 fn fusion_row(a: Architecture, s: &Summary, level: &str, conflict: Option<f64>) -> Vec<String> {
     let [pm, pa] = paper_cells(a, &s.bands);
     vec![
-        s.bands.clone(),
+        s.bands.to_string(),
         level.to_string(),
         plus_minus(s.mcc, s.mcc_spread, false),
         plus_minus(s.accuracy, s.accuracy_spread, true),
@@ -192,28 +191,26 @@ fn fusion_row(a: Architecture, s: &Summary, level: &str, conflict: Option<f64>) 
 
 /// Every fusion involving an infrared band (the spec's 5.4 and future work).
 fn sar_ir_table(run: &StudyRun) -> Table {
-    let is_ir = |name: &str| name.contains("IR");
     let mut rows = Vec::new();
     for a in Architecture::ALL {
-        for input in run.inputs.iter().filter(|i| i.contains('+') && is_ir(i)) {
-            if let Some(s) = run.summaries.iter().find(|s| &s.bands == input && s.architecture == a) {
+        for input in run.inputs.iter().filter(|i| i.is_fused() && i.has_infrared()) {
+            if let Some(s) = run.summaries.iter().find(|s| s.bands == *input && s.architecture == a) {
                 rows.push(sar_ir_row(a, s, "feature level", None));
             }
         }
         for (s, k) in run
             .fusion
             .iter()
-            .filter(|(s, _)| s.architecture == a && is_ir(&s.bands))
+            .filter(|(s, _)| s.architecture == a && s.bands.has_infrared())
         {
-            rows.push(sar_ir_row(
-                a,
-                s,
-                "decision level",
-                s.bands.starts_with("Dempster").then_some(*k),
-            ));
+            rows.push(sar_ir_row(a, s, "decision level", is_dempster_shafer(s).then_some(*k)));
         }
-        for band in ["C", "MWIR", "LWIR"] {
-            if let Some(s) = run.summaries.iter().find(|s| s.bands == band && s.architecture == a) {
+        for band in [Band::C, Band::Mwir, Band::Lwir] {
+            if let Some(s) = run
+                .summaries
+                .iter()
+                .find(|s| s.bands == Input::single(band) && s.architecture == a)
+            {
                 rows.push(sar_ir_row(a, s, "single band", None));
             }
         }
@@ -235,7 +232,7 @@ fn sar_ir_table(run: &StudyRun) -> Table {
 fn sar_ir_row(a: Architecture, s: &Summary, level: &str, conflict: Option<f64>) -> Vec<String> {
     vec![
         a.to_string(),
-        s.bands.clone(),
+        s.bands.to_string(),
         level.to_string(),
         plus_minus(s.mcc, s.mcc_spread, false),
         plus_minus(s.accuracy, s.accuracy_spread, true),
@@ -273,7 +270,7 @@ fn confusion_table(run: &StudyRun) -> Table {
             .map(|s| {
                 vec![
                     s.architecture.to_string(),
-                    s.bands.clone(),
+                    s.bands.to_string(),
                     s.tp.to_string(),
                     s.fn_.to_string(),
                     s.fp.to_string(),
@@ -291,11 +288,11 @@ fn robustness_table(run: &StudyRun) -> Table {
         .iter()
         .map(|p| {
             let name = p.name();
-            let s = summarise_split(&run.outputs, &format!("test:{name}"), threshold);
+            let s = summarise_split(&run.outputs, &Split::Perturbed(name.clone()), threshold);
             (name, s)
         })
         .collect();
-    let held_out = summarise_split(&run.held_out, "held_out", threshold);
+    let held_out = summarise_split(&run.held_out, &Split::HeldOut, threshold);
     let mut header = vec!["architecture".to_string(), "input".into(), "clean test".into()];
     header.extend(perturbed.iter().map(|(n, _)| n.clone()));
     header.push("held-out environment".into());
@@ -304,11 +301,11 @@ fn robustness_table(run: &StudyRun) -> Table {
         for input in &run.inputs {
             let find = |list: &[Summary]| {
                 list.iter()
-                    .find(|s| &s.bands == input && s.architecture == a)
+                    .find(|s| s.bands == *input && s.architecture == a)
                     .map(|s| plus_minus(s.mcc, s.mcc_spread, false))
                     .unwrap_or_else(|| "-".into())
             };
-            let mut row = vec![a.to_string(), input.clone(), find(&run.summaries)];
+            let mut row = vec![a.to_string(), input.to_string(), find(&run.summaries)];
             row.extend(perturbed.iter().map(|(_, s)| find(s)));
             row.push(find(&held_out));
             rows.push(row);
@@ -406,9 +403,9 @@ pub fn write_report(dir: &Path, study: &Study, run: &StudyRun) -> Result<Vec<Pat
 
 /// The headline numbers on the terminal.
 pub fn print_summary(run: &StudyRun) {
-    let fusions: std::collections::BTreeSet<String> = run.fusion.iter().map(|(s, _)| s.bands.clone()).collect();
-    let rows: Vec<String> = run.inputs.iter().cloned().chain(fusions).collect();
-    let w = rows.iter().map(String::len).max().unwrap_or(5).max(5);
+    let fusions: std::collections::BTreeSet<Source> = run.fusion.iter().map(|(s, _)| s.bands.clone()).collect();
+    let rows: Vec<Source> = run.inputs.iter().cloned().map(Source::Input).chain(fusions).collect();
+    let w = rows.iter().map(|r| r.to_string().len()).max().unwrap_or(5).max(5);
     println!("test MCC, mean over {} repetitions:", run.plan.repetitions);
     print!("{:<w$}", "input");
     for a in Architecture::ALL {

@@ -12,12 +12,12 @@ use wakelab_data::learning::LearningPlan;
 use wakelab_data::study::Study;
 use wakelab_fusion::decision::{fuse_all, FusedOutput};
 use wakelab_learn::data::Dataset;
-use wakelab_learn::evaluate::{
-    band_set_name, evaluate, evaluate_held_out, summarise, CurvePoint, EvalOptions, Output, Summary,
-};
+use wakelab_learn::evaluate::{evaluate, evaluate_held_out, summarise, CurvePoint, EvalOptions, Output, Summary};
 use wakelab_learn::models::Architecture;
 use wakelab_learn::robustness::Perturbation;
 use wakelab_learn::train::Recipe;
+use wakelab_schema::band::Input;
+use wakelab_schema::split::{Network, Split};
 
 /// Architectures trained with an environment held out: the two plain classifiers (the U-Net's
 /// "unet" would double the stage's time; its robustness shows in the perturbed test images).
@@ -28,7 +28,7 @@ pub struct StudyRun {
     pub dataset: Dataset,
     pub plan: LearningPlan,
     /// Inputs evaluated: single bands, then the feature-level fusions.
-    pub inputs: Vec<String>,
+    pub inputs: Vec<Input>,
     /// Kept outputs of every input: train, test and perturbed test splits.
     pub outputs: Vec<Output>,
     pub curves: Vec<CurvePoint>,
@@ -176,19 +176,29 @@ struct Context<'a> {
     display: &'a Display,
 }
 
+type ContextParts<'a> = (
+    &'a Dataset,
+    &'a EvalOptions,
+    &'a str,
+    &'a wakelab_learn::device::Device,
+    &'a Display,
+);
+
+impl<'a> Context<'a> {
+    fn parts(&self) -> ContextParts<'a> {
+        (
+            self.dataset,
+            self.options,
+            self.manifest_hash,
+            self.device,
+            self.display,
+        )
+    }
+}
+
 /// Stage 2: Algorithm 2 on every input, each input cached on its own.
-fn learning_stage(
-    cx: &Context,
-    inputs: &[Vec<String>],
-    dir: &Path,
-) -> Result<(Vec<Output>, Vec<CurvePoint>, StageTime)> {
-    let Context {
-        dataset,
-        options,
-        manifest_hash,
-        device,
-        display,
-    } = *cx;
+fn learning_stage(cx: &Context, inputs: &[Input], dir: &Path) -> Result<(Vec<Output>, Vec<CurvePoint>, StageTime)> {
+    let (dataset, options, manifest_hash, device, display) = cx.parts();
     let start = Instant::now();
     let train_images = ((1.0 - options.test_fraction) * dataset.records.len() as f64).round() as usize;
     let mut all = options.clone();
@@ -198,7 +208,7 @@ fn learning_stage(
     let mut computed_seconds = 0.0;
     let mut all_reused = true;
     for input in inputs {
-        let name = band_set_name(input);
+        let name = input.name();
         let mut one = options.clone();
         one.band_sets = vec![input.clone()];
         let units = training_units(&one, train_images, options.repetitions);
@@ -216,7 +226,7 @@ fn learning_stage(
         let t = Instant::now();
         let unet = unet_cost(options.unet.width);
         let evaluation = evaluate(dataset, &one, device, &mut |p| {
-            let per_image = if p.network == "segmenter" { unet } else { 1 };
+            let per_image = if p.network == Network::Segmenter { unet } else { 1 };
             display.advance(per_image * train_images as u64, p.describe(options.repetitions));
         })?;
         write_evaluation(&stage_dir, &evaluation)?;
@@ -258,16 +268,10 @@ fn held_out_groups(dataset: &Dataset, axis: &str) -> Vec<(String, Vec<usize>)> {
 fn held_out_stage(
     cx: &Context,
     plan: &LearningPlan,
-    singles: &[Vec<String>],
+    singles: &[Input],
     dir: &Path,
 ) -> Result<(Vec<String>, Vec<Output>, StageTime)> {
-    let Context {
-        dataset,
-        options,
-        manifest_hash,
-        device,
-        display,
-    } = *cx;
+    let (dataset, options, manifest_hash, device, display) = cx.parts();
     let start = Instant::now();
     let groups = if plan.held_out.is_empty() {
         Vec::new()
@@ -337,7 +341,7 @@ pub fn run_stages(
     let plan = study.learning.clone();
     let options = eval_options(&plan, &dataset);
     let bands = dataset.bands();
-    let singles: Vec<Vec<String>> = bands.iter().map(|b| vec![b.clone()]).collect();
+    let singles: Vec<Input> = bands.iter().map(|&b| Input::single(b)).collect();
     let mut inputs = singles.clone();
     inputs.extend(plan.fused_inputs(&bands));
     let cx = Context {
@@ -354,7 +358,7 @@ pub fn run_stages(
     display.stage(4, "fusion", 1);
     let single_outputs: Vec<Output> = outputs
         .iter()
-        .filter(|o| !o.bands.contains('+') && (o.split == "train" || o.split == "test"))
+        .filter(|o| !o.bands.is_fused() && matches!(o.split, Split::Train | Split::Test))
         .cloned()
         .collect();
     let (fused, fusion) = fuse_all(&single_outputs, plan.threshold);
@@ -366,7 +370,7 @@ pub fn run_stages(
     Ok(StudyRun {
         dataset,
         plan,
-        inputs: inputs.iter().map(|i| band_set_name(i)).collect(),
+        inputs,
         outputs,
         curves,
         summaries,

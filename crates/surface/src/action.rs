@@ -28,7 +28,7 @@ use crate::short_waves::ShortWaves;
 use crate::spectrum::{group_speed, SeaSpectrum};
 use crate::surfactant::SurfactantField;
 use rayon::prelude::*;
-use wakelab_hydro::SurfaceMap;
+use wakelab_hydro::{SliceField, SurfaceMap};
 
 /// A radar's Bragg wave vector in the heading frame (x along the heading, y to port), rad/m.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -105,7 +105,11 @@ pub fn modulate_short_waves(
     ship_speed: f64,
 ) -> Vec<f64> {
     let (rows, cols) = (map.x.len(), map.y.len());
-    let (u, v, eps) = (map.field("U"), map.field("V"), map.field("eps"));
+    let (u, v, eps) = (
+        map.field(SliceField::U),
+        map.field(SliceField::V),
+        map.field(SliceField::Eps),
+    );
     let at_k = wake.at(relaxation.k.magnitude(), sea.tension, sea.gravity);
     // the wake's extra damping everywhere on the map (the expensive part), in parallel
     let damping: Vec<f64> = (0..rows * cols)

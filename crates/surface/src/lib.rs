@@ -150,7 +150,11 @@ pub fn simulate_surface(config: &WakelabConfig, map: Option<&SurfaceMap>) -> Sur
                     }
                 })
                 .collect();
-            let dt: Vec<f64> = map.field("dT").iter().map(|&v| v as f64).collect();
+            let dt: Vec<f64> = map
+                .field(wakelab_hydro::SliceField::DT)
+                .iter()
+                .map(|&v| v as f64)
+                .collect();
             (
                 to_scene(&grid, &map, &gamma.gamma, 1.0),
                 bragg,

@@ -12,7 +12,7 @@
 
 use crate::film::NU;
 use rayon::prelude::*;
-use wakelab_hydro::SurfaceMap;
+use wakelab_hydro::{SliceField, SurfaceMap};
 
 /// Gamma on the rows and columns of the surface map (x-major).
 #[derive(Debug, Clone)]
@@ -25,9 +25,9 @@ pub struct SurfactantField {
 /// Solve for Gamma over the surface map of a ship moving at `ship_speed`.
 pub fn redistribute_surfactant(map: &SurfaceMap, ship_speed: f64) -> SurfactantField {
     let (rows, cols) = (map.x.len(), map.y.len());
-    let u = map.field("U");
-    let v = map.field("V");
-    let nut = map.field("nu_t");
+    let u = map.field(SliceField::U);
+    let v = map.field(SliceField::V);
+    let nut = map.field(SliceField::NuT);
     let y = &map.y;
     let width = column_widths(y);
     let mut gamma = vec![1.0; rows * cols];
@@ -79,7 +79,7 @@ pub fn redistribute_surfactant(map: &SurfaceMap, ship_speed: f64) -> SurfactantF
 /// The flux integral of (U_ship - u) Gamma over each row (m^2/s, Gamma relative).
 pub fn row_fluxes(map: &SurfaceMap, field: &SurfactantField, ship_speed: f64) -> Vec<f64> {
     let cols = field.cols;
-    let u = map.field("U");
+    let u = map.field(SliceField::U);
     let width = column_widths(&map.y);
     (0..field.rows)
         .into_par_iter()

@@ -7,7 +7,7 @@ use indicatif::ProgressBar;
 use std::path::PathBuf;
 use wakelab_learn::data::Dataset;
 use wakelab_learn::device::parse_device;
-use wakelab_learn::evaluate::{band_set_name, EvalOptions};
+use wakelab_learn::evaluate::EvalOptions;
 use wakelab_learn::models::Architecture;
 use wakelab_learn::store::load_detector;
 use wakelab_learn::train::Recipe;
@@ -61,10 +61,10 @@ fn parse_architectures(text: &str) -> Result<Vec<Architecture>> {
 }
 
 impl LearnArgs {
-    fn options(&self, dataset: &Dataset, architectures: Vec<Architecture>, repetitions: usize) -> EvalOptions {
-        EvalOptions {
+    fn options(&self, dataset: &Dataset, architectures: Vec<Architecture>, repetitions: usize) -> Result<EvalOptions> {
+        Ok(EvalOptions {
             architectures,
-            band_sets: dataset.inputs(self.bands.as_deref()),
+            band_sets: dataset.inputs(self.bands.as_deref())?,
             repetitions,
             test_fraction: dataset.test_fraction(),
             classifier: Recipe {
@@ -81,7 +81,7 @@ impl LearnArgs {
             threshold: self.threshold,
             seed: self.seed,
             perturbations: Vec::new(),
-        }
+        })
     }
 
     fn out_dir(&self) -> PathBuf {
@@ -99,7 +99,7 @@ pub fn run_eval(eval: &EvalArgs) -> Result<()> {
     let (args, arch, repetitions, json) = (&eval.learn, eval.arch.as_str(), eval.repetitions, eval.json);
     let dataset = Dataset::open(&args.dataset)?;
     let device = parse_device(&args.device)?;
-    let options = args.options(&dataset, parse_architectures(arch)?, repetitions);
+    let options = args.options(&dataset, parse_architectures(arch)?, repetitions)?;
     options.validate()?;
     let bar = epoch_bar(args.quiet, total_epochs(&options));
     let dir = args.out_dir();
@@ -136,7 +136,7 @@ pub fn run_train(train: &TrainArgs) -> Result<()> {
     let [architecture] = architecture[..] else {
         anyhow::bail!("--arch {arch}: `train` trains one architecture (base, cls or unet)");
     };
-    let options = args.options(&dataset, vec![architecture], 1);
+    let options = args.options(&dataset, vec![architecture], 1)?;
     options.validate()?;
     let [bands] = &options.band_sets[..] else {
         anyhow::bail!("--bands: `train` trains one input (a band, or bands joined by +)");
@@ -154,7 +154,7 @@ pub fn run_train(train: &TrainArgs) -> Result<()> {
             bar.inc(1);
             bar.set_message(format!(
                 "{} {network} epoch {} loss {:.3} acc {:.0}% {:.1} img/s",
-                band_set_name(bands),
+                bands,
                 e.epoch,
                 e.loss,
                 100.0 * e.accuracy,

@@ -1,6 +1,6 @@
 //! Reading a dataset rendered by the data stage.
 
-use wakelab_data::study::Study;
+use wakelab_data::study::{Band, Study};
 use wakelab_learn::data::Dataset;
 
 #[test]
@@ -19,13 +19,13 @@ fn a_rendered_dataset_reads_back_normalised_in_every_band() {
     let ds = Dataset::open(dir.path()).unwrap();
     assert_eq!(ds.records.len(), 4);
     for i in 0..ds.records.len() {
-        for band in ["C", "LWIR"] {
+        for band in [Band::C, Band::Lwir] {
             let img = ds.image(i, band).unwrap();
             assert_eq!(img.dim(), (32, 32));
             let mean = img.iter().map(|&v| v as f64).sum::<f64>() / img.len() as f64;
             assert!(mean.abs() < 1e-5, "{band}: mean {mean}");
         }
     }
-    let err = ds.image(0, "X").unwrap_err().to_string();
+    let err = ds.image(0, Band::X).unwrap_err().to_string();
     assert!(err.contains("no band X"), "{err}");
 }

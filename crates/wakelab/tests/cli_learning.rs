@@ -1,0 +1,310 @@
+//! `wakelab train`, `eval`, `detect` and `run` as a user runs them.
+
+mod common;
+
+use common::*;
+use std::path::Path;
+
+/// train, eval and detect on a small rendered dataset: files, metrics keys, the saved model used
+/// on a plain image, and clear refusals of bad input.
+#[test]
+fn train_eval_and_detect_on_a_small_dataset() {
+    let dir = tempfile::tempdir().unwrap();
+    let study = dir.path().join("study.toml");
+    let axes = "wind_speed = [5.0, 8.0, 11.0]\nimage_size = [32]\npixel_spacing = [10.0]\nalong_track = [2000.0]";
+    std::fs::write(&study, study_text("l", 2, 0.34, "[\"X\"]", axes)).unwrap();
+    let data = dir.path().join("data");
+    let d = data.to_str().unwrap();
+    let o = dataset(&study, &data, &["--quiet"]);
+    assert!(o.status.success(), "{}", stderr(&o));
+
+    let model = dir.path().join("x_unet.safetensors");
+    let o = wakelab(&[
+        "train",
+        d,
+        "--arch",
+        "unet",
+        "--bands",
+        "X",
+        "--epochs",
+        "2",
+        "--unet-epochs",
+        "1",
+        "--quiet",
+        "--model",
+        model.to_str().unwrap(),
+    ]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    assert!(stdout(&o).contains("test split (4 scenes): MCC"), "{}", stdout(&o));
+    assert!(model.exists() && dir.path().join("x_unet.pytorch.safetensors").exists());
+    assert!(data.join("learn/X_unet_curve.csv").exists());
+
+    let o = wakelab(&[
+        "eval",
+        d,
+        "--arch",
+        "base,cls",
+        "--bands",
+        "X",
+        "--epochs",
+        "2",
+        "--repetitions",
+        "2",
+        "--quiet",
+        "--json",
+    ]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let metrics: serde_json::Value = serde_json::from_str(&stdout(&o)).unwrap();
+    assert_eq!(metrics.as_array().unwrap().len(), 2);
+    for key in [
+        "bands",
+        "architecture",
+        "mcc",
+        "mcc_spread",
+        "accuracy",
+        "accuracy_spread",
+        "f1",
+        "roc_auc",
+        "tp",
+        "fn",
+    ] {
+        assert!(metrics[0].get(key).is_some(), "no {key} in {}", metrics[0]);
+    }
+    let outputs = std::fs::read_to_string(data.join("learn/outputs.csv")).unwrap();
+    assert!(
+        outputs.starts_with("bands,architecture,repetition,split,scene,label,output"),
+        "{outputs}"
+    );
+    // the study's test share, 4 of 12 scenes: 2 architectures x 2 repetitions x (2 wake + 2 no-wake)
+    assert_eq!(outputs.lines().filter(|l| l.contains(",test,")).count(), 2 * 2 * 4);
+    assert_eq!(outputs.lines().filter(|l| l.contains(",train,")).count(), 2 * 2 * 8);
+    assert!(data.join("learn/models/X_cls.safetensors").exists());
+
+    // detect on a plain image larger than the model's input: tiles, probability, mask PNG
+    let image = data.join("scenes/000000-w/X.npy");
+    let mask = dir.path().join("mask.png");
+    let o = wakelab(&[
+        "detect",
+        image.to_str().unwrap(),
+        "--model",
+        model.to_str().unwrap(),
+        "--mask",
+        mask.to_str().unwrap(),
+        "--json",
+    ]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let det: serde_json::Value = serde_json::from_str(&stdout(&o)).unwrap();
+    let p = det["probability"].as_f64().unwrap();
+    assert!((0.0..=1.0).contains(&p));
+    assert!(image::open(&mask).unwrap().width() == 32);
+
+    let small = dir.path().join("small.npy");
+    std::fs::write(&small, npy_f32_2x2()).unwrap();
+    for (args, needle) in [
+        (
+            vec!["detect", small.to_str().unwrap(), "--model", model.to_str().unwrap()],
+            "at least the detector's input, 32 x 32 pixels",
+        ),
+        (
+            vec!["eval", d, "--arch", "resnet"],
+            "--arch resnet: must be base, cls or unet",
+        ),
+        (vec!["eval", d, "--device", "tpu"], "--device"),
+        (
+            vec!["eval", d, "--bands", "Q"],
+            "unknown band `Q`: one of S, C, X, MWIR, LWIR",
+        ),
+        (vec!["eval", d, "--bands", "S"], "one of the dataset's bands [\"X\"]"),
+        (vec!["eval", d, "--repetitions", "0"], "repetitions"),
+        (
+            vec!["detect", image.to_str().unwrap(), "--model", study.to_str().unwrap()],
+            "not a safetensors file",
+        ),
+    ] {
+        let o = wakelab(&args);
+        assert!(!o.status.success());
+        assert!(stderr(&o).contains(needle), "{args:?}: {}", stderr(&o));
+    }
+}
+
+/// A 2 x 2 float32 .npy file (NumPy format 1.0, header padded to 64 bytes).
+fn npy_f32_2x2() -> Vec<u8> {
+    let mut header = "{'descr': '<f4', 'fortran_order': False, 'shape': (2, 2), }".to_string();
+    while (10 + header.len() + 1) % 64 != 0 {
+        header.push(' ');
+    }
+    header.push('\n');
+    let mut bytes = b"\x93NUMPY\x01\x00".to_vec();
+    bytes.extend_from_slice(&(header.len() as u16).to_le_bytes());
+    bytes.extend_from_slice(header.as_bytes());
+    for v in [1.0f32, 2.0, 3.0, 4.0] {
+        bytes.extend_from_slice(&v.to_le_bytes());
+    }
+    bytes
+}
+
+/// A study small enough for a test: 2 wind speeds x 2 seeds of 32 x 32 pixels in S, X and LWIR,
+/// trained a few epochs with a narrow U-Net.
+const TINY_STUDY: &str = "[study]\nname = \"tiny\"\ncombine = \"product\"\nseeds = 3\ntest_fraction = 0.34\n\
+    grouped_split = false\nmin_visibility = 0.0\nmixed_layer_depth = 20.0\nbands = [\"S\", \"X\", \"LWIR\"]\n\
+    [axes]\nwind_speed = [5.0, 8.0]\nimage_size = [32]\npixel_spacing = [20.0]\nalong_track = [2000.0]\n\
+    [base]\npreset = \"quick\"\n[base.time]\nduration = 600.0\n\
+    [learning]\nrepetitions = 2\nepochs = 2\nlearning_rate = 1e-2\nunet_epochs = 1\nunet_learning_rate = 1e-3\n\
+    unet_width = 4\nrotations = [30.0]\nheld_out = \"wind_speed\"\n";
+
+#[test]
+fn run_does_the_whole_study_reuses_its_stages_and_repeats_its_tables() {
+    let dir = tempfile::tempdir().unwrap();
+    let study = dir.path().join("tiny.toml");
+    std::fs::write(&study, TINY_STUDY).unwrap();
+    let run = |out: &Path| {
+        let o = wakelab(&[
+            "run",
+            "--study",
+            study.to_str().unwrap(),
+            "--out",
+            out.to_str().unwrap(),
+            "--quiet",
+        ]);
+        assert!(o.status.success(), "{}", stderr(&o));
+        o
+    };
+    let (first, second) = (dir.path().join("a"), dir.path().join("b"));
+    let o = run(&first);
+    // the headline table names every input and the decision-level fusions
+    for needle in ["S+X", "Bayes classifier (S, X)", "Dempster-Shafer (S, X)", "LWIR"] {
+        assert!(stdout(&o).contains(needle), "{needle}: {}", stdout(&o));
+    }
+    let report = first.join("report");
+    let html = std::fs::read_to_string(report.join("report.html")).unwrap();
+    for figure in [
+        "sigma0_vs_cmod5n_upwind",
+        "sigma0_vs_cmod5n_crosswind",
+        "across_wake_contrast",
+    ] {
+        let svg = std::fs::read_to_string(report.join(format!("{figure}.svg"))).unwrap();
+        assert!(svg.starts_with("<svg"), "{figure}");
+    }
+    // self-contained: every picture inline, nothing fetched from the network
+    let namespaces = html.matches("xmlns=\"http://www.w3.org/2000/svg\"").count();
+    assert_eq!(
+        html.matches("http://").count(),
+        namespaces,
+        "only SVG namespaces, no links"
+    );
+    assert!(!html.contains("https://") && !html.contains("<script"));
+    assert_eq!(
+        html.matches("src=\"data:image/png;base64,").count(),
+        3 * 3,
+        "wake, no wake, mask per band"
+    );
+    assert_eq!(
+        html.matches("<svg").count(),
+        3 + 4 + 3,
+        "ROC per architecture, training curves per network, sigma0 against CMOD5.N up- and cross-wind, \
+         the across-wake contrast"
+    );
+    assert!(html.contains("CMOD5.N 10<") && html.contains("Across-wake contrast"));
+    for needle in [
+        "Table 4.4",
+        "Table 4.6",
+        "Table 5.1",
+        "Table 5.3",
+        "SAR + IR fusion",
+        "Robustness",
+        "rotate_30",
+        "held-out environment",
+        "Wall time per stage",
+    ] {
+        assert!(html.contains(needle), "report lacks {needle}");
+    }
+    for t in [
+        "table_4_4_base",
+        "table_5_2_cls",
+        "sar_ir_fusion",
+        "confusion",
+        "robustness",
+        "timing",
+    ] {
+        assert!(report.join("tables").join(format!("{t}.csv")).exists(), "{t}.csv");
+    }
+    // robustness: every perturbation and the held-out wind speeds have numbers for "base" on S
+    let robustness = std::fs::read_to_string(report.join("tables/robustness.csv")).unwrap();
+    let row = robustness.lines().find(|l| l.starts_with("base,S,")).unwrap();
+    assert_eq!(
+        row.split(',').filter(|c| c.contains('±')).count(),
+        1 + 3 + 1,
+        "{robustness}"
+    );
+    let timing: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(first.join("timing.json")).unwrap()).unwrap();
+    let stages: Vec<&str> = timing
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|t| t["stage"].as_str().unwrap())
+        .collect();
+    assert_eq!(
+        stages,
+        ["dataset", "learning", "held-out environments", "fusion", "report"]
+    );
+    let markdown = std::fs::read_to_string(report.join("report.md")).unwrap();
+    assert!(markdown.contains("| input | MCC | accuracy | AUC | paper MCC | paper accuracy |"));
+    // the paper's numbers beside ours: Table 4.4's S row, Table 5.3's Bayes (S, X) row
+    assert!(
+        markdown.contains("| 0.29 | 61% |") && markdown.contains("| 1.00 | 100% |"),
+        "{markdown}"
+    );
+
+    // a rerun reuses every stage and gives the same tables
+    let tables = |root: &Path| -> Vec<(String, String)> {
+        let mut v: Vec<(String, String)> = std::fs::read_dir(root.join("report/tables"))
+            .unwrap()
+            .map(|e| e.unwrap().path())
+            .filter(|p| !p.ends_with("timing.csv"))
+            .map(|p| {
+                let name = p.file_name().unwrap().to_string_lossy().to_string();
+                (name, std::fs::read_to_string(&p).unwrap())
+            })
+            .collect();
+        v.sort();
+        v
+    };
+    let before = tables(&first);
+    let o = run(&first);
+    assert!(stderr(&o).contains("(reused; computed in"), "{}", stderr(&o));
+    assert!(!stderr(&o).contains("done in"), "{}", stderr(&o));
+    assert_eq!(before, tables(&first));
+    // a run killed during one input's training resumes with that input alone
+    std::fs::remove_file(first.join("learn/X/evaluation.json")).unwrap();
+    let o = run(&first);
+    let err = stderr(&o);
+    assert!(
+        err.contains("learning: X done in") && !err.contains("learning: S done in"),
+        "{err}"
+    );
+    assert_eq!(before, tables(&first));
+    // and a fresh run in another directory computes the same tables from scratch
+    run(&second);
+    assert_eq!(tables(&first), tables(&second));
+
+    // bad [learning] values are refused before any work, naming the field
+    let bad = dir.path().join("bad.toml");
+    std::fs::write(&bad, TINY_STUDY.replace("unet_width = 4", "unet_width = 1000")).unwrap();
+    let out = dir.path().join("c");
+    let o = wakelab(&[
+        "run",
+        "--study",
+        bad.to_str().unwrap(),
+        "--out",
+        out.to_str().unwrap(),
+        "--quiet",
+    ]);
+    assert!(!o.status.success());
+    assert!(
+        stderr(&o).contains("learning.unet_width") && stderr(&o).contains("[4, 256]"),
+        "{}",
+        stderr(&o)
+    );
+    assert!(!out.exists());
+}

@@ -1,0 +1,252 @@
+//! The `wakelab` physics commands as a user runs them: the wake, the spectrum, the sensors.
+
+mod common;
+
+use common::*;
+use std::path::Path;
+
+#[test]
+fn idp_json_has_every_scalar_the_issue_names() {
+    let o = wakelab(&["idp", "--json"]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let v: serde_json::Value = serde_json::from_str(&stdout(&o)).expect("JSON");
+    for key in [
+        "Re", "Fr", "C_f", "C_D", "theta", "x_0", "y_h", "z_h", "U_f_max", "k_f_max", "R_wave", "U_w_max", "T", "r_h",
+        "U_p_max", "k_p_max", "Q", "r_sh", "V_s_max", "a_r", "y_rh", "z_rh", "U_r_max",
+    ] {
+        assert!(v[key].is_number(), "missing {key}");
+    }
+    // Table 2.1
+    assert!((v["Re"].as_f64().unwrap() / 9.94e8 - 1.0).abs() < 5e-3);
+    assert!((v["Fr"].as_f64().unwrap() / 0.188 - 1.0).abs() < 5e-3);
+}
+
+#[test]
+fn config_show_prints_a_configuration_that_reads_back() {
+    let o = wakelab(&["config", "show", "--preset", "paper"]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let text = stdout(&o);
+    assert!(
+        text.contains("core_cells = 4001") && text.contains("depth_cells = 201"),
+        "{text}"
+    );
+    let dir = tempfile::tempdir().unwrap();
+    let file = dir.path().join("shown.toml");
+    std::fs::write(&file, &text).unwrap();
+    let again = wakelab(&["config", "show", "--config", file.to_str().unwrap()]);
+    assert!(again.status.success(), "{}", stderr(&again));
+    assert_eq!(stdout(&again), text);
+}
+
+#[test]
+fn bad_values_are_refused_before_any_output() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("run");
+    for (toml, field, allowed) in [
+        ("[ship]\nspeed = 45.0\n", "ship.speed", "[0.1, 30]"),
+        ("[grid]\ncore_cells = 2\n", "grid.core_cells", "[8, 20001]"),
+        (
+            "[environment.swell]\namplitude = -1.0\n",
+            "environment.swell.amplitude",
+            "[0, 10]",
+        ),
+        ("[time]\ncfl = 3.0\n", "time.cfl", "[0.01, 0.9]"),
+        ("[ship]\nbeem = 3.0\n", "beem", "unknown field"),
+    ] {
+        let file = dir.path().join("bad.toml");
+        std::fs::write(&file, toml).unwrap();
+        let o = scene(&file, &out, &["--quiet"]);
+        assert!(!o.status.success(), "{toml} was accepted");
+        let err = stderr(&o);
+        assert!(err.contains(field) && err.contains(allowed), "{toml}: {err}");
+        assert!(!out.exists(), "{toml}: output written despite the error");
+    }
+}
+
+fn has_cf_conventions(path: &Path) -> bool {
+    let r = netcdf3::FileReader::open(path).expect("readable NetCDF");
+    r.data_set().get_global_attr_as_string("Conventions").as_deref() == Some("CF-1.8")
+}
+
+#[test]
+fn wake_run_writes_netcdf_pictures_and_the_configuration() {
+    let dir = tempfile::tempdir().unwrap();
+    let cfg = dir.path().join("tiny.toml");
+    std::fs::write(&cfg, TINY).unwrap();
+    let out = dir.path().join("run");
+    let o = scene(&cfg, &out, &["--quiet"]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    for f in ["wake_sections.nc", "wake_surface.nc", "surface_map.nc"] {
+        assert!(has_cf_conventions(&out.join(f)), "{f}");
+    }
+    let mut r = netcdf3::FileReader::open(out.join("wake_sections.nc")).unwrap();
+    let time = r.read_var_f32("time").unwrap();
+    assert_eq!(time, vec![0.0, 60.0, 120.0]);
+    let ds = r.data_set();
+    assert_eq!(ds.get_var_attr_as_string("U", "units").as_deref(), Some("m s-1"));
+    let mut m = netcdf3::FileReader::open(out.join("surface_map.nc")).unwrap();
+    let x = m.read_var_f32("x").unwrap();
+    // x = x_IDP + U_ship t, every map_dx = 25 m from 71 m up to 71 + 7 m/s * 120 s = 911 m
+    assert!(
+        (x[0] - 71.0).abs() < 1e-3 && (x[x.len() - 1] - 896.0).abs() < 1e-3,
+        "{:?}",
+        (x[0], x.last())
+    );
+    for f in [
+        "surface_U.png",
+        "surface_dT.png",
+        "section_U_t00000.png",
+        "config.toml",
+        "idp.json",
+    ] {
+        assert!(out.join(f).is_file(), "{f} missing");
+    }
+    let leftovers: Vec<_> = std::fs::read_dir(&out)
+        .unwrap()
+        .filter_map(|e| e.ok())
+        .filter(|e| e.file_name().to_string_lossy().ends_with(".tmp"))
+        .collect();
+    assert!(leftovers.is_empty());
+    // the run's configuration reads back
+    let shown = wakelab(&["config", "show", "--config", out.join("config.toml").to_str().unwrap()]);
+    assert!(shown.status.success(), "{}", stderr(&shown));
+}
+
+#[test]
+fn spectrum_json_reports_pierson_moskowitz_closed_forms_and_bragg_densities() {
+    let dir = tempfile::tempdir().unwrap();
+    let cfg = dir.path().join("pm.toml");
+    // Pierson-Moskowitz with the power law joined far out, no swell
+    std::fs::write(
+        &cfg,
+        "[sea]\nspectrum = \"pierson_moskowitz\"\nshort_wave_join = 1000.0\n[environment.swell]\ndirection = \"calm\"\n",
+    )
+    .unwrap();
+    let o = wakelab(&[
+        "spectrum",
+        "--json",
+        "--config",
+        cfg.to_str().unwrap(),
+        "--wind",
+        "10",
+        "--incidence",
+        "30",
+    ]);
+    let v = json_of(&o);
+    let hs = v["significant_wave_height"].as_f64().unwrap();
+    assert!((hs / 2.133 - 1.0).abs() < 0.005, "Hs {hs}");
+    let wp = v["peak_angular_frequency"].as_f64().unwrap();
+    assert!((wp / (0.8772 * 9.81 / 10.0) - 1.0).abs() < 0.01, "omega_p {wp}");
+    assert!(v["mss_upwind"].as_f64().unwrap() > v["mss_crosswind"].as_f64().unwrap());
+    let bragg = v["bragg"].as_array().unwrap();
+    assert_eq!(bragg.len(), 3);
+    // C band at 30 degrees: the Bragg wavelength equals the radar wavelength, c / 5.3 GHz
+    let c = &bragg[1];
+    assert_eq!(c["band"], "C");
+    assert!((c["bragg_wavelength_m"].as_f64().unwrap() - 299_792_458.0 / 5.3e9).abs() < 1e-9);
+    assert!(c["density_towards"].as_f64().unwrap() > 0.0);
+}
+
+#[test]
+fn a_scene_outside_the_simulated_wake_is_refused() {
+    let dir = tempfile::tempdir().unwrap();
+    let cfg = dir.path().join("far.toml");
+    std::fs::write(&cfg, "[scene]\nalong_track = 40000.0\n").unwrap();
+    let o = wakelab(&[
+        "scene",
+        "--config",
+        cfg.to_str().unwrap(),
+        "--quiet",
+        "--out",
+        dir.path().join("r").to_str().unwrap(),
+    ]);
+    assert!(!o.status.success());
+    let err = stderr(&o);
+    assert!(
+        err.contains("scene.along_track") && err.contains("within the simulated wake"),
+        "{err}"
+    );
+}
+
+#[test]
+fn sar_sigma0_and_optics_print_their_json() {
+    let o = wakelab(&[
+        "sar",
+        "sigma0",
+        "--json",
+        "--wind",
+        "10",
+        "--band",
+        "X",
+        "--polarisation",
+        "hh",
+        "--incidence",
+        "40",
+    ]);
+    let v = json_of(&o);
+    assert_eq!(v["band"], "X");
+    assert_eq!(v["polarisation"], "HH");
+    let db = v["sigma0_db"].as_f64().unwrap();
+    assert!(db < -10.0 && db > -40.0, "{db}");
+    let part = |k: &str| v[k].as_f64().unwrap();
+    // (sigma_B + sigma_S)(1 - q) + q sigma_wb (KHCC03 Eq. 1)
+    let parts =
+        (part("sigma0_bragg") + part("sigma0_specular")) * (1.0 - part("breaking_fraction")) + part("sigma0_breaking");
+    assert!((part("sigma0") - parts).abs() < 1e-12 * parts);
+    assert!(v["cmod5n"].is_null(), "CMOD5.N is a C-band model");
+
+    // C band looking up-wind: CMOD5.N beside wakelab's value, and near it
+    let o = wakelab(&[
+        "sar",
+        "sigma0",
+        "--json",
+        "--wind",
+        "10",
+        "--incidence",
+        "40",
+        "--look",
+        "180",
+    ]);
+    let v = json_of(&o);
+    let (ours, cmod) = (v["sigma0_db"].as_f64().unwrap(), v["cmod5n_db"].as_f64().unwrap());
+    assert!((cmod - -12.947).abs() < 1e-3, "CMOD5.N {cmod}");
+    assert!((ours - cmod).abs() < 2.0, "wakelab {ours} dB vs CMOD5.N {cmod} dB");
+
+    let o = wakelab(&[
+        "optics",
+        "--json",
+        "--wavelength",
+        "10",
+        "--salinity",
+        "0",
+        "--temperature",
+        "27",
+        "--incidence",
+        "0",
+    ]);
+    let v = json_of(&o);
+    // pure water at 10 um (Hale & Querry 1973): n = 1.218, kappa = 0.0508
+    assert!((v["n"].as_f64().unwrap() - 1.218).abs() < 1e-3);
+    assert!((v["kappa"].as_f64().unwrap() - 0.0508).abs() < 1e-4);
+    for key in ["rho_s", "rho_p", "rho", "emissivity"] {
+        assert!(v[key].is_number(), "{key}");
+    }
+    // at normal incidence both polarisations reflect |(m - a) / (m + a)|^2 of m = n - i kappa
+    // from air of index a = 1.0003 (Fresnel's closed form): of the printed index exactly, and
+    // about 0.0101 (emissivity 0.9899) for the tabulated one
+    let (n, k, a) = (v["n"].as_f64().unwrap(), v["kappa"].as_f64().unwrap(), 1.0003);
+    let closed = ((n - a).powi(2) + k * k) / ((n + a).powi(2) + k * k);
+    for key in ["rho_s", "rho_p", "rho"] {
+        assert!(
+            (v[key].as_f64().unwrap() - closed).abs() < 1e-9,
+            "{key}: {} vs {closed}",
+            v[key]
+        );
+    }
+    assert!((closed - 0.01013).abs() < 1e-4, "{closed}");
+    assert!((v["emissivity"].as_f64().unwrap() - (1.0 - closed)).abs() < 1e-9);
+    assert_eq!(v["flat_sea_radiance"].as_array().unwrap().len(), 2);
+
+    let bad = wakelab(&["sar", "sigma0", "--band", "K"]);
+    assert!(!bad.status.success() && stderr(&bad).contains("--band K"));
+}

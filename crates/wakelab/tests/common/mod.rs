@@ -1,0 +1,74 @@
+//! What the command-line tests share: running `wakelab`, its output, and small inputs.
+#![allow(dead_code)] // each test file uses its own part
+
+use std::path::Path;
+use std::process::{Command, Output};
+
+pub fn wakelab(args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_wakelab"))
+        .args(args)
+        .output()
+        .expect("wakelab runs")
+}
+
+pub fn stdout(o: &Output) -> String {
+    String::from_utf8_lossy(&o.stdout).into_owned()
+}
+
+pub fn stderr(o: &Output) -> String {
+    String::from_utf8_lossy(&o.stderr).into_owned()
+}
+
+/// A study file on the `quick` wake shortened to 600 s: the `[study]` table with these bands
+/// (a TOML list) and seeds, the given `[axes]` lines, and the rest as the tests need it.
+pub fn study_text(name: &str, seeds: usize, test_fraction: f64, bands: &str, axes: &str) -> String {
+    format!(
+        "[study]\nname = \"{name}\"\ncombine = \"product\"\nseeds = {seeds}\ntest_fraction = {test_fraction}\n\
+         grouped_split = false\nmin_visibility = 0.0\nmixed_layer_depth = 20.0\nbands = {bands}\n\
+         [axes]\n{axes}\n[base]\npreset = \"quick\"\n[base.time]\nduration = 600.0\n"
+    )
+}
+
+/// `wakelab scene --config CONFIG --out OUT` and any further arguments.
+pub fn scene(config: &Path, out: &Path, more: &[&str]) -> Output {
+    with_input_and_out(&["scene", "--config"], config, out, more)
+}
+
+/// `wakelab dataset --study STUDY --out OUT` and any further arguments.
+pub fn dataset(study: &Path, out: &Path, more: &[&str]) -> Output {
+    with_input_and_out(&["dataset", "--study"], study, out, more)
+}
+
+fn with_input_and_out(command: &[&str], input: &Path, out: &Path, more: &[&str]) -> Output {
+    let mut args = command.to_vec();
+    args.extend([input.to_str().unwrap(), "--out", out.to_str().unwrap()]);
+    args.extend_from_slice(more);
+    wakelab(&args)
+}
+
+/// The JSON a successful command printed.
+pub fn json_of(o: &Output) -> serde_json::Value {
+    assert!(o.status.success(), "{}", stderr(o));
+    serde_json::from_str(&stdout(o)).unwrap()
+}
+
+/// A grid small enough to simulate in a second.
+pub const TINY: &str = r#"
+[grid]
+core_width = 200.0
+depth = 30.0
+core_cells = 60
+depth_cells = 15
+beach_width = 60.0
+beach_cells = 6
+[time]
+duration = 120.0
+surface_interval = 20.0
+output_interval = 60.0
+[scene]
+pixel_spacing = 5.0
+size = 64
+along_track = 500.0
+[sea]
+window = 32
+"#;

@@ -356,16 +356,47 @@ pub enum Polarisation {
 #[serde(deny_unknown_fields)]
 pub struct SarConfig {
     pub polarisation: Polarisation,
-    /// Number of looks of the multiplicative speckle; 0 for none.
+    /// Number of independent looks of the speckle; 0 for none.
     pub looks: u32,
-    /// Add thermal noise at the noise-equivalent sigma zero `nesz`.
+    /// Resolution (m): the width of the impulse response, over which speckle and thermal noise
+    /// are correlated; 0 for the pixel spacing.
+    pub resolution: f64,
+    /// Add thermal noise at the band's noise-equivalent sigma zero.
     pub noise_floor: bool,
-    /// Noise-equivalent sigma zero (dB).
-    pub nesz: f64,
+    /// One noise-equivalent sigma zero for every band (dB); unset: each band's own below.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub nesz: Option<f64>,
+    /// S-band NESZ (dB).
+    pub nesz_s: f64,
+    /// C-band NESZ (dB).
+    pub nesz_c: f64,
+    /// X-band NESZ (dB).
+    pub nesz_x: f64,
     /// Displace scatterers in azimuth by their line-of-sight orbital velocity times R/V.
     pub velocity_bunching: bool,
     /// Slant range over platform speed R/V (s).
     pub range_to_velocity: f64,
+}
+
+impl SarConfig {
+    /// The noise-equivalent sigma zero of `band` (dB).
+    pub fn nesz_db(&self, band: crate::units::RadarBand) -> f64 {
+        use crate::units::RadarBand::*;
+        self.nesz.unwrap_or(match band {
+            S => self.nesz_s,
+            C => self.nesz_c,
+            X => self.nesz_x,
+        })
+    }
+
+    /// The resolution in pixels of `pixel_spacing` (1 when the resolution is the pixel).
+    pub fn resolution_pixels(&self, pixel_spacing: f64) -> f64 {
+        if self.resolution > 0.0 {
+            self.resolution / pixel_spacing
+        } else {
+            1.0
+        }
+    }
 }
 
 /// The infrared sensor (spec 3.2, Eq. (3.5) and Algorithm 1).
@@ -384,6 +415,12 @@ pub struct IrConfig {
     pub sky_zenith_temperature: f64,
     /// Sky brightness temperature at the horizon (K), Eq. (3.20).
     pub sky_horizon_temperature: f64,
+    /// Add the imager's noise, of standard deviation `netd`, to the brightness temperature.
+    pub noise: bool,
+    /// Noise-equivalent temperature difference (K).
+    pub netd: f64,
+    /// Full width at half maximum of the imager's point-spread function (m); 0: the pixel.
+    pub resolution: f64,
 }
 
 /// Where and what the run writes.
@@ -414,39 +451,9 @@ impl Preset {
     }
 }
 
-const QUICK_PRESET: &str = r#"
-[grid]
-core_width = 1200.0
-depth = 120.0
-core_cells = 401
-depth_cells = 81
-beach_width = 300.0
-beach_cells = 25
+const QUICK_PRESET: &str = include_str!("preset_quick.toml");
 
-[time]
-duration = 3600.0
-cfl = 0.5
-max_dt = 10.0
-surface_interval = 10.0
-output_interval = 600.0
-"#;
-
-const PAPER_PRESET: &str = r#"
-[grid]
-core_width = 2000.0
-depth = 300.0
-core_cells = 4001
-depth_cells = 201
-beach_width = 500.0
-beach_cells = 101
-
-[time]
-duration = 3600.0
-cfl = 0.5
-max_dt = 10.0
-surface_interval = 5.0
-output_interval = 300.0
-"#;
+const PAPER_PRESET: &str = include_str!("preset_paper.toml");
 
 /// Merge `over` into `base`, table by table (values of `over` win).
 fn merge_tables(base: &mut toml::Table, over: toml::Table) {

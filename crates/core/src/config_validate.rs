@@ -219,13 +219,27 @@ impl WakelabConfig {
                 "an integer in [0, 1000] (0: no speckle)",
             ));
         }
-        range("sar.nesz", sar.nesz, -60.0, 0.0, "dB")?;
+        if let Some(nesz) = sar.nesz {
+            range("sar.nesz", nesz, -60.0, 0.0, "dB")?;
+        }
+        range("sar.nesz_s", sar.nesz_s, -60.0, 0.0, "dB")?;
+        range("sar.nesz_c", sar.nesz_c, -60.0, 0.0, "dB")?;
+        range("sar.nesz_x", sar.nesz_x, -60.0, 0.0, "dB")?;
+        range(
+            "sar.resolution",
+            sar.resolution,
+            0.0,
+            1000.0,
+            "m (0: the pixel spacing)",
+        )?;
         range("sar.range_to_velocity", sar.range_to_velocity, 0.0, 500.0, "s")?;
         let ir = &self.ir;
         range("ir.sun_elevation", ir.sun_elevation, -90.0, 90.0, "degrees")?;
         range("ir.sun_azimuth", ir.sun_azimuth, -360.0, 360.0, "degrees")?;
         range("ir.sun_temperature", ir.sun_temperature, 3000.0, 7000.0, "K")?;
         range("ir.sun_asymmetry", ir.sun_asymmetry, 0.0, 0.999, "")?;
+        range("ir.netd", ir.netd, 0.0, 10.0, "K")?;
+        range("ir.resolution", ir.resolution, 0.0, 10_000.0, "m (0: the pixel)")?;
         range(
             "ir.sky_zenith_temperature",
             ir.sky_zenith_temperature,

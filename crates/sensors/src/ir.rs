@@ -13,6 +13,7 @@
 //! - Atmospheric transmission and path radiance (the other terms of Eq. (3.4)) are 1 and 0, as in
 //!   the spec; [`RadianceTerms`] keeps them apart so they can be added.
 
+use crate::image_formation::{form_ir_image, IrFormation};
 use crate::optics::{reflectance_and_emissivity, seawater_index};
 use crate::planck::{band_radiance, brightness_temperature};
 use ndarray::Array2;
@@ -212,7 +213,9 @@ pub struct IrImage {
     pub band: IrBand,
     /// Band radiance at the sensor (W m^-2 sr^-1), (rows, cols).
     pub radiance: Array2<f64>,
-    /// Brightness temperature of that radiance (K).
+    /// Brightness temperature of that radiance (K), as the imager records it: with its noise
+    /// and point-spread function when `ir.noise` or `ir.resolution` ask (the radiance is the
+    /// scene's own).
     pub brightness_temperature: Array2<f64>,
     pub info: IrInfo,
 }
@@ -230,6 +233,8 @@ pub struct IrInfo {
     pub sea_surface_temperature_k: f64,
     /// The flat, undisturbed sea's terms.
     pub flat_sea: RadianceTerms,
+    /// The imager's NETD when its noise is on.
+    pub netd_k: Option<f64>,
 }
 
 /// Lookup table of band radiance over temperature, for speed (0.01 K steps, linear).
@@ -288,7 +293,17 @@ pub fn render_ir(config: &WakelabConfig, scene: &SurfaceScene, band: IrBand) -> 
             *out = terms.total();
         });
     let bt_table = RadianceTable::new(band, 150.0, 400.0);
-    let brightness = radiance.mapv(|r| invert(&bt_table, r).unwrap_or_else(|| brightness_temperature(lo, hi, r)));
+    let mut brightness = radiance.mapv(|r| invert(&bt_table, r).unwrap_or_else(|| brightness_temperature(lo, hi, r)));
+    let ir = &config.ir;
+    let resolution_pixels = ir.resolution / scene.grid.pixel_spacing;
+    if ir.noise || resolution_pixels > 1.0 {
+        let formation = IrFormation {
+            resolution_pixels,
+            netd: if ir.noise { ir.netd } else { 0.0 },
+        };
+        let seed = config.seed ^ (0x1A1A_0000 + band as u64);
+        brightness = form_ir_image(&brightness, formation, seed);
+    }
     let flat = view.facet(0.0, 0.0, t_surface);
     IrImage {
         band,
@@ -304,6 +319,7 @@ pub fn render_ir(config: &WakelabConfig, scene: &SurfaceScene, band: IrBand) -> 
             refractive_index: (view.index.re, -view.index.im),
             sea_surface_temperature_k: t_surface,
             flat_sea: flat,
+            netd_k: ir.noise.then_some(ir.netd),
         },
     }
 }

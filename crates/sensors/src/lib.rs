@@ -5,6 +5,7 @@
 
 pub mod breaking;
 pub mod gmf;
+pub mod image_formation;
 pub mod ir;
 pub mod optics;
 pub mod optics_report;

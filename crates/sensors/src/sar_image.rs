@@ -1,5 +1,5 @@
 //! SAR images of a scene: the perfect SAR of spec Eq. (3.3) and, switchable, the speckle,
-//! thermal noise and velocity bunching of a real instrument.
+//! thermal noise (see [`crate::image_formation`]) and velocity bunching of a real instrument.
 //!
 //! Per pixel, with the band's Bragg waves modulated by the wake (N/N0 = m from the surface stage),
 //! its breakers' fraction q by m_b (N/N0 of the breaking waves, same balance), and the resolved
@@ -8,12 +8,11 @@
 //!   sigma0 = (1 - m_b q) (m sigma_B + sigma_S) + m_b q sigma_wb   (KHCC03 Eq. 1).
 //! Incidence is taken as constant over the scene (a distant platform).
 
+use crate::image_formation::{form_sar_image, SarFormation};
 use crate::permittivity::seawater_permittivity;
 use crate::sar::RadarSea;
 use ndarray::Array2;
 use num_complex::Complex64;
-use rand::{RngExt, SeedableRng};
-use rand_chacha::ChaCha8Rng;
 use serde::Serialize;
 use wakelab_core::units::RadarBand;
 use wakelab_core::WakelabConfig;
@@ -115,7 +114,16 @@ pub fn render_sar(config: &WakelabConfig, scene: &SurfaceScene, band: RadarBand)
         sigma0 = velocity_bunching(config, scene, &sigma0);
     }
     if sar.looks > 0 || sar.noise_floor {
-        add_noise(config, band, &mut sigma0);
+        let formation = SarFormation {
+            looks: sar.looks,
+            resolution_pixels: sar.resolution_pixels(scene.grid.pixel_spacing),
+            nesz: if sar.noise_floor {
+                10f64.powf(sar.nesz_db(band) / 10.0)
+            } else {
+                0.0
+            },
+        };
+        sigma0 = form_sar_image(&sigma0, formation, config.seed ^ (0x5A5A_0000 + band as u64));
     }
     let eps: Complex64 = radar.permittivity;
     SarImage {
@@ -134,38 +142,9 @@ pub fn render_sar(config: &WakelabConfig, scene: &SurfaceScene, band: RadarBand)
             background_breaking: breaking,
             breaking_fraction: q,
             looks: sar.looks,
-            nesz_db: sar.noise_floor.then_some(sar.nesz),
+            nesz_db: sar.noise_floor.then_some(sar.nesz_db(band)),
             range_to_velocity_s: sar.velocity_bunching.then_some(sar.range_to_velocity),
         },
-    }
-}
-
-/// Multiplicative speckle of L looks (each look's intensity exponential: the mean of L is
-/// Gamma(L, 1/L) distributed) and additive thermal noise of mean NESZ, seeded per band.
-fn add_noise(config: &WakelabConfig, band: RadarBand, sigma0: &mut Array2<f64>) {
-    let sar = &config.sar;
-    let looks = sar.looks.max(1);
-    let nesz = if sar.noise_floor {
-        10f64.powf(sar.nesz / 10.0)
-    } else {
-        0.0
-    };
-    let mut rng = ChaCha8Rng::seed_from_u64(config.seed ^ (0x5A5A_0000 + band as u64));
-    let gamma_mean_one = |rng: &mut ChaCha8Rng| -> f64 {
-        (0..looks).map(|_| -(1.0 - rng.random::<f64>()).ln()).sum::<f64>() / looks as f64
-    };
-    for v in sigma0.iter_mut() {
-        let speckled = if sar.looks > 0 {
-            *v * gamma_mean_one(&mut rng)
-        } else {
-            *v
-        };
-        let noise = if nesz > 0.0 {
-            nesz * gamma_mean_one(&mut rng)
-        } else {
-            0.0
-        };
-        *v = speckled + noise;
     }
 }
 

@@ -213,19 +213,29 @@ mod tests {
         assert_eq!(c.value_text("image_size").as_deref(), Some("96"));
     }
 
+    /// Each numeric axis's `config_field` is the name the configuration's own validation gives
+    /// when that axis is out of range, so a study's error can be mapped back to its axis.
     #[test]
-    fn the_axes_table_and_the_combination_name_the_same_fields() {
-        let combination = serde_json::to_value(Combination::from_config(&WakelabConfig::default())).unwrap();
-        let keys: Vec<&str> = combination.as_object().unwrap().keys().map(String::as_str).collect();
-        let names: Vec<&str> = AXES.iter().map(|a| a.name).collect();
-        let mut sorted = names.clone();
-        sorted.sort();
-        let mut keys_sorted = keys.clone();
-        keys_sorted.sort();
-        assert_eq!(keys_sorted, sorted);
-        for a in AXES {
-            assert!(axis_of_config_field(a.config_field).is_some_and(|b| b.name == a.name));
+    fn every_numeric_axis_names_the_field_the_validation_reports() {
+        let config = WakelabConfig::default();
+        let base = serde_json::to_value(Combination::from_config(&config)).unwrap();
+        let mut checked = 0;
+        for axis in AXES {
+            if !base[axis.name].is_number() {
+                continue;
+            }
+            let mut bad = base.clone();
+            bad[axis.name] = serde_json::json!(1_000_000_000u64);
+            let mut c = config.clone();
+            serde_json::from_value::<Combination>(bad).unwrap().apply_to(&mut c);
+            let err = c.validate().expect_err(axis.name);
+            assert_eq!(err.field, axis.config_field, "axis {}", axis.name);
+            checked += 1;
         }
+        assert_eq!(
+            checked, 10,
+            "every axis but swell direction, stratification and polarisation"
+        );
     }
 
     #[test]

@@ -1,9 +1,11 @@
 //! Image formation: what an instrument records of the scene's sigma0 and brightness temperature.
 //!
-//! SAR (Goodman 1976; Oliver & Quegan 1998, ch. 4): each of L independent looks is the scene's
-//! amplitude sqrt(sigma0) times a circular complex Gaussian field, plus thermal noise of power
-//! NESZ as a second, independent such field, both passed through the same impulse response h;
-//! the image is the mean of the looks' intensities. h is Gaussian with |h|^2 of full width at
+//! SAR (Goodman 1976; Oliver & Quegan 1998, ch. 4): each of L independent looks is the
+//! amplitude sqrt(sigma0 + NESZ) times a circular complex Gaussian field passed through the
+//! impulse response h; the image is the mean of the looks' intensities. (Signal and thermal
+//! noise are independent complex Gaussians, so their sum is one of power sigma0 + NESZ wherever
+//! sigma0 is uniform over the resolution cell; one field instead of two halves the cost and
+//! leaves out only sigma0's variation inside a cell.) h is Gaussian with |h|^2 of full width at
 //! half maximum equal to the resolution and sum |h|^2 = 1, so every look's mean intensity is
 //! sigma0 + NESZ, the L-look coefficient of variation over a uniform sea is 1/sqrt(L), and the
 //! intensity's autocorrelation coefficient at a lag of d pixels is |rho_z(d)|^2 =
@@ -37,44 +39,46 @@ fn gaussian_taps(sigma: f64, power: i32) -> Vec<f64> {
     taps.into_iter().map(|t| t / norm).collect()
 }
 
-/// Periodic convolution of every row, then every column, with the same odd-length taps.
+/// Periodic convolution of every row, then every column, with the same odd-length taps, into
+/// `out`, through `rows_done` (both the field's shape; reused, so large scenes allocate once).
+/// Both passes run over contiguous rows: a row is padded with its wrapped ends, and the column
+/// pass adds whole shifted rows.
+fn convolve_separable_into(field: &Array2<f64>, taps: &[f64], rows_done: &mut Array2<f64>, out: &mut Array2<f64>) {
+    let (rows, cols) = field.dim();
+    let half = taps.len() / 2;
+    rows_done
+        .axis_iter_mut(Axis(0))
+        .into_par_iter()
+        .zip(field.axis_iter(Axis(0)).into_par_iter())
+        .for_each_init(Vec::new, |padded, (mut o, line)| {
+            padded.clear();
+            padded.extend((0..cols + 2 * half).map(|j| line[(j + cols - half % cols) % cols]));
+            for (j, o) in o.iter_mut().enumerate() {
+                *o = taps.iter().zip(&padded[j..]).map(|(w, v)| w * v).sum::<f64>();
+            }
+        });
+    let rows_done = &*rows_done;
+    out.axis_iter_mut(Axis(0))
+        .into_par_iter()
+        .enumerate()
+        .for_each(|(r, mut o)| {
+            o.fill(0.0);
+            for (t, w) in taps.iter().enumerate() {
+                let source = rows_done.row((r + t + rows - half % rows) % rows);
+                o.zip_mut_with(&source, |a: &mut f64, &b: &f64| *a += w * b);
+            }
+        });
+}
+
 fn convolve_separable(field: &Array2<f64>, taps: &[f64]) -> Array2<f64> {
-    let along = |a: &Array2<f64>, axis: Axis| -> Array2<f64> {
-        let mut out = Array2::zeros(a.raw_dim());
-        let half = (taps.len() / 2) as i64;
-        out.axis_iter_mut(axis.swap())
-            .into_par_iter()
-            .zip(a.axis_iter(axis.swap()).into_par_iter())
-            .for_each(|(mut o, line)| {
-                let n = line.len() as i64;
-                for (j, out) in o.iter_mut().enumerate() {
-                    *out = taps
-                        .iter()
-                        .enumerate()
-                        .map(|(t, w)| w * line[(j as i64 + t as i64 - half).rem_euclid(n) as usize])
-                        .sum();
-                }
-            });
-        out
-    };
-    along(&along(field, Axis(1)), Axis(0))
+    let (mut rows_done, mut out) = (Array2::zeros(field.raw_dim()), Array2::zeros(field.raw_dim()));
+    convolve_separable_into(field, taps, &mut rows_done, &mut out);
+    out
 }
 
-trait Swap {
-    fn swap(self) -> Axis;
-}
-
-impl Swap for Axis {
-    /// The other axis of a 2-D array: lines along `self` are its lanes.
-    fn swap(self) -> Axis {
-        Axis(1 - self.0)
-    }
-}
-
-/// A field of independent standard normal values, each row from its own stream of `seed`, so
-/// the field is the same however the rows are shared out.
-fn white_field(rows: usize, cols: usize, seed: u64) -> Array2<f64> {
-    let mut out = Array2::zeros((rows, cols));
+/// Fill `out` with independent standard normal values, each row from its own stream of `seed`,
+/// so the field is the same however the rows are shared out.
+fn fill_white(out: &mut Array2<f64>, seed: u64) {
     out.axis_iter_mut(Axis(0))
         .into_par_iter()
         .enumerate()
@@ -85,17 +89,6 @@ fn white_field(rows: usize, cols: usize, seed: u64) -> Array2<f64> {
                 *v = StandardNormal.sample(&mut rng);
             }
         });
-    out
-}
-
-/// One look's circular complex Gaussian field through the impulse response: (real, imaginary),
-/// E|z|^2 = 1.
-fn filtered_complex_field(rows: usize, cols: usize, taps: &[f64], seed: u64) -> (Array2<f64>, Array2<f64>) {
-    let part = |k: u64| {
-        let white = white_field(rows, cols, seed.wrapping_mul(0x9E37_79B9_7F4A_7C15).wrapping_add(k));
-        convolve_separable(&white, taps).mapv(|v| v * std::f64::consts::FRAC_1_SQRT_2)
-    };
-    (part(1), part(2))
 }
 
 /// What the SAR instrument adds to the scene's sigma0.
@@ -120,22 +113,25 @@ pub fn form_sar_image(sigma0: &Array2<f64>, formation: SarFormation, seed: u64) 
     if looks == 0 {
         return sigma0.mapv(|v| v + nesz);
     }
-    let (rows, cols) = sigma0.dim();
     let taps = gaussian_taps(resolution_pixels / FWHM_PER_SIGMA * std::f64::consts::SQRT_2, 2);
-    let amplitude = sigma0.mapv(|v| v.max(0.0).sqrt());
-    let noise_amplitude = nesz.max(0.0).sqrt();
-    let mut sum = Array2::<f64>::zeros((rows, cols));
+    let power = sigma0.mapv(|v| v.max(0.0) + nesz.max(0.0));
+    let mut sum = Array2::<f64>::zeros(sigma0.raw_dim());
+    let (mut white, mut rows_done, mut part) = (sum.clone(), sum.clone(), sum.clone());
     for look in 0..looks as u64 {
-        let (sr, si) = filtered_complex_field(rows, cols, &taps, seed ^ (look << 32));
-        let noise = (nesz > 0.0).then(|| filtered_complex_field(rows, cols, &taps, !seed ^ (look << 32)));
-        ndarray::Zip::indexed(&mut sum).par_for_each(|ix, s| {
-            let (mut re, mut im) = (amplitude[ix] * sr[ix], amplitude[ix] * si[ix]);
-            if let Some((nr, ni)) = &noise {
-                re += noise_amplitude * nr[ix];
-                im += noise_amplitude * ni[ix];
-            }
-            *s += re * re + im * im;
-        });
+        // real and imaginary parts, each of variance 1/2
+        for k in 1..=2u64 {
+            fill_white(
+                &mut white,
+                (seed ^ (look << 32))
+                    .wrapping_mul(0x9E37_79B9_7F4A_7C15)
+                    .wrapping_add(k),
+            );
+            convolve_separable_into(&white, &taps, &mut rows_done, &mut part);
+            ndarray::Zip::from(&mut sum)
+                .and(&part)
+                .and(&power)
+                .par_for_each(|s, &z, &p| *s += 0.5 * p * z * z);
+        }
     }
     sum.mapv_inplace(|v| v / looks as f64);
     sum
@@ -160,8 +156,8 @@ pub fn form_ir_image(brightness: &Array2<f64>, formation: IrFormation, seed: u64
         brightness.clone()
     };
     if formation.netd > 0.0 {
-        let (rows, cols) = out.dim();
-        let noise = white_field(rows, cols, seed);
+        let mut noise = Array2::zeros(out.raw_dim());
+        fill_white(&mut noise, seed);
         out.zip_mut_with(&noise, |v, n| *v += formation.netd * n);
     }
     out
@@ -169,9 +165,8 @@ pub fn form_ir_image(brightness: &Array2<f64>, formation: IrFormation, seed: u64
 
 /// A Gaussian blur of standard deviation `sigma` pixels that keeps the mean.
 fn convolve_separable_mean(field: &Array2<f64>, sigma: f64) -> Array2<f64> {
-    let taps = gaussian_taps(sigma, 1);
-    // the separable pass applies the taps once per axis; with sum = 1 per axis the mean holds
-    convolve_separable(field, &taps)
+    // taps summing to 1 along each axis keep the mean
+    convolve_separable(field, &gaussian_taps(sigma, 1))
 }
 
 #[cfg(test)]

@@ -24,6 +24,8 @@ pub struct WakelabConfig {
     pub solver: SolverConfig,
     pub sea: SeaConfig,
     pub scene: SceneConfig,
+    /// Natural slicks on the scene.
+    pub slicks: SlickConfig,
     pub platform: PlatformConfig,
     pub sar: SarConfig,
     pub ir: IrConfig,
@@ -224,6 +226,27 @@ pub struct WindConfig {
     pub speed: f64,
     /// Direction the wind blows towards, degrees from the ship's heading.
     pub direction: f64,
+    /// Relative standard deviation of the wind speed over the scene (0: uniform); its low-wind
+    /// patches are dark in SAR like slicks.
+    pub variability: f64,
+    /// Correlation length of the wind speed's variation over the scene (m).
+    pub gust_length: f64,
+}
+
+/// Natural (biogenic) slicks on the open sea: patches and filaments of surface film, in wake and
+/// no-wake scenes alike.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct SlickConfig {
+    /// Expected fraction of the scene under slicks (0: none).
+    pub coverage: f64,
+    /// Correlation length of the slick field across its filaments (m).
+    pub length: f64,
+    /// Length over width of the filaments, which run along the wind.
+    pub elongation: f64,
+    /// Reference dilational elasticity of a slick's film (N/m), in place of the open sea's
+    /// `sea.film_elasticity`.
+    pub elasticity: f64,
 }
 
 /// The cross-wake grid (spec 2.1.2): a uniform core and stretched damping beaches on each side.
@@ -329,6 +352,9 @@ pub struct SceneConfig {
     pub along_track: f64,
     /// Cross-track offset of the scene centre from the ship's track (m, positive to port).
     pub cross_track: f64,
+    /// The ship's course in the image, degrees clockwise from up (a compass heading on a
+    /// north-up image); 270 runs the ship to the left with its wake trailing to the right.
+    pub heading: f64,
 }
 
 /// Viewing geometry of the imaging platform.

@@ -93,6 +93,14 @@ impl WakelabConfig {
         }
         range("environment.wind.speed", e.wind.speed, 0.0, 40.0, "m/s")?;
         range("environment.wind.direction", e.wind.direction, -360.0, 360.0, "degrees")?;
+        range(
+            "environment.wind.variability",
+            e.wind.variability,
+            0.0,
+            0.5,
+            "(relative standard deviation)",
+        )?;
+        positive("environment.wind.gust_length", e.wind.gust_length, 10.0, 1.0e5, "m")?;
         positive("environment.ambient_tke", e.ambient_tke, 1e-12, 1e-2, "m^2/s^2")?;
         positive(
             "environment.ambient_dissipation",
@@ -191,21 +199,31 @@ impl WakelabConfig {
                 format!("at most scene.size = {} pixels", sc.size),
             ));
         }
+        range("scene.heading", sc.heading, -360.0, 360.0, "degrees")?;
         let half = 0.5 * sc.size as f64 * sc.pixel_spacing;
+        // how far astern of its centre the scene reaches along the track, at its heading
+        let (sin, cos) = sc.heading.to_radians().sin_cos();
+        let reach = half * (sin.abs() + cos.abs());
         let wake_end = 0.5 * s.length + s.speed * t.duration;
-        if sc.along_track - half < 0.0 || sc.along_track + half > wake_end {
+        if sc.along_track < 0.0 || sc.along_track + reach > wake_end {
             return Err(ConfigError::new(
                 "scene.along_track",
                 sc.along_track,
                 format!(
-                    "the scene ({:.0} m long) must lie within the simulated wake, 0..{wake_end:.0} m behind the stern: \
-                     centre in [{half:.0}, {:.0}] m",
-                    2.0 * half,
-                    wake_end - half
+                    "the scene (reaching {reach:.0} m astern of its centre at heading {}) must end within the \
+                     simulated wake, 0..{wake_end:.0} m behind the stern: centre in [0, {:.0}] m",
+                    sc.heading,
+                    wake_end - reach
                 ),
             ));
         }
         range("scene.cross_track", sc.cross_track, -20_000.0, 20_000.0, "m")?;
+
+        let sl = &self.slicks;
+        range("slicks.coverage", sl.coverage, 0.0, 0.9, "(fraction of the scene)")?;
+        positive("slicks.length", sl.length, 1.0, 1.0e5, "m")?;
+        range("slicks.elongation", sl.elongation, 1.0, 50.0, "(length over width)")?;
+        range("slicks.elasticity", sl.elasticity, 0.0, 0.1, "N/m")?;
 
         let p = &self.platform;
         range("platform.incidence", p.incidence, 15.0, 70.0, "degrees")?;

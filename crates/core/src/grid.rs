@@ -7,7 +7,7 @@
 //! z is uniform. Cell `j, k` has centre `(y_centres[j], z_centres[k])`; k = 0 is the top cell.
 
 use crate::config::GridConfig;
-use serde::Serialize;
+use serde::{Deserialize, Serialize};
 
 #[derive(Debug, Clone, Serialize)]
 pub struct CrossGrid {
@@ -140,4 +140,17 @@ mod tests {
         assert!((g.dz - 300.0 / 201.0).abs() < 1e-12);
         assert!((g.y_faces[g.core.start] + 1000.0).abs() < 1e-6);
     }
+}
+
+/// The wake's track in pixel space, for the dataset's records.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct WakeGeometry {
+    /// The ship's course in the image, degrees clockwise from up, in [0, 360).
+    pub heading_deg: f64,
+    /// Whether the stern lies inside the image.
+    pub ship_in_scene: bool,
+    /// (row, column) of the stern, pixel centres at whole numbers, when it is in the image.
+    pub stern_pixel: Option<[f64; 2]>,
+    /// Distances behind the stern (m) where the track enters and leaves the image, if it does.
+    pub along_track_covered_m: Option<[f64; 2]>,
 }

@@ -84,6 +84,8 @@ pub fn hydro_key(config: &WakelabConfig) -> String {
     let mut environment = config.environment.clone();
     environment.wind.speed = 0.0;
     environment.wind.direction = 0.0;
+    environment.wind.variability = 0.0;
+    environment.wind.gust_length = 0.0;
     let key = Key {
         ship: &config.ship,
         environment,
@@ -263,6 +265,7 @@ fn write_pair(dir: &Path, study: &Study, pair: &ScenePair, bands: &[render::Band
             parameters: pair.combination.clone(),
             images,
             masks,
+            geometry: is_wake.then(|| wakelab_surface::scene::SceneGrid::new(&pair.config.scene).wake_geometry()),
             split: None,
         };
         write_atomically(
@@ -365,10 +368,33 @@ pub fn write_manifest(study: &Study, dir: &Path) -> Result<Vec<SceneRecord>, Wak
     Ok(records)
 }
 
+/// The wake's pixel-space geometry as the manifest's CSV writes it (empty for no-wake scenes).
+fn geometry_columns(g: Option<&wakelab_schema::dataset::WakeGeometry>) -> [String; 5] {
+    let Some(g) = g else { return Default::default() };
+    let num = |v: Option<f64>| v.map(|v| format!("{v:.2}")).unwrap_or_default();
+    [
+        u8::from(g.ship_in_scene).to_string(),
+        num(g.stern_pixel.map(|p| p[0])),
+        num(g.stern_pixel.map(|p| p[1])),
+        num(g.along_track_covered_m.map(|a| a[0])),
+        num(g.along_track_covered_m.map(|a| a[1])),
+    ]
+}
+
 /// The manifest as CSV, one row per scene.
 fn manifest_csv(records: &[SceneRecord], bands: &[Band]) -> String {
     let mut header: Vec<String> = ["id", "pair", "label", "split", "seed"].map(String::from).to_vec();
     header.extend(AXES.iter().map(|a| a.name.to_string()));
+    header.extend(
+        [
+            "ship_in_scene",
+            "stern_row",
+            "stern_col",
+            "along_track_from",
+            "along_track_to",
+        ]
+        .map(String::from),
+    );
     for b in bands {
         header.push(format!("visibility_{b}"));
         header.push(format!("label_{b}"));
@@ -385,6 +411,7 @@ fn manifest_csv(records: &[SceneRecord], bands: &[Band]) -> String {
             r.seed.to_string(),
         ];
         row.extend(AXES.iter().map(|a| r.parameters.value_text(a.name).unwrap_or_default()));
+        row.extend(geometry_columns(r.geometry.as_ref()));
         for b in bands {
             row.push(format!("{:.6}", r.visibility.get(b).copied().unwrap_or(0.0)));
             row.push(r.label_by_band.get(b).copied().unwrap_or(0).to_string());

@@ -13,7 +13,11 @@
 //! [axes]                   # each axis a list; a missing axis keeps the base configuration's value
 //! wind_speed = [5.0, 8.0]
 //! swell_direction = ["following", "calm"]
+//! along_track = { from = 2000.0, to = 4000.0, count = 3 }   # a numeric axis may be a range
 //! ...
+//!
+//! [draws]                  # continuous axes each pair draws uniformly in [low, high) from its
+//! heading = [0.0, 360.0]   # seed and index (reproducible), instead of a list of values
 //!
 //! [base]                   # any wakelab configuration table (grid, time, sea, sar, ...)
 //! preset = "quick"
@@ -50,6 +54,9 @@ pub struct Study {
     pub study: StudyOptions,
     #[serde(default)]
     pub axes: Axes,
+    /// Continuous axes drawn per pair, uniformly in [low, high).
+    #[serde(default)]
+    pub draws: std::collections::BTreeMap<String, [f64; 2]>,
     /// The base wakelab configuration, as a TOML table.
     #[serde(default)]
     pub base: toml::Table,
@@ -141,11 +148,13 @@ impl Study {
         }
         let base = self.base_config()?;
         let combinations = self.axes.combinations(&Combination::from_config(&base), o.combine)?;
+        self.validate_draws(&base, &combinations[0])?;
         let mut pairs = Vec::with_capacity(combinations.len() * o.seeds);
         for combination in combinations {
             for s in 0..o.seeds {
                 let index = pairs.len();
                 let seed = base.seed.wrapping_add(s as u64);
+                let combination = self.drawn(&combination, base.seed, index);
                 let config = self.scene_config(&base, &combination, seed)?;
                 pairs.push(ScenePair {
                     index,
@@ -156,6 +165,54 @@ impl Study {
             }
         }
         Ok(pairs)
+    }
+
+    /// Every `[draws]` entry names a continuous axis not also listed in `[axes]`, with
+    /// low <= high, both valid values of the axis (with the first combination's other values).
+    fn validate_draws(&self, config: &WakelabConfig, base: &Combination) -> Result<(), WakelabError> {
+        let listed = serde_json::to_value(&self.axes).expect("serialisable");
+        for (name, [lo, hi]) in &self.draws {
+            let field = format!("draws.{name}");
+            if !base.is_continuous(name) {
+                let continuous: Vec<&str> = wakelab_schema::axes::AXES
+                    .iter()
+                    .map(|a| a.name)
+                    .filter(|a| base.is_continuous(a))
+                    .collect();
+                return Err(study_error(
+                    &field,
+                    name,
+                    &format!("a continuous axis: one of {}", continuous.join(", ")),
+                ));
+            }
+            if !(lo.is_finite() && hi.is_finite() && lo <= hi) {
+                return Err(study_error(
+                    &field,
+                    format!("[{lo}, {hi}]"),
+                    "[low, high] with low <= high",
+                ));
+            }
+            if listed.get(name).is_some_and(|v| !v.is_null()) {
+                return Err(study_error(&field, name, "an axis in [axes] or in [draws], not both"));
+            }
+            for end in [lo, hi] {
+                let c = base.with_value(name, *end).expect("continuous");
+                self.scene_config(config, &c, config.seed)?;
+            }
+        }
+        Ok(())
+    }
+
+    /// `combination` with each drawn axis set from pair `index`'s own random stream.
+    fn drawn(&self, combination: &Combination, seed: u64, index: usize) -> Combination {
+        use rand::{RngExt, SeedableRng};
+        let mut c = combination.clone();
+        for (name, [lo, hi]) in &self.draws {
+            let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(crate::fnv(&format!("{seed}/{index}/{name}")));
+            let u: f64 = rng.random();
+            c = c.with_value(name, lo + (hi - lo) * u).expect("validated as continuous");
+        }
+        c
     }
 
     /// The configuration of one combination and seed, validated (the error names the axis).
@@ -175,6 +232,7 @@ impl Study {
                 Some(a) if a.name == "along_track" => {
                     "axes.along_track (or axes.image_size, axes.pixel_spacing)".to_string()
                 }
+                Some(a) if self.draws.contains_key(a.name) => format!("draws.{}", a.name),
                 Some(a) => format!("axes.{}", a.name),
                 None => e.field.clone(),
             };

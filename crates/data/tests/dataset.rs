@@ -219,6 +219,32 @@ preset = "quick"
     );
 }
 
+/// Drawn axes: every pair its own value in the range, the same on every run; ranges expand.
+#[test]
+fn drawn_axes_give_each_pair_its_own_reproducible_value() {
+    let text = |draws: &str| {
+        format!(
+            "[study]\nname = \"draws\"\ncombine = \"product\"\nseeds = 4\ntest_fraction = 0.25\ngrouped_split = false\n\
+             min_visibility = 0.0\nmixed_layer_depth = 20.0\nbands = [\"C\"]\n[axes]\nwind_speed = {{ from = 4.0, to = 8.0, count = 3 }}\n\
+             image_size = [64]\npixel_spacing = [10.0]\nalong_track = [3000.0]\n[draws]\n{draws}\n[base]\npreset = \"quick\"\n"
+        )
+    };
+    let s = Study::from_toml_str(&text("heading = [0.0, 360.0]\ncross_track = [-200.0, 200.0]"), "draws").unwrap();
+    let pairs = s.pairs().unwrap();
+    assert_eq!(pairs.len(), 12);
+    let winds: Vec<f64> = pairs.iter().map(|p| p.combination.wind_speed).collect();
+    assert_eq!(&winds[..5], &[4.0, 4.0, 4.0, 4.0, 6.0]);
+    let headings: Vec<f64> = pairs.iter().map(|p| p.config.scene.heading).collect();
+    assert!(headings.iter().all(|h| (0.0..360.0).contains(h)));
+    let mut distinct = headings.clone();
+    distinct.sort_by(f64::total_cmp);
+    distinct.dedup();
+    assert_eq!(distinct.len(), 12, "one heading per pair: {headings:?}");
+    assert!(pairs.iter().all(|p| p.config.scene.cross_track.abs() <= 200.0));
+    let again: Vec<f64> = s.pairs().unwrap().iter().map(|p| p.config.scene.heading).collect();
+    assert_eq!(again, headings);
+}
+
 #[test]
 fn bad_study_files_are_refused_before_any_work() {
     let base = |axes: &str, bands: &str| {
@@ -239,6 +265,25 @@ fn bad_study_files_are_refused_before_any_work() {
             "axes.along_track",
         ),
         (base("wind_sped = [3.0]", "[\"C\"]"), "wind_sped"),
+        (base("heading = [400.0]", "[\"C\"]"), "axes.heading"),
+        (base("slick_coverage = [0.95]", "[\"C\"]"), "axes.slick_coverage"),
+        (base("wind_variability = [0.9]", "[\"C\"]"), "axes.wind_variability"),
+        (
+            base("polarisation = { from = 0.0, to = 1.0, count = 2 }", "[\"C\"]"),
+            "only a numeric axis takes a range",
+        ),
+        (
+            base("", "[\"C\"]\n[draws]\nimage_size = [16.0, 64.0]"),
+            "draws.image_size",
+        ),
+        (
+            base("heading = [0.0]", "[\"C\"]\n[draws]\nheading = [0.0, 360.0]"),
+            "not both",
+        ),
+        (
+            base("", "[\"C\"]\n[draws]\ncross_track = [0.0, 90000.0]"),
+            "draws.cross_track",
+        ),
     ] {
         let err = Study::from_toml_str(&text, "bad.toml").unwrap_err().to_string();
         assert!(err.contains(field), "expected {field} in: {err}");

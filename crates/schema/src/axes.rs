@@ -77,6 +77,80 @@ fn combination_indices(lengths: &[usize], names: &[&str], combine: Combine) -> R
     }
 }
 
+/// A type an axis can take. Numeric (f64) axes may also be given as an evenly spaced range.
+pub trait AxisValue: Sized {
+    /// The value of a range's point, for axes that take ranges.
+    fn from_range_point(_v: f64) -> Option<Self> {
+        None
+    }
+}
+
+impl AxisValue for f64 {
+    fn from_range_point(v: f64) -> Option<Self> {
+        Some(v)
+    }
+}
+impl AxisValue for u32 {}
+impl AxisValue for usize {}
+impl AxisValue for SwellDirection {}
+impl AxisValue for ProfileKind {}
+impl AxisValue for Polarisation {}
+
+/// An evenly spaced range of axis values, both ends included: `{ from = 0.0, to = 315.0, count = 8 }`.
+#[derive(Debug, Clone, Copy, Deserialize)]
+#[serde(deny_unknown_fields)]
+struct AxisRange {
+    from: f64,
+    to: f64,
+    count: usize,
+}
+
+impl AxisRange {
+    fn values<T: AxisValue>(self) -> Result<Vec<T>, String> {
+        if !(self.from.is_finite() && self.to.is_finite() && (1..=10_000).contains(&self.count)) {
+            return Err(format!(
+                "a range needs finite `from` and `to` and a `count` in [1, 10000], got {self:?}"
+            ));
+        }
+        let step = if self.count > 1 {
+            (self.to - self.from) / (self.count - 1) as f64
+        } else {
+            0.0
+        };
+        (0..self.count)
+            .map(|i| {
+                T::from_range_point(self.from + step * i as f64)
+                    .ok_or_else(|| "only a numeric axis takes a range { from, to, count }; give a list".to_string())
+            })
+            .collect()
+    }
+}
+
+/// An axis of the study file: a list of values, or a range `{ from, to, count }`.
+fn list_or_range<'de, D, T>(deserializer: D) -> Result<Option<Vec<T>>, D::Error>
+where
+    D: serde::Deserializer<'de>,
+    T: AxisValue + Deserialize<'de>,
+{
+    use serde::de::{value::MapAccessDeserializer, value::SeqAccessDeserializer, Error, MapAccess, SeqAccess, Visitor};
+    struct Values<T>(std::marker::PhantomData<T>);
+    impl<'de, T: AxisValue + Deserialize<'de>> Visitor<'de> for Values<T> {
+        type Value = Vec<T>;
+        fn expecting(&self, f: &mut std::fmt::Formatter) -> std::fmt::Result {
+            f.write_str("a list of values, or a range { from, to, count }")
+        }
+        fn visit_seq<A: SeqAccess<'de>>(self, seq: A) -> Result<Vec<T>, A::Error> {
+            Vec::<T>::deserialize(SeqAccessDeserializer::new(seq))
+        }
+        fn visit_map<A: MapAccess<'de>>(self, map: A) -> Result<Vec<T>, A::Error> {
+            AxisRange::deserialize(MapAccessDeserializer::new(map))?
+                .values()
+                .map_err(A::Error::custom)
+        }
+    }
+    deserializer.deserialize_any(Values(std::marker::PhantomData)).map(Some)
+}
+
 /// Declares the axes: `name: Type = Kind, "config.field" => config.field;` for each.
 macro_rules! study_axes {
     ($( $(#[doc = $doc:literal])* $name:ident : $ty:ty = $kind:ident, $field:literal => $($path:ident).+ ; )*) => {
@@ -91,7 +165,11 @@ macro_rules! study_axes {
         #[derive(Debug, Clone, Default, PartialEq, Serialize, Deserialize)]
         #[serde(deny_unknown_fields)]
         pub struct Axes {
-            $( $(#[doc = $doc])* pub $name: Option<Vec<$ty>>, )*
+            $(
+                $(#[doc = $doc])*
+                #[serde(default, deserialize_with = "list_or_range", skip_serializing_if = "Option::is_none")]
+                pub $name: Option<Vec<$ty>>,
+            )*
         }
 
         /// Every axis, in the manifest's column order.
@@ -141,17 +219,27 @@ macro_rules! study_axes {
 study_axes! {
     wind_speed: f64 = Environment, "environment.wind.speed" => environment.wind.speed;
     wind_direction: f64 = Environment, "environment.wind.direction" => environment.wind.direction;
+    /// Relative standard deviation of the wind speed over the scene (low-wind patches).
+    wind_variability: f64 = Environment, "environment.wind.variability" => environment.wind.variability;
     swell_amplitude: f64 = Environment, "environment.swell.amplitude" => environment.swell.amplitude;
     swell_wavelength: f64 = Environment, "environment.swell.wavelength" => environment.swell.wavelength;
     swell_direction: SwellDirection = Environment, "environment.swell.direction" => environment.swell.direction;
     /// "linear" or "mixed_layer".
     stratification: ProfileKind = Environment, "environment.temperature.kind" => environment.temperature.kind;
+    /// Expected fraction of the scene under natural slicks.
+    slick_coverage: f64 = Environment, "slicks.coverage" => slicks.coverage;
     ship_speed: f64 = Environment, "ship.speed" => ship.speed;
     /// Distance of the scene centre behind the stern (m).
     along_track: f64 = Geometry, "scene.along_track" => scene.along_track;
+    /// Offset of the scene centre to port of the track (m).
+    cross_track: f64 = Geometry, "scene.cross_track" => scene.cross_track;
+    /// The ship's course in the image, degrees clockwise from up.
+    heading: f64 = Geometry, "scene.heading" => scene.heading;
     incidence: f64 = Geometry, "platform.incidence" => platform.incidence;
     look_direction: f64 = Imaging, "platform.look_direction" => platform.look_direction;
     polarisation: Polarisation = Imaging, "sar.polarisation" => sar.polarisation;
+    /// Looks of the SAR's speckle (0: the perfect SAR).
+    looks: u32 = Imaging, "sar.looks" => sar.looks;
     pixel_spacing: f64 = Imaging, "scene.pixel_spacing" => scene.pixel_spacing;
     image_size: usize = Imaging, "scene.size" => scene.size;
 }
@@ -179,6 +267,24 @@ impl Combination {
             },
             other => other.to_string(),
         })
+    }
+
+    /// Whether axis `name` takes continuous values (a float), which a study can draw at random.
+    pub fn is_continuous(&self, name: &str) -> bool {
+        serde_json::to_value(self)
+            .ok()
+            .and_then(|v| v.get(name).map(|x| x.is_f64()))
+            .unwrap_or(false)
+    }
+
+    /// The combination with continuous axis `name` set to `value`.
+    pub fn with_value(&self, name: &str, value: f64) -> Option<Self> {
+        if !self.is_continuous(name) {
+            return None;
+        }
+        let mut v = serde_json::to_value(self).ok()?;
+        v[name] = serde_json::json!(value);
+        serde_json::from_value(v).ok()
     }
 
     /// The environment, for grouped splits: every environment axis, by name.
@@ -233,9 +339,34 @@ mod tests {
             checked += 1;
         }
         assert_eq!(
-            checked, 10,
+            checked, 15,
             "every axis but swell direction, stratification and polarisation"
         );
+    }
+
+    /// A numeric axis takes a list or an evenly spaced range with both ends; other axes a list.
+    #[test]
+    fn an_axis_is_a_list_or_a_range() {
+        let axes: Axes =
+            serde_json::from_str(r#"{"heading": {"from": 0.0, "to": 315.0, "count": 8}, "wind_speed": [5.0, 8.0]}"#)
+                .unwrap();
+        assert_eq!(
+            axes.heading.unwrap(),
+            vec![0.0, 45.0, 90.0, 135.0, 180.0, 225.0, 270.0, 315.0]
+        );
+        assert_eq!(axes.wind_speed.unwrap(), vec![5.0, 8.0]);
+        let err = serde_json::from_str::<Axes>(r#"{"polarisation": {"from": 0.0, "to": 1.0, "count": 2}}"#)
+            .unwrap_err()
+            .to_string();
+        assert!(err.contains("only a numeric axis takes a range"), "{err}");
+        let err = serde_json::from_str::<Axes>(r#"{"heading": {"from": 0.0, "to": 1.0, "count": 0}}"#)
+            .unwrap_err()
+            .to_string();
+        assert!(err.contains("count"), "{err}");
+        let base = Combination::from_config(&WakelabConfig::default());
+        assert!(base.is_continuous("heading") && !base.is_continuous("image_size"));
+        assert_eq!(base.with_value("heading", 12.5).unwrap().heading, 12.5);
+        assert!(base.with_value("polarisation", 1.0).is_none());
     }
 
     #[test]

@@ -6,6 +6,7 @@ use crate::band::Band;
 use crate::split::Split;
 use serde::{Deserialize, Serialize};
 use std::collections::BTreeMap;
+pub use wakelab_core::grid::WakeGeometry;
 
 /// Bands every scene can be rendered in.
 pub const BANDS: [Band; 5] = Band::ALL;
@@ -28,6 +29,9 @@ pub struct SceneRecord {
     /// Paths relative to the dataset directory.
     pub images: BTreeMap<Band, String>,
     pub masks: BTreeMap<Band, String>,
+    /// Where the wake lies in the image (its pixel-space track); none in a no-wake scene.
+    #[serde(default)]
+    pub geometry: Option<WakeGeometry>,
     /// Train or test (filled in by the manifest; none in a scene's own `scene.json`).
     #[serde(default, deserialize_with = "split_or_empty")]
     pub split: Option<Split>,

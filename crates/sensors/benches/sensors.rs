@@ -1,5 +1,7 @@
 //! All five images (S, C, X, MWIR, LWIR) of a 1024 x 1024 scene, given the surface stage's
-//! output for the `quick` wake (computed once, not timed).
+//! output for the `quick` wake (computed once, not timed); and a scene like a real acquisition
+//! (issue "Scenes like real acquisitions": heading, slicks, wind variation, speckle, noise,
+//! bunching, IR NETD and blur), surface stage plus five images, end to end.
 
 use criterion::{criterion_group, criterion_main, Criterion};
 use wakelab_core::units::RadarBand;
@@ -35,6 +37,30 @@ fn sensors(c: &mut Criterion) {
     .expect("valid");
     g.bench_function("sar_c_band_speckle_noise_bunching", |b| {
         b.iter(|| render_sar(&real, &scene, RadarBand::C))
+    });
+    let acquisition = WakelabConfig::from_toml_str(
+        "[scene]\nsize = 1024\npixel_spacing = 5.0\nalong_track = 6000.0\nheading = 30.0\n\
+         [slicks]\ncoverage = 0.15\n[environment.wind]\nvariability = 0.2\n\
+         [sar]\nlooks = 4\nnoise_floor = true\nvelocity_bunching = true\n[ir]\nnoise = true\nresolution = 10.0\n",
+        "bench",
+    )
+    .expect("valid");
+    g.bench_function("acquisition_surface_and_five_images", |b| {
+        b.iter(|| {
+            let scene = wakelab_surface::simulate_surface(&acquisition, Some(&map));
+            let sar: Vec<_> = RadarBand::ALL
+                .iter()
+                .map(|&band| render_sar(&acquisition, &scene, band))
+                .collect();
+            let ir: Vec<_> = IrBand::ALL
+                .iter()
+                .map(|&band| render_ir(&acquisition, &scene, band))
+                .collect();
+            (sar, ir)
+        })
+    });
+    g.bench_function("acquisition_surface_only", |b| {
+        b.iter(|| wakelab_surface::simulate_surface(&acquisition, Some(&map)))
     });
     g.finish();
 }

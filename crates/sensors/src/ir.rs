@@ -288,8 +288,9 @@ pub fn render_ir(config: &WakelabConfig, scene: &SurfaceScene, band: IrBand) -> 
         .and(&surface.slope_y)
         .and(&scene.temperature_anomaly)
         .par_for_each(|out, &sx, &sy, &dt| {
-            // scene slope_x runs astern (-x heading), slope_y along +y
-            let terms = view.facet_with(-sx, sy, table.at(t_surface + dt), |b| reflectance.at(b), |g| sky.at(g));
+            // the image's (east, north) gradient in the heading frame of the view
+            let (gx, gy) = scene.grid.heading_frame(sx, sy);
+            let terms = view.facet_with(gx, gy, table.at(t_surface + dt), |b| reflectance.at(b), |g| sky.at(g));
             *out = terms.total();
         });
     let bt_table = RadianceTable::new(band, 150.0, 400.0);

@@ -19,10 +19,12 @@ pub struct Sidecar<'a, I: Serialize> {
     pub rows: usize,
     pub cols: usize,
     pub pixel_spacing_m: f64,
-    /// x (m behind the stern) and y (m to port) of the top-left pixel's corner.
+    /// Easting and northing (m from the stern) of the top-left pixel's corner.
     pub top_left_m: (f64, f64),
     pub along_track_m: f64,
     pub cross_track_m: f64,
+    /// The ship's course in the image, degrees clockwise from up.
+    pub heading_deg: f64,
     pub quicklook: Stretch,
     pub sensor: &'a I,
 }
@@ -82,6 +84,7 @@ pub fn write_image<I: Serialize>(
         top_left_m: top_left,
         along_track_m: config.scene.along_track,
         cross_track_m: config.scene.cross_track,
+        heading_deg: config.scene.heading,
         quicklook: stretch,
         sensor,
     };

@@ -10,13 +10,14 @@
 
 use crate::image_formation::{form_sar_image, SarFormation};
 use crate::permittivity::seawater_permittivity;
-use crate::sar::RadarSea;
+use crate::sar::{RadarSea, Sigma0Parts};
 use ndarray::Array2;
 use num_complex::Complex64;
 use serde::Serialize;
 use wakelab_core::units::RadarBand;
 use wakelab_core::WakelabConfig;
-use wakelab_surface::spectrum::angular_frequency;
+use wakelab_surface::short_waves::ShortWaves;
+use wakelab_surface::spectrum::{angular_frequency, SeaSpectrum};
 use wakelab_surface::SurfaceScene;
 
 /// One band's image and what it was made from.
@@ -62,15 +63,123 @@ pub fn surface_permittivity(config: &WakelabConfig, band: RadarBand) -> Complex6
 
 /// The radar view of the background sea for one band.
 pub fn radar_sea<'a>(config: &WakelabConfig, scene: &'a SurfaceScene, band: RadarBand) -> RadarSea<'a> {
-    RadarSea::new(
+    radar_sea_of(
+        config,
         &scene.spectrum,
         &scene.short_waves,
+        scene.grid.pixel_spacing,
+        band,
+    )
+}
+
+/// The background sea's NRCS parts at the scene's incidence and their derivatives in incidence
+/// (for the tilt of Eq. (3.3)).
+#[derive(Debug, Clone, Copy)]
+struct Background {
+    at: Sigma0Parts,
+    slope: Sigma0Parts,
+}
+
+impl Background {
+    fn of(radar: &RadarSea, theta: f64) -> Self {
+        let h = 1e-3;
+        let (at, lo, hi) = (radar.parts(theta), radar.parts(theta - h), radar.parts(theta + h));
+        let d = |f: fn(&Sigma0Parts) -> f64| (f(&hi) - f(&lo)) / (2.0 * h);
+        Self {
+            at,
+            slope: Sigma0Parts {
+                bragg: d(|p| p.bragg),
+                specular: d(|p| p.specular),
+                breaking: d(|p| p.breaking),
+                fraction: 0.0,
+            },
+        }
+    }
+
+    /// Linear interpolation between two backgrounds.
+    fn mix(&self, other: &Self, t: f64) -> Self {
+        let lerp = |a: &Sigma0Parts, b: &Sigma0Parts| Sigma0Parts {
+            bragg: a.bragg + t * (b.bragg - a.bragg),
+            specular: a.specular + t * (b.specular - a.specular),
+            breaking: a.breaking + t * (b.breaking - a.breaking),
+            fraction: a.fraction + t * (b.fraction - a.fraction),
+        };
+        Self {
+            at: lerp(&self.at, &other.at),
+            slope: lerp(&self.slope, &other.slope),
+        }
+    }
+
+    /// NRCS of a pixel whose Bragg waves are at N/N0 = m, breakers at m_b, tilted by psi towards
+    /// the radar (module doc).
+    fn sigma0(&self, m: f64, mb: f64, psi: f64) -> f64 {
+        let (a, s) = (&self.at, &self.slope);
+        let qm = (a.fraction * mb).min(1.0);
+        let rough = m * (a.bragg - psi * s.bragg) + a.specular - psi * s.specular;
+        ((1.0 - qm) * rough + qm * (a.breaking - psi * s.breaking)).max(0.0)
+    }
+}
+
+/// Backgrounds over the range of a scene's local wind speeds, for its low-wind patches: each
+/// pixel's background is that of its own wind (the sea's spectrum and short-wave balance at that
+/// wind), interpolated linearly between `WIND_NODES` speeds.
+struct WindTable {
+    speeds: Vec<f64>,
+    backgrounds: Vec<Background>,
+}
+
+const WIND_NODES: usize = 16;
+
+impl WindTable {
+    fn new(config: &WakelabConfig, scene: &SurfaceScene, band: RadarBand, winds: &Array2<f64>) -> Self {
+        let (lo, hi) = winds
+            .iter()
+            .fold((f64::INFINITY, 0.0f64), |(a, b), &w| (a.min(w), b.max(w)));
+        let nodes = if hi - lo < 1e-6 { 1 } else { WIND_NODES };
+        let speeds: Vec<f64> = (0..nodes)
+            .map(|i| lo + (hi - lo) * i as f64 / (nodes.max(2) - 1) as f64)
+            .collect();
+        let env = &config.environment;
+        let backgrounds = speeds
+            .iter()
+            .map(|&speed| {
+                let spectrum = SeaSpectrum::new(&config.sea, speed, env.wind.direction, &env.swell, env.gravity);
+                let short_waves = ShortWaves::new(&spectrum);
+                let radar = radar_sea_of(config, &spectrum, &short_waves, scene.grid.pixel_spacing, band);
+                Background::of(&radar, config.platform.incidence.to_radians())
+            })
+            .collect();
+        Self { speeds, backgrounds }
+    }
+
+    fn at(&self, speed: f64) -> Background {
+        let n = self.speeds.len();
+        if n == 1 {
+            return self.backgrounds[0];
+        }
+        let step = self.speeds[1] - self.speeds[0];
+        let t = ((speed - self.speeds[0]) / step).clamp(0.0, (n - 1) as f64);
+        let i = (t.floor() as usize).min(n - 2);
+        self.backgrounds[i].mix(&self.backgrounds[i + 1], t - i as f64)
+    }
+}
+
+fn radar_sea_of<'a>(
+    config: &WakelabConfig,
+    spectrum: &'a SeaSpectrum,
+    short_waves: &'a ShortWaves,
+    dx: f64,
+    band: RadarBand,
+) -> RadarSea<'a> {
+    RadarSea::new(
+        spectrum,
+        short_waves,
         band.wavenumber(),
         surface_permittivity(config, band),
         config.sar.polarisation,
         config.platform.look_direction.to_radians(),
         config.platform.incidence.to_radians(),
-        scene.grid.pixel_spacing,
+        dx,
     )
 }
 
@@ -78,37 +187,44 @@ pub fn radar_sea<'a>(config: &WakelabConfig, scene: &'a SurfaceScene, band: Rada
 pub fn render_sar(config: &WakelabConfig, scene: &SurfaceScene, band: RadarBand) -> SarImage {
     let radar = radar_sea(config, scene, band);
     let theta = config.platform.incidence.to_radians();
-    let h = 1e-3;
-    let part = |t: f64| radar.parts(t);
-    let (at, lo, hi) = (part(theta), part(theta - h), part(theta + h));
-    let slope = |f: fn(&crate::sar::Sigma0Parts) -> f64| (f(&hi) - f(&lo)) / (2.0 * h);
-    let (bragg, specular, breaking) = (at.bragg, at.specular, at.breaking);
-    let bragg_slope = slope(|p| p.bragg);
-    let specular_slope = slope(|p| p.specular);
-    let breaking_slope = slope(|p| p.breaking);
-    let q = at.fraction;
+    let background = Background::of(&radar, theta);
+    let Sigma0Parts {
+        bragg,
+        specular,
+        breaking,
+        fraction: q,
+    } = background.at;
     let waves = scene
         .bragg
         .iter()
         .find(|b| b.band == band)
         .expect("the surface stage covers every band");
-    let phi = radar.look;
+    // the horizontal look direction in the image (east, north)
+    let (look_e, look_n) = scene.grid.scene_frame(radar.look.cos(), radar.look.sin());
     let surface = &scene.surface;
+    let psi_of = |sx: f64, sy: f64| {
+        // slope rising towards the radar: minus the gradient along the look direction
+        (-(sx * look_e + sy * look_n)).atan()
+    };
     let mut sigma0 = Array2::zeros(waves.modulation.raw_dim());
-    ndarray::Zip::from(&mut sigma0)
-        .and(&waves.modulation)
-        .and(&waves.breaking)
-        .and(&surface.slope_x)
-        .and(&surface.slope_y)
-        .par_for_each(|out, &m, &mb, &sx, &sy| {
-            // slope rising towards the radar: minus the gradient along the look direction; the
-            // scene's x runs astern (-x heading), its slope_y along +y
-            let towards = sx * phi.cos() - sy * phi.sin();
-            let psi = towards.atan();
-            let qm = (q * mb).min(1.0);
-            let rough = m * (bragg - psi * bragg_slope) + specular - psi * specular_slope;
-            *out = ((1.0 - qm) * rough + qm * (breaking - psi * breaking_slope)).max(0.0);
-        });
+    match &scene.wind_speed {
+        None => ndarray::Zip::from(&mut sigma0)
+            .and(&waves.modulation)
+            .and(&waves.breaking)
+            .and(&surface.slope_x)
+            .and(&surface.slope_y)
+            .par_for_each(|out, &m, &mb, &sx, &sy| *out = background.sigma0(m, mb, psi_of(sx, sy))),
+        Some(winds) => {
+            let table = WindTable::new(config, scene, band, winds);
+            ndarray::Zip::from(&mut sigma0)
+                .and(&waves.modulation)
+                .and(&waves.breaking)
+                .and(&surface.slope_x)
+                .and(&surface.slope_y)
+                .and(winds)
+                .par_for_each(|out, &m, &mb, &sx, &sy, &w| *out = table.at(w).sigma0(m, mb, psi_of(sx, sy)))
+        }
+    }
     let sar = &config.sar;
     if sar.velocity_bunching {
         sigma0 = velocity_bunching(config, scene, &sigma0);
@@ -158,22 +274,21 @@ pub fn velocity_bunching(config: &WakelabConfig, scene: &SurfaceScene, sigma0: &
     let theta = config.platform.incidence.to_radians();
     let look = config.platform.look_direction.to_radians();
     let wind = config.environment.wind.direction.to_radians();
-    let v = crate::spectral::line_of_sight_velocity(&scene.surface.elevation, dx, theta, look, wind, |k| {
-        angular_frequency(k, scene.spectrum.gravity, scene.spectrum.tension)
-    });
-    // azimuth (flight) direction: the look direction turned by +90 degrees; in scene pixels a
-    // heading-frame vector (a, b) is (-a / dx) columns and (-b / dx) rows
-    let (az_x, az_y) = (
-        (look + std::f64::consts::FRAC_PI_2).cos(),
-        (look + std::f64::consts::FRAC_PI_2).sin(),
-    );
+    let grid = &scene.grid;
+    let v =
+        crate::spectral::line_of_sight_velocity(&scene.surface.elevation, dx, grid.heading, theta, look, wind, |k| {
+            angular_frequency(k, scene.spectrum.gravity, scene.spectrum.tension)
+        });
+    // azimuth (flight) direction: the look direction turned by +90 degrees, in the image
+    let azimuth = look + std::f64::consts::FRAC_PI_2;
+    let (az_e, az_n) = grid.scene_frame(azimuth.cos(), azimuth.sin());
     let rv = config.sar.range_to_velocity;
     let mut out = Array2::zeros((n, n));
     for r in 0..n {
         for c in 0..n {
             let shift = rv * v[[r, c]];
-            let col = c as f64 - az_x * shift / dx;
-            let row = r as f64 - az_y * shift / dx;
+            let col = c as f64 + az_e * shift / dx;
+            let row = r as f64 - az_n * shift / dx;
             let (c0, r0) = (col.floor(), row.floor());
             let (fc, fr) = (col - c0, row - r0);
             for (dr, wr) in [(0.0, 1.0 - fr), (1.0, fr)] {

@@ -3,15 +3,18 @@
 use ndarray::Array2;
 use rustfft::num_complex::Complex64;
 use wakelab_surface::fourier::fft_2d;
+use wakelab_surface::scene::heading_frame_wavenumber;
 
 /// Line-of-sight orbital velocity (m/s, away from the sensor) of the long waves in `elevation`
-/// (rows to -y, columns to -x of the heading frame, spacing `dx`), by linear deep-water theory:
+/// (an image of spacing `dx` whose ship runs at `heading`, radians clockwise from up; see
+/// `wakelab_surface::scene`), by linear deep-water theory:
 /// for a wave travelling along k, v_r = Re[A omega ((k.l) sin(theta) + i cos(theta)) e^{i k x}],
 /// l the horizontal look direction `look`, theta the incidence. A snapshot cannot tell which of
 /// k and -k a component travels along: the one running with the wind (direction `wind`) is taken.
 pub fn line_of_sight_velocity(
     elevation: &Array2<f64>,
     dx: f64,
+    heading: f64,
     theta: f64,
     look: f64,
     wind: f64,
@@ -28,7 +31,7 @@ pub fn line_of_sight_velocity(
     for a in 0..n {
         for b in 0..n {
             let (k_row, k_col) = (freq(a) * dk, freq(b) * dk);
-            let (kx, ky) = (-k_col, -k_row);
+            let (kx, ky) = heading_frame_wavenumber(k_col, k_row, heading);
             let k = kx.hypot(ky);
             let h = if k == 0.0 {
                 Complex64::new(0.0, 0.0)
@@ -62,9 +65,10 @@ mod tests {
         let k = 2.0 * std::f64::consts::PI * 4.0 / (n as f64 * dx);
         let a = 0.5;
         let omega = (9.81 * k).sqrt();
-        // x_h = -col dx
+        // a ship running left (heading 270 degrees): x_h = -col dx
         let z = Array2::from_shape_fn((n, n), |(_, c)| a * (k * -(c as f64) * dx).cos());
-        let v = line_of_sight_velocity(&z, dx, 0.0, 0.0, 0.0, |kk| (9.81 * kk).sqrt());
+        let heading = 270f64.to_radians();
+        let v = line_of_sight_velocity(&z, dx, heading, 0.0, 0.0, 0.0, |kk| (9.81 * kk).sqrt());
         for c in 0..n {
             let xh = -(c as f64) * dx;
             let want = -a * omega * (k * xh).sin();

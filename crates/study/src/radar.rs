@@ -62,8 +62,9 @@ pub fn sigma0_against_cmod5n(base: &WakelabConfig) -> Vec<LinePlot> {
     plots
 }
 
-/// The across-wake contrast of the dataset's first wake scene against its no-wake partner:
-/// each row's mean along the image, in dB, for every radar band (rows cross the wake).
+/// The across-wake contrast of the dataset's first wake scene against its no-wake partner, for
+/// every radar band: the pixels astern of the ship binned by their distance across the track
+/// (one pixel wide, at the scene's heading and placement), each bin's mean in dB.
 pub fn across_wake_contrast(run: &StudyRun) -> Result<Option<LinePlot>> {
     let dataset = &run.dataset;
     let Some(wake) = dataset.records.iter().find(|r| r.label == 1) else {
@@ -72,18 +73,39 @@ pub fn across_wake_contrast(run: &StudyRun) -> Result<Option<LinePlot>> {
     let Some(no_wake) = dataset.records.iter().find(|r| r.pair == wake.pair && r.label == 0) else {
         return Ok(None);
     };
-    let spacing = wake.parameters.pixel_spacing;
+    let p = &wake.parameters;
+    let spacing = p.pixel_spacing;
+    let grid = wakelab_surface::scene::SceneGrid::new(&wakelab_core::config::SceneConfig {
+        pixel_spacing: spacing,
+        size: p.image_size,
+        along_track: p.along_track,
+        cross_track: p.cross_track,
+        heading: p.heading,
+    });
+    // each pixel's bin across the track, none ahead of the stern
+    let n = p.image_size;
+    let bins: Vec<Option<i64>> = (0..n * n)
+        .map(|i| {
+            let (behind, port) = grid.track_position(i / n, i % n);
+            (behind >= 0.0).then(|| (port / spacing).round() as i64)
+        })
+        .collect();
     let mut series = Vec::new();
     for band in dataset.bands().into_iter().filter(|b| b.is_radar()) {
         let read = |rel: &str| -> Result<Array2<f32>> { Ok(ndarray_npy::read_npy(dataset.dir.join(rel))?) };
-        let (w, n) = (read(&wake.images[&band])?, read(&no_wake.images[&band])?);
-        let rows = w.nrows();
-        let points = (0..rows)
-            .map(|r| {
-                let mean = |a: &Array2<f32>| a.row(r).iter().map(|&v| v as f64).sum::<f64>() / a.ncols() as f64;
-                let y = (r as f64 - 0.5 * (rows as f64 - 1.0)) * spacing;
-                (y, 10.0 * (mean(&w) / mean(&n)).log10())
-            })
+        let (w, nw) = (read(&wake.images[&band])?, read(&no_wake.images[&band])?);
+        let mut sums: std::collections::BTreeMap<i64, (f64, f64)> = Default::default();
+        for ((bin, a), b) in bins.iter().zip(w.iter()).zip(nw.iter()) {
+            if let Some(bin) = bin {
+                let e = sums.entry(*bin).or_default();
+                e.0 += *a as f64;
+                e.1 += *b as f64;
+            }
+        }
+        let points = sums
+            .into_iter()
+            .filter(|(_, (a, b))| *a > 0.0 && *b > 0.0)
+            .map(|(bin, (a, b))| (bin as f64 * spacing, 10.0 * (a / b).log10()))
             .collect();
         series.push(Series {
             name: band.to_string(),

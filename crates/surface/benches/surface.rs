@@ -20,7 +20,7 @@ fn surface(c: &mut Criterion) {
     g.bench_function("no_wake_scene", |b| b.iter(|| simulate_surface(&cfg, None)));
     let sea = background_spectrum(&cfg);
     g.bench_function("random_surface_only", |b| {
-        b.iter(|| wakelab_surface::synthesis::synthesise_surface(&sea, 1024, 5.0, cfg.sea.window, 1))
+        b.iter(|| wakelab_surface::synthesis::synthesise_surface(&sea, 1024, 5.0, 0.0, cfg.sea.window, 1))
     });
     g.finish();
 }

@@ -10,6 +10,7 @@
 pub mod action;
 pub mod film;
 pub mod fourier;
+pub mod natural;
 pub mod output;
 pub mod scene;
 pub mod short_waves;
@@ -51,7 +52,7 @@ pub struct BraggModulation {
 #[derive(Debug, Clone)]
 pub struct SurfaceScene {
     pub grid: SceneGrid,
-    /// Surfactant concentration Gamma relative to the ambient film.
+    /// Surfactant concentration Gamma relative to the ambient film (the wake's redistribution).
     pub surfactant: Array2<f64>,
     pub bragg: Vec<BraggModulation>,
     /// Long-wave surface (elevation and slopes) at the scene's pixels.
@@ -61,6 +62,10 @@ pub struct SurfaceScene {
     pub spectrum: SeaSpectrum,
     /// The Bragg-scale waves' balance (KHCC03) of the same wind.
     pub short_waves: ShortWaves,
+    /// The local 10-m wind speed (m/s) where the wind varies over the scene; None if uniform.
+    pub wind_speed: Option<Array2<f64>>,
+    /// 1 where a natural slick covers the sea; None without slicks.
+    pub slick_mask: Option<Array2<u8>>,
 }
 
 /// The background spectrum of a configuration.
@@ -98,7 +103,26 @@ fn to_scene(grid: &SceneGrid, map: &SurfaceMap, values: &[f64], ambient: f64) ->
     )
 }
 
-/// Stage 2: the sea surface of the configured scene, with the wake of `map` or without a wake.
+/// N/N0 of one wave vector on the scene: the wake's, and where a slick lies its film's damping
+/// d_s on top, 1/r = 1/r_wake + d_s / mu (the steady state of the relaxation equation with both
+/// dampings, exact where the wake's waves are in equilibrium).
+fn with_slicks(wake: Array2<f64>, slick_damping: Option<&Array2<f64>>, mu: f64) -> Array2<f64> {
+    match slick_damping {
+        None => wake,
+        Some(d) => {
+            let mut r = wake;
+            ndarray::Zip::from(&mut r).and(d).for_each(|r, &d| {
+                if d != 0.0 {
+                    *r = 1.0 / (1.0 / *r + d / mu);
+                }
+            });
+            r
+        }
+    }
+}
+
+/// Stage 2: the sea surface of the configured scene, with the wake of `map` or without a wake;
+/// natural slicks and the wind's variation (see [`natural`]) in both.
 pub fn simulate_surface(config: &WakelabConfig, map: Option<&SurfaceMap>) -> SurfaceScene {
     let grid = SceneGrid::new(&config.scene);
     let n = grid.size();
@@ -106,61 +130,99 @@ pub fn simulate_surface(config: &WakelabConfig, map: Option<&SurfaceMap>) -> Sur
     let short_waves = ShortWaves::new(&spectrum);
     let wake_damping = wake_damping(config, &spectrum);
     let speed = config.ship.speed;
-    let surface = synthesise_surface(&spectrum, n, grid.pixel_spacing, config.sea.window, config.seed);
-
-    let (surfactant, bragg, temperature_anomaly) = match map {
-        None => (
-            Array2::from_elem((n, n), 1.0),
-            RadarBand::ALL
-                .iter()
-                .map(|&band| undisturbed_band(config, band, &spectrum, n))
-                .collect(),
-            Array2::zeros((n, n)),
-        ),
-        Some(map) => {
-            let map = crop_rows(map, grid.x[n - 1] + grid.pixel_spacing);
-            let gamma: SurfactantField = redistribute_surfactant(&map, speed);
-            let bragg = RadarBand::ALL
-                .par_iter()
-                .map(|&band| {
-                    let (towards, away) = bragg_vectors(config, band);
-                    let ratio = |k: WaveVector| {
-                        let relax = Relaxation::new(k, &spectrum, &short_waves);
-                        modulate_short_waves(&map, &gamma, &relax, &spectrum, &wake_damping, speed)
-                    };
-                    let (f_t, f_a) = (
-                        spectrum.directional(towards.kx, towards.ky),
-                        spectrum.directional(away.kx, away.ky),
-                    );
-                    let ((r_t, r_a), r_b) = rayon::join(
-                        || rayon::join(|| ratio(towards), || ratio(away)),
-                        || ratio(breaking_vector(&spectrum, band)),
-                    );
-                    let combined: Vec<f64> = r_t
-                        .iter()
-                        .zip(&r_a)
-                        .map(|(a, b)| (f_t * a + f_a * b) / (f_t + f_a))
-                        .collect();
-                    BraggModulation {
-                        band,
-                        wavenumber: towards.magnitude(),
-                        density: (f_t, f_a),
-                        modulation: to_scene(&grid, &map, &combined, 1.0),
-                        breaking: to_scene(&grid, &map, &r_b, 1.0),
-                    }
-                })
-                .collect();
+    let surface = synthesise_surface(
+        &spectrum,
+        n,
+        grid.pixel_spacing,
+        grid.heading,
+        config.sea.window,
+        config.seed,
+    );
+    let wind = &config.environment.wind;
+    let slicks = natural::natural_slicks(
+        &grid,
+        &config.slicks,
+        config.sea.film_elasticity,
+        wind.direction,
+        config.seed,
+    );
+    let wind_speed = natural::local_wind(&grid, wind, config.seed);
+    // the slicks' film damping over the open sea's (Eq. (2.69)) at a wavenumber, on the scene
+    let slick_damping = |k: f64| {
+        slicks.as_ref().map(|s| {
+            let film_of = |e: f64| {
+                let f = Film {
+                    reference_elasticity: e,
+                };
+                film::film_damping(
+                    k,
+                    f.elasticity(1.0),
+                    f.pressure(1.0),
+                    spectrum.tension,
+                    spectrum.gravity,
+                )
+            };
+            let open_sea = film_of(config.sea.film_elasticity);
+            s.elasticity.mapv(|e| {
+                if e == config.sea.film_elasticity {
+                    0.0
+                } else {
+                    film_of(e) - open_sea
+                }
+            })
+        })
+    };
+    let map = map.map(|m| crop_rows(m, grid.farthest_astern() + grid.pixel_spacing));
+    let gamma: Option<SurfactantField> = map.as_ref().map(|m| redistribute_surfactant(m, speed));
+    let ones = || Array2::from_elem((n, n), 1.0);
+    let bragg = RadarBand::ALL
+        .par_iter()
+        .map(|&band| {
+            let (towards, away) = bragg_vectors(config, band);
+            let breakers = breaking_vector(&spectrum, band);
+            let relax = |k: WaveVector| Relaxation::new(k, &spectrum, &short_waves);
+            let (rel_t, rel_a, rel_b) = (relax(towards), relax(away), relax(breakers));
+            // the wake's N/N0 of each wave vector on the scene
+            let wake = |rel: &Relaxation| match (&map, &gamma) {
+                (Some(map), Some(gamma)) => to_scene(
+                    &grid,
+                    map,
+                    &modulate_short_waves(map, gamma, rel, &spectrum, &wake_damping, speed),
+                    1.0,
+                ),
+                _ => ones(),
+            };
+            let ((r_t, r_a), r_b) = rayon::join(|| rayon::join(|| wake(&rel_t), || wake(&rel_a)), || wake(&rel_b));
+            let (d_bragg, d_breaking) = (slick_damping(towards.magnitude()), slick_damping(breakers.magnitude()));
+            let r_t = with_slicks(r_t, d_bragg.as_ref(), rel_t.rate);
+            let r_a = with_slicks(r_a, d_bragg.as_ref(), rel_a.rate);
+            let (f_t, f_a) = (
+                spectrum.directional(towards.kx, towards.ky),
+                spectrum.directional(away.kx, away.ky),
+            );
+            let mut modulation = r_t;
+            ndarray::Zip::from(&mut modulation)
+                .and(&r_a)
+                .for_each(|t, &a| *t = (f_t * *t + f_a * a) / (f_t + f_a));
+            BraggModulation {
+                band,
+                wavenumber: towards.magnitude(),
+                density: (f_t, f_a),
+                modulation,
+                breaking: with_slicks(r_b, d_breaking.as_ref(), rel_b.rate),
+            }
+        })
+        .collect();
+    let (surfactant, temperature_anomaly) = match (&map, &gamma) {
+        (Some(map), Some(gamma)) => {
             let dt: Vec<f64> = map
                 .field(wakelab_hydro::SliceField::DT)
                 .iter()
                 .map(|&v| v as f64)
                 .collect();
-            (
-                to_scene(&grid, &map, &gamma.gamma, 1.0),
-                bragg,
-                to_scene(&grid, &map, &dt, 0.0),
-            )
+            (to_scene(&grid, map, &gamma.gamma, 1.0), to_scene(&grid, map, &dt, 0.0))
         }
+        _ => (ones(), Array2::zeros((n, n))),
     };
     SurfaceScene {
         grid,
@@ -170,20 +232,8 @@ pub fn simulate_surface(config: &WakelabConfig, map: Option<&SurfaceMap>) -> Sur
         temperature_anomaly,
         short_waves,
         spectrum,
-    }
-}
-
-fn undisturbed_band(config: &WakelabConfig, band: RadarBand, spectrum: &SeaSpectrum, n: usize) -> BraggModulation {
-    let (towards, away) = bragg_vectors(config, band);
-    BraggModulation {
-        band,
-        wavenumber: towards.magnitude(),
-        density: (
-            spectrum.directional(towards.kx, towards.ky),
-            spectrum.directional(away.kx, away.ky),
-        ),
-        modulation: Array2::from_elem((n, n), 1.0),
-        breaking: Array2::from_elem((n, n), 1.0),
+        wind_speed,
+        slick_mask: slicks.map(|s| s.mask),
     }
 }
 

@@ -68,8 +68,8 @@ pub fn write_surface_scene(
         ));
     }
     let mut vars = vec![
-        CfVariable::new("x", &["x"], "m", "distance behind the stern").axis("X"),
-        CfVariable::new("y", &["y"], "m", "cross-track distance, positive to port").axis("Y"),
+        CfVariable::new("x", &["x"], "m", "easting from the ship's stern").axis("X"),
+        CfVariable::new("y", &["y"], "m", "northing from the ship's stern").axis("Y"),
     ];
     vars.extend(
         fields
@@ -80,6 +80,7 @@ pub fn write_surface_scene(
         ("title".to_string(), "wakelab sea surface of one scene".to_string()),
         ("incidence_deg".into(), config.platform.incidence.to_string()),
         ("look_direction_deg".into(), config.platform.look_direction.to_string()),
+        ("heading_deg".into(), config.scene.heading.to_string()),
         ("seed".into(), config.seed.to_string()),
         ("wakelab_config".into(), config.to_toml_string()),
     ];
@@ -105,11 +106,12 @@ pub fn write_surface_scene(
     let mut files = vec![write_netcdf(&dir.join("surface_scene.nc"), &layout, &data)?];
     if config.output.pictures {
         let caption = format!(
-            "x {:.0}..{:.0} m behind the stern (left to right), y {:.0}..{:.0} m (port at top)",
+            "x {:.0}..{:.0} m east, y {:.0}..{:.0} m north of the stern; ship heading {:.0} deg",
             scene.grid.x[0],
             scene.grid.x[n - 1],
             scene.grid.y[n - 1],
-            scene.grid.y[0]
+            scene.grid.y[0],
+            scene.grid.heading.to_degrees().rem_euclid(360.0)
         );
         for (name, units, long, values, colormap) in &fields {
             if name.starts_with("slope") {

@@ -14,6 +14,7 @@
 //! same surface, bit for bit, in any thread order.
 
 use crate::fourier::fft_2d_with;
+use crate::scene::heading_frame_wavenumber;
 use crate::spectrum::SeaSpectrum;
 use ndarray::Array2;
 use rand::{RngExt, SeedableRng};
@@ -23,22 +24,16 @@ use rustfft::num_complex::Complex64;
 use rustfft::FftPlanner;
 use std::f64::consts::PI;
 
-/// Elevation and slopes of a realised sea surface, row-major (rows, cols), pixel spacing `dx`.
+/// Elevation and slopes of a realised sea surface, row-major (rows, cols), pixel spacing `dx`;
+/// slopes in the scene frame (east, north).
 #[derive(Debug, Clone)]
 pub struct RandomSurface {
     pub elevation: Array2<f64>,
-    /// d zeta / d x along the columns (m/m).
+    /// d zeta / d x along the columns, eastward (m/m).
     pub slope_x: Array2<f64>,
-    /// d zeta / d y along the rows, pointing to decreasing row index (m/m).
+    /// d zeta / d y along the rows, northward: to decreasing row index (m/m).
     pub slope_y: Array2<f64>,
     pub dx: f64,
-}
-
-/// Orientation of the scene: `x_heading(col)` and `y(row)` turn pixel steps into heading-frame
-/// wavenumber directions. Scene columns run along x behind the stern (minus the heading), rows
-/// run from port (top) to starboard, so a column step is -x_heading and a row step is -y.
-fn heading_frame_k(k_col: f64, k_row: f64) -> (f64, f64) {
-    (-k_col, -k_row)
 }
 
 /// Square-root Hann weight of Eqs. (2.74)-(2.75) for index m of M.
@@ -49,7 +44,16 @@ pub fn root_hann(m: usize, window: usize) -> f64 {
 }
 
 /// Synthesise a `size` x `size` surface with pixel spacing `dx` from `spectrum`.
-pub fn synthesise_surface(spectrum: &SeaSpectrum, size: usize, dx: f64, window: usize, seed: u64) -> RandomSurface {
+/// `heading` is the ship's course in the image (radians clockwise from up), which turns the
+/// spectrum's heading-frame directions into the image's.
+pub fn synthesise_surface(
+    spectrum: &SeaSpectrum,
+    size: usize,
+    dx: f64,
+    heading: f64,
+    window: usize,
+    seed: u64,
+) -> RandomSurface {
     let m = window;
     let hop = m / 2;
     let starts: Vec<isize> = (-(hop as isize)..size as isize).step_by(hop).collect();
@@ -60,7 +64,7 @@ pub fn synthesise_surface(spectrum: &SeaSpectrum, size: usize, dx: f64, window: 
         for b in 0..m {
             let k_row = (a as f64 - (m / 2) as f64) * dk;
             let k_col = (b as f64 - (m / 2) as f64) * dk;
-            let (kx, ky) = heading_frame_k(k_col, k_row);
+            let (kx, ky) = heading_frame_wavenumber(k_col, k_row, heading);
             if a == 0 || b == 0 {
                 continue; // Eqs. (2.72)-(2.73) use m in [1, M - 1]
             }
@@ -141,7 +145,7 @@ pub fn synthesise_surface(spectrum: &SeaSpectrum, size: usize, dx: f64, window: 
 }
 
 /// The variance the synthesis reproduces: the spectrum summed over the window's wavenumber grid.
-pub fn resolved_variance(spectrum: &SeaSpectrum, dx: f64, window: usize) -> f64 {
+pub fn resolved_variance(spectrum: &SeaSpectrum, dx: f64, heading: f64, window: usize) -> f64 {
     let m = window;
     let dk = 2.0 * PI / (m as f64 * dx);
     let mut v = 0.0;
@@ -149,7 +153,7 @@ pub fn resolved_variance(spectrum: &SeaSpectrum, dx: f64, window: usize) -> f64 
         for b in 1..m {
             let k_row = (a as f64 - (m / 2) as f64) * dk;
             let k_col = (b as f64 - (m / 2) as f64) * dk;
-            let (kx, ky) = heading_frame_k(k_col, k_row);
+            let (kx, ky) = heading_frame_wavenumber(k_col, k_row, heading);
             v += spectrum.directional(kx, ky) * dk * dk;
         }
     }

@@ -161,19 +161,19 @@ fn realised_surface_matches_its_spectrum_and_its_seed() {
     let c = WakelabConfig::default();
     let sea = background_spectrum(&c);
     let (size, dx, window) = (1024, 2.0, 128);
-    let a = synthesise_surface(&sea, size, dx, window, 7);
-    let expected = resolved_variance(&sea, dx, window);
+    let a = synthesise_surface(&sea, size, dx, 0.0, window, 7);
+    let expected = resolved_variance(&sea, dx, 0.0, window);
     let n = (size * size) as f64;
     let mean = a.elevation.iter().sum::<f64>() / n;
     let variance = a.elevation.iter().map(|z| (z - mean).powi(2)).sum::<f64>() / n;
     eprintln!("surface variance {variance:.5e} m^2 vs resolved spectrum {expected:.5e}");
     assert!((variance / expected - 1.0).abs() < 0.1);
-    let b = synthesise_surface(&sea, size, dx, window, 7);
+    let b = synthesise_surface(&sea, size, dx, 0.0, window, 7);
     assert!(
         a.elevation == b.elevation && a.slope_x == b.slope_x,
         "same seed, different surface"
     );
-    let other = synthesise_surface(&sea, size, dx, window, 8);
+    let other = synthesise_surface(&sea, size, dx, 0.0, window, 8);
     assert!(a.elevation != other.elevation);
 }
 
@@ -184,7 +184,7 @@ fn periodogram_of_the_realised_surface_follows_the_input_spectrum() {
     let c = WakelabConfig::default();
     let sea = background_spectrum(&c);
     let (size, dx, window) = (1024usize, 10.0, 128usize);
-    let z = synthesise_surface(&sea, size, dx, window, 11).elevation;
+    let z = synthesise_surface(&sea, size, dx, 0.0, window, 11).elevation;
     let mut data: Vec<Complex64> = z.iter().map(|&v| Complex64::new(v, 0.0)).collect();
     wakelab_surface::fourier::fft_2d(&mut data, size, false);
     let dk_scene = 2.0 * PI / (size as f64 * dx);
@@ -194,7 +194,7 @@ fn periodogram_of_the_realised_surface_follows_the_input_spectrum() {
     // the swell (k = 12.8 dk), the gap before the wind sea, and the wind sea up to the Nyquist
     // wavenumber; the Hann windows leak a little of the swell into the gap
     let rings = [(8.0, 20.0), (20.0, 32.0), (32.0, 48.0), (48.0, 64.0)];
-    let total = resolved_variance(&sea, dx, window);
+    let total = resolved_variance(&sea, dx, 0.0, window);
     let n4 = (size as f64).powi(4);
     for (lo, hi) in rings {
         let mut realised = 0.0;

@@ -136,35 +136,59 @@ pub fn rotate_quarter(image: &Array2<f32>, quarter_turns: u8) -> Array2<f32> {
 
 /// Algorithm 2's Monte Carlo split: `test_per_class` wake and as many no-wake scenes drawn at
 /// random (seeded) for testing, `train_per_class` of each of the rest for training; indices into
-/// `labels`. Errors if a class has too few scenes.
+/// `labels`. Scenes of one group (`groups[i]`, a wake/no-wake pair: the same sea, slicks and
+/// speckle with and without the ship) go to one side together: a pair split across train and
+/// test would let a detector that memorises the sea score its twin with the opposite label.
+/// Errors if the groups cannot fill a side with a class's count.
 pub fn balanced_split(
     labels: &[u8],
+    groups: &[usize],
     train_per_class: usize,
     test_per_class: usize,
     seed: u64,
 ) -> Result<(Vec<usize>, Vec<usize>), WakelabError> {
+    let mut members: std::collections::BTreeMap<usize, Vec<usize>> = Default::default();
+    for (i, &g) in groups.iter().enumerate() {
+        members.entry(g).or_default().push(i);
+    }
+    let mut order: Vec<Vec<usize>> = members.into_values().collect();
     let mut rng = ChaCha8Rng::seed_from_u64(seed);
-    let mut train = Vec::new();
-    let mut test = Vec::new();
-    for class in [1u8, 0] {
-        let mut idx: Vec<usize> = (0..labels.len()).filter(|&i| labels[i] == class).collect();
-        if idx.len() < train_per_class + test_per_class {
+    // Fisher-Yates shuffle of the groups
+    for i in (1..order.len()).rev() {
+        let j = rng.random_range(0..=i);
+        order.swap(i, j);
+    }
+    let mut used = vec![false; order.len()];
+    let mut take = |want: usize| -> Result<Vec<usize>, WakelabError> {
+        let mut have = [0usize; 2];
+        let mut out = Vec::new();
+        for (group, used) in order.iter().zip(used.iter_mut()) {
+            if *used || have == [want, want] {
+                continue;
+            }
+            let wake = group.iter().filter(|&&i| labels[i] == 1).count();
+            let count = [group.len() - wake, wake];
+            if have[0] + count[0] <= want && have[1] + count[1] <= want {
+                have = [have[0] + count[0], have[1] + count[1]];
+                out.extend_from_slice(group);
+                *used = true;
+            }
+        }
+        if have != [want, want] {
             return Err(WakelabError::Config(wakelab_core::ConfigError::new(
                 "train/test sizes",
                 format!("{train_per_class} + {test_per_class} per class"),
-                format!("at most {} scenes of class {class} in the dataset", idx.len()),
+                format!(
+                    "at most what the dataset's pairs can fill: {} wake and {} no-wake scenes left",
+                    have[1], have[0]
+                ),
             )));
         }
-        // Fisher-Yates shuffle
-        for i in (1..idx.len()).rev() {
-            let j = rng.random_range(0..=i);
-            idx.swap(i, j);
-        }
-        test.extend_from_slice(&idx[..test_per_class]);
-        train.extend_from_slice(&idx[test_per_class..test_per_class + train_per_class]);
-    }
-    train.sort();
-    test.sort();
+        out.sort();
+        Ok(out)
+    };
+    let test = take(test_per_class)?;
+    let train = take(train_per_class)?;
     Ok((train, test))
 }
 
@@ -193,14 +217,22 @@ mod tests {
         assert_eq!(rotate_quarter(&rotate_quarter(&img, 3), 1), img);
     }
 
+    /// 20 pairs (a wake and a no-wake scene each): balanced, disjoint, seeded, and no pair on
+    /// both sides, in any of many draws.
     #[test]
-    fn monte_carlo_split_is_balanced_disjoint_and_seeded() {
+    fn monte_carlo_split_is_balanced_disjoint_seeded_and_keeps_pairs() {
         let labels: Vec<u8> = (0..40).map(|i| (i % 2) as u8).collect();
-        let (train, test) = balanced_split(&labels, 15, 4, 9).unwrap();
+        let pairs: Vec<usize> = (0..40).map(|i| i / 2).collect();
+        let (train, test) = balanced_split(&labels, &pairs, 15, 4, 9).unwrap();
         assert_eq!((train.len(), test.len()), (30, 8));
         assert_eq!(test.iter().filter(|&&i| labels[i] == 1).count(), 4);
         assert!(train.iter().all(|i| !test.contains(i)));
-        assert_eq!(balanced_split(&labels, 15, 4, 9).unwrap(), (train, test));
-        assert!(balanced_split(&labels, 18, 4, 9).is_err());
+        assert_eq!(balanced_split(&labels, &pairs, 15, 4, 9).unwrap(), (train, test));
+        assert!(balanced_split(&labels, &pairs, 18, 4, 9).is_err());
+        for seed in 0..50 {
+            let (train, test) = balanced_split(&labels, &pairs, 16, 4, seed).unwrap();
+            let test_pairs: Vec<usize> = test.iter().map(|&i| pairs[i]).collect();
+            assert!(train.iter().all(|&i| !test_pairs.contains(&pairs[i])), "seed {seed}");
+        }
     }
 }

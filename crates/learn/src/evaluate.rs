@@ -165,6 +165,7 @@ pub fn evaluate(
         // split on whether a ship is in the scene, so that every band set of a repetition sees
         // the same scenes (decision-level fusion needs them); metrics use each band's label
         let labels: Vec<u8> = dataset.records.iter().map(|r| r.label).collect();
+        let pairs: Vec<usize> = dataset.records.iter().map(|r| r.pair).collect();
         let per_class = labels
             .iter()
             .filter(|&&l| l == 1)
@@ -182,7 +183,7 @@ pub fn evaluate(
         let train_per_class = per_class - test_per_class;
         for repetition in 0..options.repetitions {
             let seed = options.seed.wrapping_add(1000 * repetition as u64);
-            let (train_idx, test_idx) = balanced_split(&labels, train_per_class, test_per_class, seed)?;
+            let (train_idx, test_idx) = balanced_split(&labels, &pairs, train_per_class, test_per_class, seed)?;
             let train = load_examples(dataset, input, &train_idx)?;
             let test = load_examples(dataset, input, &test_idx)?;
             for &architecture in &options.architectures {

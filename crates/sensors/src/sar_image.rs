@@ -13,6 +13,7 @@ use crate::permittivity::seawater_permittivity;
 use crate::sar::{RadarSea, Sigma0Parts};
 use ndarray::Array2;
 use num_complex::Complex64;
+use rayon::prelude::*;
 use serde::Serialize;
 use wakelab_core::units::RadarBand;
 use wakelab_core::WakelabConfig;
@@ -122,13 +123,14 @@ impl Background {
 
 /// Backgrounds over the range of a scene's local wind speeds, for its low-wind patches: each
 /// pixel's background is that of its own wind (the sea's spectrum and short-wave balance at that
-/// wind), interpolated linearly between `WIND_NODES` speeds.
+/// wind), interpolated linearly between `WIND_NODES` speeds (within 1 % of the exact sigma0
+/// between the nodes: `wind_table_interpolates_within_one_percent`).
 struct WindTable {
     speeds: Vec<f64>,
     backgrounds: Vec<Background>,
 }
 
-const WIND_NODES: usize = 16;
+const WIND_NODES: usize = 8;
 
 impl WindTable {
     fn new(config: &WakelabConfig, scene: &SurfaceScene, band: RadarBand, winds: &Array2<f64>) -> Self {
@@ -141,7 +143,7 @@ impl WindTable {
             .collect();
         let env = &config.environment;
         let backgrounds = speeds
-            .iter()
+            .par_iter()
             .map(|&speed| {
                 let spectrum = SeaSpectrum::new(&config.sea, speed, env.wind.direction, &env.swell, env.gravity);
                 let short_waves = ShortWaves::new(&spectrum);
@@ -283,23 +285,69 @@ pub fn velocity_bunching(config: &WakelabConfig, scene: &SurfaceScene, sigma0: &
     let azimuth = look + std::f64::consts::FRAC_PI_2;
     let (az_e, az_n) = grid.scene_frame(azimuth.cos(), azimuth.sin());
     let rv = config.sar.range_to_velocity;
-    let mut out = Array2::zeros((n, n));
-    for r in 0..n {
-        for c in 0..n {
-            let shift = rv * v[[r, c]];
-            let col = c as f64 + az_e * shift / dx;
-            let row = r as f64 - az_n * shift / dx;
-            let (c0, r0) = (col.floor(), row.floor());
-            let (fc, fr) = (col - c0, row - r0);
-            for (dr, wr) in [(0.0, 1.0 - fr), (1.0, fr)] {
-                for (dc, wc) in [(0.0, 1.0 - fc), (1.0, fc)] {
-                    let (rr, cc) = (r0 + dr, c0 + dc);
-                    if rr >= 0.0 && cc >= 0.0 && (rr as usize) < n && (cc as usize) < n {
-                        out[[rr as usize, cc as usize]] += sigma0[[r, c]] * wr * wc;
+    // the source rows in a fixed number of bands, each moved into its own image in parallel,
+    // the images then added in order: the same bytes however the threads run
+    const BANDS: usize = 4;
+    let band_rows = n.div_ceil(BANDS);
+    let parts: Vec<Array2<f64>> = (0..BANDS)
+        .into_par_iter()
+        .map(|b| {
+            let mut out = Array2::zeros((n, n));
+            for r in (b * band_rows)..((b + 1) * band_rows).min(n) {
+                for c in 0..n {
+                    let shift = rv * v[[r, c]];
+                    let col = c as f64 + az_e * shift / dx;
+                    let row = r as f64 - az_n * shift / dx;
+                    let (c0, r0) = (col.floor(), row.floor());
+                    let (fc, fr) = (col - c0, row - r0);
+                    for (dr, wr) in [(0.0, 1.0 - fr), (1.0, fr)] {
+                        for (dc, wc) in [(0.0, 1.0 - fc), (1.0, fc)] {
+                            let (rr, cc) = (r0 + dr, c0 + dc);
+                            if rr >= 0.0 && cc >= 0.0 && (rr as usize) < n && (cc as usize) < n {
+                                out[[rr as usize, cc as usize]] += sigma0[[r, c]] * wr * wc;
+                            }
+                        }
                     }
                 }
             }
-        }
+            out
+        })
+        .collect();
+    let mut out = Array2::zeros((n, n));
+    for part in &parts {
+        out += part;
     }
     out
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Halfway between the table's nodes (the worst place for linear interpolation), the
+    /// background NRCS is within 1 % of its exact value at that wind, in every band.
+    #[test]
+    fn wind_table_interpolates_within_one_percent() {
+        let config = WakelabConfig::from_toml_str(
+            "[scene]\nsize = 64\nalong_track = 2000.0\n[sea]\nwindow = 32\n[environment.wind]\nvariability = 0.3\n",
+            "test",
+        )
+        .unwrap();
+        let scene = wakelab_surface::simulate_surface(&config, None);
+        let winds = scene.wind_speed.clone().unwrap();
+        let env = &config.environment;
+        for band in RadarBand::ALL {
+            let table = WindTable::new(&config, &scene, band, &winds);
+            for pair in table.speeds.windows(2) {
+                let speed = 0.5 * (pair[0] + pair[1]);
+                let spectrum = SeaSpectrum::new(&config.sea, speed, env.wind.direction, &env.swell, env.gravity);
+                let short_waves = ShortWaves::new(&spectrum);
+                let radar = radar_sea_of(&config, &spectrum, &short_waves, scene.grid.pixel_spacing, band);
+                let exact = Background::of(&radar, config.platform.incidence.to_radians()).sigma0(1.0, 1.0, 0.0);
+                let interpolated = table.at(speed).sigma0(1.0, 1.0, 0.0);
+                let error = (interpolated / exact - 1.0).abs();
+                assert!(error < 0.01, "{band:?} at {speed:.2} m/s: {error:.4}");
+            }
+        }
+    }
 }

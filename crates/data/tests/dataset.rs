@@ -289,3 +289,27 @@ fn bad_study_files_are_refused_before_any_work() {
         assert!(err.contains(field), "expected {field} in: {err}");
     }
 }
+
+/// Both embedded studies parse, every pair validates, and they image like real acquisitions:
+/// speckle, thermal noise and the IR NETD on, headings drawn over the full circle.
+#[test]
+fn the_embedded_studies_are_valid_and_realistic() {
+    use wakelab_data::study::{DEFAULT_STUDY, PAPER_STUDY};
+    for (name, text, pairs) in [("default", DEFAULT_STUDY, 16), ("paper", PAPER_STUDY, 180)] {
+        let study = Study::from_toml_str(text, name).unwrap();
+        let all = study.pairs().unwrap();
+        assert_eq!(all.len(), pairs, "{name}");
+        for p in &all {
+            let c = &p.config;
+            assert!(
+                c.sar.looks >= 1 && c.sar.noise_floor && c.ir.noise,
+                "{name}: a real instrument"
+            );
+        }
+        let headings: Vec<f64> = all.iter().map(|p| p.config.scene.heading).collect();
+        let quadrants = (0..4)
+            .filter(|q| headings.iter().any(|h| (*h / 90.0).floor() as i32 == *q))
+            .count();
+        assert_eq!(quadrants, 4, "{name}: headings over the full circle: {headings:?}");
+    }
+}

@@ -2,7 +2,7 @@
 
 use ndarray::Array2;
 use rustfft::num_complex::Complex64;
-use wakelab_surface::fourier::fft_2d;
+use wakelab_surface::fourier::{fft_2d, signed_frequency};
 use wakelab_surface::scene::heading_frame_wavenumber;
 
 /// Line-of-sight orbital velocity (m/s, away from the sensor) of the long waves in `elevation`
@@ -24,7 +24,7 @@ pub fn line_of_sight_velocity(
     let mut data: Vec<Complex64> = elevation.iter().map(|&z| Complex64::new(z, 0.0)).collect();
     fft_2d(&mut data, n, false);
     let dk = 2.0 * std::f64::consts::PI / (n as f64 * dx);
-    let freq = |i: usize| if i <= n / 2 { i as f64 } else { i as f64 - n as f64 };
+    let freq = |i: usize| signed_frequency(i, n);
     let (lx, ly) = (look.cos(), look.sin());
     let (wx, wy) = (wind.cos(), wind.sin());
     let (st, ct) = theta.sin_cos();

@@ -56,7 +56,7 @@ pub struct Relaxation {
 }
 
 /// The smallest net rate as a fraction of mu (r <= 10 under converging currents).
-const SATURATION: f64 = 0.1;
+pub(crate) const SATURATION: f64 = 0.1;
 
 impl Relaxation {
     pub fn new(k: WaveVector, sea: &SeaSpectrum, short_waves: &ShortWaves) -> Self {

@@ -3,6 +3,16 @@
 use rustfft::num_complex::Complex64;
 use rustfft::{Fft, FftPlanner};
 
+/// The signed frequency index (cycles per transform length) of DFT bin `i` of `n`: 0, 1, ..,
+/// n/2, then -(n/2 - 1), .., -1.
+pub fn signed_frequency(i: usize, n: usize) -> f64 {
+    if i <= n / 2 {
+        i as f64
+    } else {
+        i as f64 - n as f64
+    }
+}
+
 /// Unnormalised 2D DFT in place of the n x n row-major `data` with a planned 1D transform.
 pub fn fft_2d_with(data: &mut [Complex64], n: usize, fft: &dyn Fft<f64>, scratch: &mut [Complex64]) {
     for row in data.chunks_mut(n) {

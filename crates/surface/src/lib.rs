@@ -105,7 +105,8 @@ fn to_scene(grid: &SceneGrid, map: &SurfaceMap, values: &[f64], ambient: f64) ->
 
 /// N/N0 of one wave vector on the scene: the wake's, and where a slick lies its film's damping
 /// d_s on top, 1/r = 1/r_wake + d_s / mu (the steady state of the relaxation equation with both
-/// dampings, exact where the wake's waves are in equilibrium).
+/// dampings, exact where the wake's waves are in equilibrium). A slick thinner than the open
+/// sea's film (d_s < 0) is bounded as the wake's converging currents are: r <= 1 / SATURATION.
 fn with_slicks(wake: Array2<f64>, slick_damping: Option<&Array2<f64>>, mu: f64) -> Array2<f64> {
     match slick_damping {
         None => wake,
@@ -113,7 +114,7 @@ fn with_slicks(wake: Array2<f64>, slick_damping: Option<&Array2<f64>>, mu: f64) 
             let mut r = wake;
             ndarray::Zip::from(&mut r).and(d).for_each(|r, &d| {
                 if d != 0.0 {
-                    *r = 1.0 / (1.0 / *r + d / mu);
+                    *r = 1.0 / (1.0 / *r + d / mu).max(action::SATURATION);
                 }
             });
             r

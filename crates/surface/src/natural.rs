@@ -21,7 +21,7 @@
 //! Wind: U(x) = max(U (1 + sigma g(x)), 0.5 m/s), sigma = `environment.wind.variability`, an
 //! isotropic field of correlation length `environment.wind.gust_length`.
 
-use crate::fourier::fft_2d;
+use crate::fourier::{fft_2d, signed_frequency};
 use crate::scene::SceneGrid;
 use ndarray::Array2;
 use rand::SeedableRng;
@@ -48,7 +48,7 @@ pub fn gaussian_field(grid: &SceneGrid, along: f64, across: f64, direction: f64,
     fft_2d(&mut data, n, false);
     let (we, wn) = grid.scene_frame(direction.cos(), direction.sin());
     let dk = 2.0 * std::f64::consts::PI / (n as f64 * grid.pixel_spacing);
-    let freq = |i: usize| if i <= n / 2 { i as f64 } else { i as f64 - n as f64 };
+    let freq = |i: usize| signed_frequency(i, n);
     let mut power = 0.0;
     for a in 0..n {
         for b in 0..n {

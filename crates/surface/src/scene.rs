@@ -51,8 +51,7 @@ impl SceneGrid {
 
     /// A scene-frame vector (east, north) in the heading frame (forward, port).
     pub fn heading_frame(&self, east: f64, north: f64) -> (f64, f64) {
-        let (s, c) = self.heading.sin_cos();
-        (east * s + north * c, -east * c + north * s)
+        scene_to_heading(self.heading, east, north)
     }
 
     /// A heading-frame vector (forward, port) in the scene frame (east, north).
@@ -114,9 +113,14 @@ impl SceneGrid {
 /// in the heading frame (forward, port) of a ship whose course in the image is `heading`
 /// (radians clockwise from up).
 pub fn heading_frame_wavenumber(k_col: f64, k_row: f64, heading: f64) -> (f64, f64) {
-    let (k_east, k_north) = (k_col, -k_row);
+    scene_to_heading(heading, k_col, -k_row)
+}
+
+/// A scene-frame vector (east, north) in the heading frame (forward, port): the inverse of
+/// [`heading_to_scene`].
+fn scene_to_heading(heading: f64, east: f64, north: f64) -> (f64, f64) {
     let (s, c) = heading.sin_cos();
-    (k_east * s + k_north * c, -k_east * c + k_north * s)
+    (east * s + north * c, -east * c + north * s)
 }
 
 fn heading_to_scene(heading: f64, forward: f64, port: f64) -> (f64, f64) {

@@ -127,3 +127,33 @@ fn natural_slicks_damp_the_bragg_waves_more_at_shorter_waves() {
     }
     assert!(ratios[0] < ratios[1] && ratios[1] < ratios[2], "{ratios:?}");
 }
+
+/// A "slick" cleaner than the open sea (no film where the sea has its 3 mN/m) damps less, so
+/// its Bragg waves grow above the open sea's (N/N0 > 1), and stay bounded even at 1.5 m/s where
+/// the waves' relaxation is slow (r at most 10, as under the wake's converging currents).
+#[test]
+fn a_film_free_patch_is_rougher_and_bounded() {
+    let c = config(
+        "[scene]\nsize = 128\npixel_spacing = 10.0\nalong_track = 2500.0\n[slicks]\ncoverage = 0.3\nelasticity = 0.0\n\
+         [environment.wind]\nspeed = 3.0\n",
+    );
+    let scene = simulate_surface(&c, None);
+    let mask = scene.slick_mask.as_ref().unwrap();
+    for b in &scene.bragg {
+        let inside: Vec<f64> = b
+            .modulation
+            .iter()
+            .zip(mask)
+            .filter(|(_, &s)| s == 1)
+            .map(|(v, _)| *v)
+            .collect();
+        let max = inside.iter().cloned().fold(f64::NEG_INFINITY, f64::max);
+        let mean = inside.iter().sum::<f64>() / inside.len() as f64;
+        eprintln!("{:?}: film-free patches N/N0 mean {mean:.3}, max {max:.3}", b.band);
+        assert!(
+            mean > 1.0 && max <= 10.0 + 1e-9 && max.is_finite(),
+            "{:?}: {mean} {max}",
+            b.band
+        );
+    }
+}

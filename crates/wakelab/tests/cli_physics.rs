@@ -168,12 +168,16 @@ fn a_scene_outside_the_simulated_wake_is_refused() {
     );
 }
 
+/// `wakelab sar sigma0 --json` with `args`, parsed.
+fn sar_sigma0_json(args: &[&str]) -> serde_json::Value {
+    let mut all = vec!["sar", "sigma0", "--json"];
+    all.extend_from_slice(args);
+    json_of(&wakelab(&all))
+}
+
 #[test]
 fn sar_sigma0_and_optics_print_their_json() {
-    let o = wakelab(&[
-        "sar",
-        "sigma0",
-        "--json",
+    let v = sar_sigma0_json(&[
         "--wind",
         "10",
         "--band",
@@ -183,7 +187,6 @@ fn sar_sigma0_and_optics_print_their_json() {
         "--incidence",
         "40",
     ]);
-    let v = json_of(&o);
     assert_eq!(v["band"], "X");
     assert_eq!(v["polarisation"], "HH");
     let db = v["sigma0_db"].as_f64().unwrap();
@@ -196,18 +199,7 @@ fn sar_sigma0_and_optics_print_their_json() {
     assert!(v["cmod5n"].is_null(), "CMOD5.N is a C-band model");
 
     // C band looking up-wind: CMOD5.N beside wakelab's value, and near it
-    let o = wakelab(&[
-        "sar",
-        "sigma0",
-        "--json",
-        "--wind",
-        "10",
-        "--incidence",
-        "40",
-        "--look",
-        "180",
-    ]);
-    let v = json_of(&o);
+    let v = sar_sigma0_json(&["--wind", "10", "--incidence", "40", "--look", "180"]);
     let (ours, cmod) = (v["sigma0_db"].as_f64().unwrap(), v["cmod5n_db"].as_f64().unwrap());
     assert!((cmod - -12.947).abs() < 1e-3, "CMOD5.N {cmod}");
     assert!((ours - cmod).abs() < 2.0, "wakelab {ours} dB vs CMOD5.N {cmod} dB");

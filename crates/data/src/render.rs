@@ -11,10 +11,11 @@
 
 use crate::study::ScenePair;
 use ndarray::Array2;
+use rayon::prelude::*;
 use wakelab_core::units::RadarBand;
 use wakelab_hydro::SurfaceMap;
 use wakelab_schema::band::Band;
-use wakelab_sensors::{render_ir, render_sar, IrBand};
+use wakelab_sensors::{IrBand, IrScene, SarScene};
 use wakelab_surface::{simulate_surface, SurfaceScene};
 
 /// Threshold of |N/N0 - 1| for the SAR wake masks.
@@ -88,20 +89,23 @@ pub fn render_pair(pair: &ScenePair, map: &SurfaceMap, bands: &[Band]) -> (Vec<B
     let without: SurfaceScene = simulate_surface(cfg, None);
     let surface = t.elapsed().as_secs_f64();
     let t = std::time::Instant::now();
+    let (radar_with, radar_without) = (SarScene::new(cfg, &with), SarScene::new(cfg, &without));
+    let (infrared_with, infrared_without) = (IrScene::new(cfg, &with), IrScene::new(cfg, &without));
+    // the bands are independent images: side by side
     let out = bands
-        .iter()
+        .par_iter()
         .map(|&band| match sensor(band) {
             Sensor::Radar(b) => {
                 let m = &with.bragg.iter().find(|x| x.band == b).expect("every band").modulation;
                 let mask = m.mapv(|v| u8::from((v - 1.0).abs() > MASK_MODULATION));
-                let wake = render_sar(cfg, &with, b).sigma0.mapv(|v| v as f32);
-                let no_wake = render_sar(cfg, &without, b).sigma0.mapv(|v| v as f32);
+                let wake = radar_with.render(b).sigma0.mapv(|v| v as f32);
+                let no_wake = radar_without.render(b).sigma0.mapv(|v| v as f32);
                 finish(band, wake, no_wake, mask, "sigma0 (linear)")
             }
             Sensor::Infrared(b) => {
                 let mask = with.temperature_anomaly.mapv(|v| u8::from(v.abs() > MASK_TEMPERATURE));
-                let wake = render_ir(cfg, &with, b).brightness_temperature.mapv(|v| v as f32);
-                let no_wake = render_ir(cfg, &without, b).brightness_temperature.mapv(|v| v as f32);
+                let wake = infrared_with.render(b).brightness_temperature.mapv(|v| v as f32);
+                let no_wake = infrared_without.render(b).brightness_temperature.mapv(|v| v as f32);
                 finish(band, wake, no_wake, mask, "brightness temperature (K)")
             }
         })

@@ -43,11 +43,12 @@ pub fn breaking_zones(spectrum: &SeaSpectrum, short_waves: &ShortWaves, k0: f64,
     let (mut total, mut along) = (0.0, 0.0);
     for i in 0..n {
         let k = k_lo * ((i as f64 + 0.5) * step).exp();
+        let (ring, net_growth) = (spectrum.ring(k), short_waves.net_growth_at(k));
         for a in 0..angles {
             let phi = (a as f64 + 0.5) * dphi;
-            let beta_v = short_waves.net_growth(k, phi);
+            let beta_v = net_growth(phi);
             if beta_v > 0.0 {
-                let b = k.powi(4) * spectrum.directional(k * phi.cos(), k * phi.sin());
+                let b = k.powi(4) * ring.at(phi);
                 // Lambda dk dphi = beta_v B / (2 alpha) dln k dphi
                 let lambda = beta_v * b / (2.0 * GRAVITY_SATURATION) * step * dphi;
                 total += lambda;

@@ -82,13 +82,7 @@ fn fill_white(out: &mut Array2<f64>, seed: u64) {
     out.axis_iter_mut(Axis(0))
         .into_par_iter()
         .enumerate()
-        .for_each(|(r, mut row)| {
-            let mut rng = ChaCha8Rng::seed_from_u64(seed);
-            rng.set_stream(r as u64);
-            for v in row.iter_mut() {
-                *v = StandardNormal.sample(&mut rng);
-            }
-        });
+        .for_each(|(r, mut row)| white_row(row.as_slice_mut().expect("standard layout"), seed, r));
 }
 
 /// What the SAR instrument adds to the scene's sigma0.
@@ -104,6 +98,10 @@ pub struct SarFormation {
 }
 
 /// The intensity the SAR records of `sigma0` (module docs); with 0 looks, sigma0 + NESZ.
+///
+/// Every look's real and imaginary fields are made, filtered and squared a block of rows at a
+/// time, with the rows the filter reaches beyond the block made again from their own streams,
+/// so the work stays in the cache and the image is the same for any number of threads.
 pub fn form_sar_image(sigma0: &Array2<f64>, formation: SarFormation, seed: u64) -> Array2<f64> {
     let SarFormation {
         looks,
@@ -114,27 +112,85 @@ pub fn form_sar_image(sigma0: &Array2<f64>, formation: SarFormation, seed: u64) 
         return sigma0.mapv(|v| v + nesz);
     }
     let taps = gaussian_taps(resolution_pixels / FWHM_PER_SIGMA * std::f64::consts::SQRT_2, 2);
-    let power = sigma0.mapv(|v| v.max(0.0) + nesz.max(0.0));
-    let mut sum = Array2::<f64>::zeros(sigma0.raw_dim());
-    let (mut white, mut rows_done, mut part) = (sum.clone(), sum.clone(), sum.clone());
-    for look in 0..looks as u64 {
-        // real and imaginary parts, each of variance 1/2
-        for k in 1..=2u64 {
-            fill_white(
-                &mut white,
+    let half = taps.len() / 2;
+    let sigma0 = sigma0.as_standard_layout();
+    let (rows, cols) = sigma0.dim();
+    // each look's real and imaginary parts, each of variance 1/2, from their own seeds
+    let field_seeds: Vec<u64> = (0..looks as u64)
+        .flat_map(|look| {
+            (1..=2u64).map(move |k| {
                 (seed ^ (look << 32))
                     .wrapping_mul(0x9E37_79B9_7F4A_7C15)
-                    .wrapping_add(k),
-            );
-            convolve_separable_into(&white, &taps, &mut rows_done, &mut part);
-            ndarray::Zip::from(&mut sum)
-                .and(&part)
-                .and(&power)
-                .par_for_each(|s, &z, &p| *s += 0.5 * p * z * z);
-        }
-    }
+                    .wrapping_add(k)
+            })
+        })
+        .collect();
+    let mut sum = Array2::<f64>::zeros((rows, cols));
+    sum.axis_chunks_iter_mut(Axis(0), BLOCK_ROWS)
+        .into_par_iter()
+        .enumerate()
+        .for_each(|(block, mut out)| {
+            let r0 = block * BLOCK_ROWS;
+            let height = out.nrows();
+            // the block's source rows r0 - half .. r0 + height + half (wrapped), filtered along
+            let mut filtered = Array2::<f64>::zeros((height + 2 * half, cols));
+            let (mut white, mut padded, mut part) =
+                (vec![0.0; cols], Vec::with_capacity(cols + 2 * half), vec![0.0; cols]);
+            for &field_seed in &field_seeds {
+                for (i, line) in filtered.axis_iter_mut(Axis(0)).enumerate() {
+                    let source = (r0 + i + rows * (half / rows + 1) - half) % rows;
+                    white_row(&mut white, field_seed, source);
+                    padded.clear();
+                    if half < cols {
+                        padded.extend_from_slice(&white[cols - half..]);
+                        padded.extend_from_slice(&white);
+                        padded.extend_from_slice(&white[..half]);
+                    } else {
+                        padded.extend((0..cols + 2 * half).map(|j| white[(j + cols - half % cols) % cols]));
+                    }
+                    // tap by tap over the whole row (vectorised), each sum in tap order
+                    let line = line.into_slice().expect("standard layout");
+                    line.fill(0.0);
+                    for (t, w) in taps.iter().enumerate() {
+                        for (o, &v) in line.iter_mut().zip(&padded[t..]) {
+                            *o += w * v;
+                        }
+                    }
+                }
+                let filtered = filtered.as_slice().expect("standard layout");
+                for (i, mut line) in out.axis_iter_mut(Axis(0)).enumerate() {
+                    part.fill(0.0);
+                    for (t, w) in taps.iter().enumerate() {
+                        let source = &filtered[(i + t) * cols..(i + t + 1) * cols];
+                        for (a, &b) in part.iter_mut().zip(source) {
+                            *a += w * b;
+                        }
+                    }
+                    let line = line.as_slice_mut().expect("standard layout");
+                    let power = sigma0.row(r0 + i);
+                    let power = power.as_slice().expect("standard layout");
+                    for ((s, &z), &v) in line.iter_mut().zip(&part).zip(power) {
+                        let p = v.max(0.0) + nesz.max(0.0);
+                        *s += 0.5 * p * z * z;
+                    }
+                }
+            }
+        });
     sum.mapv_inplace(|v| v / looks as f64);
     sum
+}
+
+/// Rows of the SAR image a thread forms at once.
+const BLOCK_ROWS: usize = 64;
+
+/// Row `row` of the white field of `seed`: independent standard normal values from the row's
+/// own stream (see [`fill_white`]).
+fn white_row(out: &mut [f64], seed: u64, row: usize) {
+    let mut rng = ChaCha8Rng::seed_from_u64(seed);
+    rng.set_stream(row as u64);
+    for v in out.iter_mut() {
+        *v = StandardNormal.sample(&mut rng);
+    }
 }
 
 /// What the infrared imager adds to the scene's brightness temperature.

@@ -61,7 +61,8 @@ impl IrBand {
 
 /// Henyey-Greenstein phase function (1/sr), Eq. (3.19).
 pub fn henyey_greenstein(cos_angle: f64, g: f64) -> f64 {
-    (1.0 - g * g) / (4.0 * PI * (1.0 + g * g - 2.0 * g * cos_angle).powf(1.5))
+    let d = 1.0 + g * g - 2.0 * g * cos_angle;
+    (1.0 - g * g) / (4.0 * PI * d * d.sqrt())
 }
 
 /// Sky brightness temperature at zenith angle `gamma` (rad), Eq. (3.20).
@@ -132,13 +133,14 @@ impl IrView {
             slope_x,
             slope_y,
             band_radiance(lo, hi, t_kelvin),
-            |beta| reflectance_and_emissivity(self.index, beta).0,
-            |gamma| band_radiance(lo, hi, sky_temperature(gamma, self.sky.0, self.sky.1)),
+            |cos_beta| reflectance_and_emissivity(self.index, cos_beta.acos()).0,
+            |cos_gamma| band_radiance(lo, hi, sky_temperature(cos_gamma.acos(), self.sky.0, self.sky.1)),
         )
     }
 
-    /// [`Self::facet`] with the sea's radiance given and the reflectance (of the local incidence
-    /// beta) and sky radiance (of the zenith angle gamma) supplied by the caller.
+    /// [`Self::facet`] with the sea's radiance given and the reflectance (of the cosine of the
+    /// local incidence beta) and sky radiance (of the cosine of the zenith angle gamma it comes
+    /// from) supplied by the caller.
     pub fn facet_with(
         &self,
         slope_x: f64,
@@ -147,11 +149,41 @@ impl IrView {
         reflectance: impl Fn(f64) -> f64,
         sky: impl Fn(f64) -> f64,
     ) -> RadianceTerms {
+        self.terms(&self.geometry(slope_x, slope_y), sea, reflectance, sky)
+    }
+
+    /// Where a facet of heading-frame slopes (dz/dx, dz/dy) faces: the parts of Eq. (3.5) that
+    /// no band changes (the view's sensor and sun directions and the phase function's asymmetry
+    /// are the same in every band).
+    pub fn geometry(&self, slope_x: f64, slope_y: f64) -> FacetGeometry {
         let norm = (slope_x * slope_x + slope_y * slope_y + 1.0).sqrt();
         let n = [-slope_x / norm, -slope_y / norm, 1.0 / norm];
         let r = self.to_sensor;
         let cos_beta = (n[0] * r[0] + n[1] * r[1] + n[2] * r[2]).clamp(-1.0, 1.0);
-        if cos_beta <= 0.0 {
+        // direction the reflected light comes from, Eq. (3.6)
+        let i: [f64; 3] = std::array::from_fn(|k| 2.0 * n[k] * cos_beta - r[k]);
+        let s = self.to_sun;
+        let cos_sun = (i[0] * s[0] + i[1] * s[1] + i[2] * s[2]).clamp(-1.0, 1.0);
+        FacetGeometry {
+            cos_incidence: cos_beta,
+            cos_sky_zenith: i[2].clamp(-1.0, 1.0),
+            sun_phase: if s[2] > 0.0 && i[2] > 0.0 {
+                henyey_greenstein(cos_sun, self.asymmetry)
+            } else {
+                0.0
+            },
+        }
+    }
+
+    /// Eq. (3.5)'s terms for a facet of geometry `g` in this band.
+    pub fn terms(
+        &self,
+        g: &FacetGeometry,
+        sea: f64,
+        reflectance: impl Fn(f64) -> f64,
+        sky: impl Fn(f64) -> f64,
+    ) -> RadianceTerms {
+        if g.cos_incidence <= 0.0 {
             // a facet turned away from the sensor shows nothing of itself
             return RadianceTerms {
                 emissivity: 0.0,
@@ -163,45 +195,68 @@ impl IrView {
                 path: 0.0,
             };
         }
-        let rho = reflectance(cos_beta.acos());
-        // direction the reflected light comes from, Eq. (3.6)
-        let i: [f64; 3] = std::array::from_fn(|k| 2.0 * n[k] * cos_beta - r[k]);
-        let s = self.to_sun;
-        let cos_sun = (i[0] * s[0] + i[1] * s[1] + i[2] * s[2]).clamp(-1.0, 1.0);
-        let sun = if s[2] > 0.0 && i[2] > 0.0 {
-            self.sun_radiance * henyey_greenstein(cos_sun, self.asymmetry)
-        } else {
-            0.0
-        };
+        let rho = reflectance(g.cos_incidence);
         RadianceTerms {
             emissivity: 1.0 - rho,
             reflectance: rho,
             sea,
-            sun,
-            sky: sky(i[2].clamp(-1.0, 1.0).acos()),
+            sun: self.sun_radiance * g.sun_phase,
+            sky: sky(g.cos_sky_zenith),
             transmission: 1.0,
             path: 0.0,
         }
     }
 }
 
-/// A smooth function of an angle in [0, max] tabulated at `n` points, linear in between.
-struct AngleTable {
-    max: f64,
+/// The band-free geometry of a facet (see [`IrView::geometry`]).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct FacetGeometry {
+    /// cos of the local incidence beta.
+    pub cos_incidence: f64,
+    /// cos of the zenith angle the reflected sky light comes from.
+    pub cos_sky_zenith: f64,
+    /// The sun's Henyey-Greenstein phase towards the sensor (1/sr), 0 when the sun or the
+    /// reflected direction is below the horizon.
+    pub sun_phase: f64,
+}
+
+impl IrView {
+    /// The reflectance over the cosine of the local incidence and the sky's band radiance over
+    /// the cosine of its zenith angle, tabulated at 4096 points in [0, 1] (values beyond an end
+    /// are the end's).
+    fn tables(&self) -> (SmoothTable, SmoothTable) {
+        let (lo, hi) = self.band.range();
+        (
+            SmoothTable::new(0.0, 1.0, 4096, |c| reflectance_and_emissivity(self.index, c.acos()).0),
+            // light from below the horizon is the horizon's (Eq. (3.20) holds the zenith angle at
+            // 90 degrees): the table ends there, at its kink
+            SmoothTable::new(0.0, 1.0, 4096, |c| {
+                band_radiance(lo, hi, sky_temperature(c.acos(), self.sky.0, self.sky.1))
+            }),
+        )
+    }
+}
+
+/// A smooth function on [lo, hi] tabulated at `n` points, linear in between.
+struct SmoothTable {
+    lo: f64,
+    per_step: f64,
     values: Vec<f64>,
 }
 
-impl AngleTable {
-    fn new(max: f64, n: usize, f: impl Fn(f64) -> f64) -> Self {
+impl SmoothTable {
+    fn new(lo: f64, hi: f64, n: usize, f: impl Fn(f64) -> f64) -> Self {
         Self {
-            max,
-            values: (0..n).map(|i| f(max * i as f64 / (n - 1) as f64)).collect(),
+            lo,
+            per_step: (n - 1) as f64 / (hi - lo),
+            values: (0..n).map(|i| f(lo + (hi - lo) * i as f64 / (n - 1) as f64)).collect(),
         }
     }
 
-    fn at(&self, angle: f64) -> f64 {
-        let x = (angle / self.max).clamp(0.0, 1.0) * (self.values.len() - 1) as f64;
-        let i = (x.floor() as usize).min(self.values.len() - 2);
+    fn at(&self, x: f64) -> f64 {
+        let last = (self.values.len() - 1) as f64;
+        let x = ((x - self.lo) * self.per_step).clamp(0.0, last);
+        let i = (x as usize).min(self.values.len() - 2);
         let f = x - i as f64;
         self.values[i] * (1.0 - f) + self.values[i + 1] * f
     }
@@ -264,64 +319,87 @@ impl RadianceTable {
     }
 }
 
-/// Render one IR band of `scene` (Algorithm 1).
+/// Render one IR band of `scene` (Algorithm 1; for both bands, [`IrScene`] shares their work).
 pub fn render_ir(config: &WakelabConfig, scene: &SurfaceScene, band: IrBand) -> IrImage {
-    let view = IrView::new(config, band);
-    let t_surface = config.environment.temperature.at_depth(0.0) + 273.15;
-    let (dmin, dmax) = scene
-        .temperature_anomaly
-        .iter()
-        .fold((0.0f64, 0.0f64), |(a, b), &v| (a.min(v), b.max(v)));
-    let table = RadianceTable::new(band, t_surface + dmin - 1.0, t_surface + dmax + 1.0);
-    let (lo, hi) = band.range();
-    let surface = &scene.surface;
-    let n = scene.grid.size();
-    // reflectance and sky radiance tabulated finely in angle (their errors are below 1e-6 of the
-    // radiance); the sea's radiance from the temperature table
-    let reflectance = AngleTable::new(PI / 2.0, 4096, |beta| reflectance_and_emissivity(view.index, beta).0);
-    let sky = AngleTable::new(PI, 4096, |gamma| {
-        band_radiance(lo, hi, sky_temperature(gamma, view.sky.0, view.sky.1))
-    });
-    let mut radiance = Array2::zeros((n, n));
-    ndarray::Zip::from(&mut radiance)
-        .and(&surface.slope_x)
-        .and(&surface.slope_y)
-        .and(&scene.temperature_anomaly)
-        .par_for_each(|out, &sx, &sy, &dt| {
-            // the image's (east, north) gradient in the heading frame of the view
-            let (gx, gy) = scene.grid.heading_frame(sx, sy);
-            let terms = view.facet_with(gx, gy, table.at(t_surface + dt), |b| reflectance.at(b), |g| sky.at(g));
-            *out = terms.total();
+    IrScene::new(config, scene).render(band)
+}
+
+/// A scene as the infrared imager sees it in every band: the bands share every facet's
+/// band-free geometry (see [`IrView::geometry`]).
+pub type IrScene<'a> = crate::SensorScene<'a, Array2<FacetGeometry>>;
+
+impl IrScene<'_> {
+    /// One band's image.
+    pub fn render(&self, band: IrBand) -> IrImage {
+        let (config, scene) = (self.config, self.scene);
+        let view = IrView::new(config, band);
+        let geometry = self.shared.get_or_init(|| {
+            let surface = &scene.surface;
+            ndarray::Zip::from(&surface.slope_x)
+                .and(&surface.slope_y)
+                .par_map_collect(|&sx, &sy| {
+                    // the image's (east, north) gradient in the heading frame of the view
+                    let (gx, gy) = scene.grid.heading_frame(sx, sy);
+                    view.geometry(gx, gy)
+                })
         });
-    let bt_table = RadianceTable::new(band, 150.0, 400.0);
-    let mut brightness = radiance.mapv(|r| invert(&bt_table, r).unwrap_or_else(|| brightness_temperature(lo, hi, r)));
-    let ir = &config.ir;
-    let resolution_pixels = ir.resolution / scene.grid.pixel_spacing;
-    if ir.noise || resolution_pixels > 1.0 {
-        let formation = IrFormation {
-            resolution_pixels,
-            netd: if ir.noise { ir.netd } else { 0.0 },
-        };
-        let seed = config.seed ^ (0x1A1A_0000 + band as u64);
-        brightness = form_ir_image(&brightness, formation, seed);
-    }
-    let flat = view.facet(0.0, 0.0, t_surface);
-    IrImage {
-        band,
-        radiance,
-        brightness_temperature: brightness,
-        info: IrInfo {
-            band: band.name(),
-            wavelength_range_um: band.range(),
-            incidence_deg: config.platform.incidence,
-            look_direction_deg: config.platform.look_direction,
-            sun_elevation_deg: config.ir.sun_elevation,
-            sun_azimuth_deg: config.ir.sun_azimuth,
-            refractive_index: (view.index.re, -view.index.im),
-            sea_surface_temperature_k: t_surface,
-            flat_sea: flat,
-            netd_k: ir.noise.then_some(ir.netd),
-        },
+        let t_surface = config.environment.temperature.at_depth(0.0) + 273.15;
+        let (dmin, dmax) = scene
+            .temperature_anomaly
+            .iter()
+            .fold((0.0f64, 0.0f64), |(a, b), &v| (a.min(v), b.max(v)));
+        let table = RadianceTable::new(band, t_surface + dmin - 1.0, t_surface + dmax + 1.0);
+        let (lo, hi) = band.range();
+        // reflectance and sky radiance tabulated finely in the cosines of their angles (within
+        // 1e-6 of the radiance: `tabulated_facets_match_the_exact_ones`); the sea's radiance from
+        // the temperature table
+        let (reflectance, sky) = view.tables();
+        let radiance = ndarray::Zip::from(geometry)
+            .and(&scene.temperature_anomaly)
+            .par_map_collect(|g, &dt| {
+                view.terms(g, table.at(t_surface + dt), |c| reflectance.at(c), |c| sky.at(c))
+                    .total()
+            });
+        // the inverse on a table over the image's own span of temperatures (a short search)
+        let (r_min, r_max) = radiance
+            .iter()
+            .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), &r| (a.min(r), b.max(r)));
+        let kelvin = |r: f64| brightness_temperature(lo, hi, r).clamp(150.0, 400.0);
+        let bt_table = RadianceTable::new(
+            band,
+            (kelvin(r_min) - 0.05).max(150.0),
+            (kelvin(r_max) + 0.05).min(400.0),
+        );
+        let mut brightness = ndarray::Zip::from(&radiance)
+            .par_map_collect(|&r| invert(&bt_table, r).unwrap_or_else(|| brightness_temperature(lo, hi, r)));
+        let ir = &config.ir;
+        let resolution_pixels = ir.resolution / scene.grid.pixel_spacing;
+        if ir.noise || resolution_pixels > 1.0 {
+            let formation = IrFormation {
+                resolution_pixels,
+                netd: if ir.noise { ir.netd } else { 0.0 },
+            };
+            let seed = config.seed ^ (0x1A1A_0000 + band as u64);
+            brightness = form_ir_image(&brightness, formation, seed);
+        }
+        let flat = view.facet(0.0, 0.0, t_surface);
+        IrImage {
+            band,
+            radiance,
+            brightness_temperature: brightness,
+            info: IrInfo {
+                band: band.name(),
+                wavelength_range_um: band.range(),
+                incidence_deg: config.platform.incidence,
+                look_direction_deg: config.platform.look_direction,
+                sun_elevation_deg: config.ir.sun_elevation,
+                sun_azimuth_deg: config.ir.sun_azimuth,
+                refractive_index: (view.index.re, -view.index.im),
+                sea_surface_temperature_k: t_surface,
+                flat_sea: flat,
+                netd_k: ir.noise.then_some(ir.netd),
+            },
+        }
     }
 }
 
@@ -339,6 +417,33 @@ fn invert(table: &RadianceTable, r: f64) -> Option<f64> {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// The tables the image uses give every facet's radiance within 1e-6 of the exact terms,
+    /// over slopes up to 1 in every direction and both bands.
+    #[test]
+    fn tabulated_facets_match_the_exact_ones() {
+        let config = WakelabConfig::from_toml_str("[ir]\nsun_elevation = 35.0\n", "test").unwrap();
+        for band in IrBand::ALL {
+            let view = IrView::new(&config, band);
+            let (reflectance, sky) = view.tables();
+            let (lo, hi) = band.range();
+            let sea = band_radiance(lo, hi, 290.0);
+            let mut worst = 0.0f64;
+            for i in 0..41 {
+                for j in 0..41 {
+                    let (sx, sy) = (-1.0 + i as f64 / 20.0, -1.0 + j as f64 / 20.0);
+                    let exact = view.facet(sx, sy, 290.0).total();
+                    let tabulated = view
+                        .facet_with(sx, sy, sea, |c| reflectance.at(c), |c| sky.at(c))
+                        .total();
+                    if exact > 0.0 {
+                        worst = worst.max((tabulated / exact - 1.0).abs());
+                    }
+                }
+            }
+            assert!(worst < 1e-6, "{band:?}: {worst:e}");
+        }
+    }
 
     #[test]
     fn henyey_greenstein_is_normalised_and_sky_profile_has_its_ends() {

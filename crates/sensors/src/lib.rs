@@ -17,5 +17,23 @@ pub mod sar_image;
 pub mod sigma0_report;
 pub mod spectral;
 
-pub use ir::{render_ir, IrBand, IrImage};
-pub use sar_image::{render_sar, SarImage};
+/// A scene as one sensor sees it in all its bands: `T`, what the bands share, is made once,
+/// when the first band needs it ([`SarScene`], [`IrScene`]).
+pub struct SensorScene<'a, T> {
+    config: &'a wakelab_core::WakelabConfig,
+    scene: &'a wakelab_surface::SurfaceScene,
+    shared: std::sync::OnceLock<T>,
+}
+
+impl<'a, T> SensorScene<'a, T> {
+    pub fn new(config: &'a wakelab_core::WakelabConfig, scene: &'a wakelab_surface::SurfaceScene) -> Self {
+        Self {
+            config,
+            scene,
+            shared: std::sync::OnceLock::new(),
+        }
+    }
+}
+
+pub use ir::{render_ir, IrBand, IrImage, IrScene};
+pub use sar_image::{render_sar, SarImage, SarScene};

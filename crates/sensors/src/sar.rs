@@ -88,15 +88,23 @@ pub fn slope_variances(spectrum: &SeaSpectrum, look: f64, k_lo: f64, k_hi: f64) 
     let n = 400;
     let angles = 72;
     let step = (k_hi / k_lo).ln() / n as f64;
+    // the directions, their angle from the wind's for the spreading, and from the look
+    let directions: Vec<(f64, f64, f64, f64)> = (0..angles)
+        .map(|a| {
+            let phi = (a as f64 + 0.5) * 2.0 * PI / angles as f64;
+            let (s, c) = (phi - look).sin_cos();
+            (phi, (2.0 * (phi - spectrum.wind_direction)).cos(), c * c, s * s)
+        })
+        .collect();
     let (mut along, mut across) = (0.0, 0.0);
     for i in 0..n {
         let k = k_lo * ((i as f64 + 0.5) * step).exp();
         let dk = k * step;
-        for a in 0..angles {
-            let phi = (a as f64 + 0.5) * 2.0 * PI / angles as f64;
-            let f = spectrum.directional(k * phi.cos(), k * phi.sin()) * k * dk * 2.0 * PI / angles as f64;
-            along += f * (k * (phi - look).cos()).powi(2);
-            across += f * (k * (phi - look).sin()).powi(2);
+        let ring = spectrum.ring(k);
+        for &(phi, twice_from_wind, cos2, sin2) in &directions {
+            let f = ring.at_with(phi, twice_from_wind) * k * dk * 2.0 * PI / angles as f64;
+            along += f * k * k * cos2;
+            across += f * k * k * sin2;
         }
     }
     (along, across)

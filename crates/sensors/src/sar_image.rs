@@ -17,6 +17,7 @@ use rayon::prelude::*;
 use serde::Serialize;
 use wakelab_core::units::RadarBand;
 use wakelab_core::WakelabConfig;
+use wakelab_surface::scene::SceneGrid;
 use wakelab_surface::short_waves::ShortWaves;
 use wakelab_surface::spectrum::{angular_frequency, SeaSpectrum};
 use wakelab_surface::SurfaceScene;
@@ -185,138 +186,168 @@ fn radar_sea_of<'a>(
     )
 }
 
-/// Render one band's SAR image of `scene`.
+/// Render one band's SAR image of `scene` (for several bands, [`SarScene`] shares their work).
 pub fn render_sar(config: &WakelabConfig, scene: &SurfaceScene, band: RadarBand) -> SarImage {
-    let radar = radar_sea(config, scene, band);
-    let theta = config.platform.incidence.to_radians();
-    let background = Background::of(&radar, theta);
-    let Sigma0Parts {
-        bragg,
-        specular,
-        breaking,
-        fraction: q,
-    } = background.at;
-    let waves = scene
-        .bragg
-        .iter()
-        .find(|b| b.band == band)
-        .expect("the surface stage covers every band");
-    // the horizontal look direction in the image (east, north)
-    let (look_e, look_n) = scene.grid.scene_frame(radar.look.cos(), radar.look.sin());
-    let surface = &scene.surface;
-    let psi_of = |sx: f64, sy: f64| {
-        // slope rising towards the radar: minus the gradient along the look direction
-        (-(sx * look_e + sy * look_n)).atan()
-    };
-    let mut sigma0 = Array2::zeros(waves.modulation.raw_dim());
-    match &scene.wind_speed {
-        None => ndarray::Zip::from(&mut sigma0)
-            .and(&waves.modulation)
-            .and(&waves.breaking)
-            .and(&surface.slope_x)
-            .and(&surface.slope_y)
-            .par_for_each(|out, &m, &mb, &sx, &sy| *out = background.sigma0(m, mb, psi_of(sx, sy))),
-        Some(winds) => {
-            let table = WindTable::new(config, scene, band, winds);
-            ndarray::Zip::from(&mut sigma0)
+    SarScene::new(config, scene).render(band)
+}
+
+/// A scene as the SAR sees it in every band: the bands share the long waves' line-of-sight
+/// velocity for velocity bunching.
+pub type SarScene<'a> = crate::SensorScene<'a, Array2<f64>>;
+
+impl SarScene<'_> {
+    /// One band's image.
+    pub fn render(&self, band: RadarBand) -> SarImage {
+        let (config, scene) = (self.config, self.scene);
+        let radar = radar_sea(config, scene, band);
+        let theta = config.platform.incidence.to_radians();
+        let background = Background::of(&radar, theta);
+        let Sigma0Parts {
+            bragg,
+            specular,
+            breaking,
+            fraction: q,
+        } = background.at;
+        let waves = scene
+            .bragg
+            .iter()
+            .find(|b| b.band == band)
+            .expect("the surface stage covers every band");
+        // the horizontal look direction in the image (east, north)
+        let (look_e, look_n) = scene.grid.scene_frame(radar.look.cos(), radar.look.sin());
+        let surface = &scene.surface;
+        let psi_of = |sx: f64, sy: f64| {
+            // slope rising towards the radar: minus the gradient along the look direction
+            (-(sx * look_e + sy * look_n)).atan()
+        };
+        let mut sigma0 = Array2::zeros(waves.modulation.raw_dim());
+        match &scene.wind_speed {
+            None => ndarray::Zip::from(&mut sigma0)
                 .and(&waves.modulation)
                 .and(&waves.breaking)
                 .and(&surface.slope_x)
                 .and(&surface.slope_y)
-                .and(winds)
-                .par_for_each(|out, &m, &mb, &sx, &sy, &w| *out = table.at(w).sigma0(m, mb, psi_of(sx, sy)))
+                .par_for_each(|out, &m, &mb, &sx, &sy| *out = background.sigma0(m, mb, psi_of(sx, sy))),
+            Some(winds) => {
+                let table = WindTable::new(config, scene, band, winds);
+                ndarray::Zip::from(&mut sigma0)
+                    .and(&waves.modulation)
+                    .and(&waves.breaking)
+                    .and(&surface.slope_x)
+                    .and(&surface.slope_y)
+                    .and(winds)
+                    .par_for_each(|out, &m, &mb, &sx, &sy, &w| *out = table.at(w).sigma0(m, mb, psi_of(sx, sy)))
+            }
         }
-    }
-    let sar = &config.sar;
-    if sar.velocity_bunching {
-        sigma0 = velocity_bunching(config, scene, &sigma0);
-    }
-    if sar.looks > 0 || sar.noise_floor {
-        let formation = SarFormation {
-            looks: sar.looks,
-            resolution_pixels: sar.resolution_pixels(scene.grid.pixel_spacing),
-            nesz: if sar.noise_floor {
-                10f64.powf(sar.nesz_db(band) / 10.0)
-            } else {
-                0.0
+        let sar = &config.sar;
+        if sar.velocity_bunching {
+            let v = self.shared.get_or_init(|| line_of_sight_velocity(config, scene));
+            sigma0 = velocity_bunching(config, &scene.grid, v, &sigma0);
+        }
+        if sar.looks > 0 || sar.noise_floor {
+            let formation = SarFormation {
+                looks: sar.looks,
+                resolution_pixels: sar.resolution_pixels(scene.grid.pixel_spacing),
+                nesz: if sar.noise_floor {
+                    10f64.powf(sar.nesz_db(band) / 10.0)
+                } else {
+                    0.0
+                },
+            };
+            sigma0 = form_sar_image(&sigma0, formation, config.seed ^ (0x5A5A_0000 + band as u64));
+        }
+        let eps: Complex64 = radar.permittivity;
+        SarImage {
+            band,
+            sigma0,
+            info: SarInfo {
+                band: band.name(),
+                frequency_hz: band.frequency(),
+                polarisation: format!("{:?}", sar.polarisation).to_uppercase(),
+                incidence_deg: config.platform.incidence,
+                look_direction_deg: config.platform.look_direction,
+                permittivity_real: eps.re,
+                permittivity_imag: eps.im,
+                background_bragg: bragg,
+                background_specular: specular,
+                background_breaking: breaking,
+                breaking_fraction: q,
+                looks: sar.looks,
+                nesz_db: sar.noise_floor.then_some(sar.nesz_db(band)),
+                range_to_velocity_s: sar.velocity_bunching.then_some(sar.range_to_velocity),
             },
-        };
-        sigma0 = form_sar_image(&sigma0, formation, config.seed ^ (0x5A5A_0000 + band as u64));
-    }
-    let eps: Complex64 = radar.permittivity;
-    SarImage {
-        band,
-        sigma0,
-        info: SarInfo {
-            band: band.name(),
-            frequency_hz: band.frequency(),
-            polarisation: format!("{:?}", sar.polarisation).to_uppercase(),
-            incidence_deg: config.platform.incidence,
-            look_direction_deg: config.platform.look_direction,
-            permittivity_real: eps.re,
-            permittivity_imag: eps.im,
-            background_bragg: bragg,
-            background_specular: specular,
-            background_breaking: breaking,
-            breaking_fraction: q,
-            looks: sar.looks,
-            nesz_db: sar.noise_floor.then_some(sar.nesz_db(band)),
-            range_to_velocity_s: sar.velocity_bunching.then_some(sar.range_to_velocity),
-        },
+        }
     }
 }
 
+/// The long waves' line-of-sight velocity (m/s, away from the radar) on the scene, from its
+/// elevation by linear wave theory (see [`crate::spectral::line_of_sight_velocity`]).
+fn line_of_sight_velocity(config: &WakelabConfig, scene: &SurfaceScene) -> Array2<f64> {
+    crate::spectral::line_of_sight_velocity(
+        &scene.surface.elevation,
+        &scene.grid,
+        config.platform.incidence.to_radians(),
+        config.platform.look_direction.to_radians(),
+        config.environment.wind.direction.to_radians(),
+        |k| angular_frequency(k, scene.spectrum.gravity, scene.spectrum.tension),
+    )
+}
+
 /// Velocity bunching (Alpers & Rufenach 1979): each scatterer appears shifted in azimuth by
-/// (R/V) v_r, v_r its line-of-sight orbital velocity. v_r comes from the scene's long-wave
-/// elevation by linear wave theory, each Fourier component taken to travel down-wind; the
-/// intensity is moved with bilinear weights, so the image's total is conserved.
-pub fn velocity_bunching(config: &WakelabConfig, scene: &SurfaceScene, sigma0: &Array2<f64>) -> Array2<f64> {
+/// (R/V) v_r, v_r its line-of-sight orbital velocity `v`; the intensity is moved with bilinear
+/// weights, so the image's total is conserved.
+pub fn velocity_bunching(
+    config: &WakelabConfig,
+    grid: &SceneGrid,
+    v: &Array2<f64>,
+    sigma0: &Array2<f64>,
+) -> Array2<f64> {
     let n = sigma0.nrows();
-    let dx = scene.grid.pixel_spacing;
-    let theta = config.platform.incidence.to_radians();
+    let dx = grid.pixel_spacing;
     let look = config.platform.look_direction.to_radians();
-    let wind = config.environment.wind.direction.to_radians();
-    let grid = &scene.grid;
-    let v =
-        crate::spectral::line_of_sight_velocity(&scene.surface.elevation, dx, grid.heading, theta, look, wind, |k| {
-            angular_frequency(k, scene.spectrum.gravity, scene.spectrum.tension)
-        });
     // azimuth (flight) direction: the look direction turned by +90 degrees, in the image
     let azimuth = look + std::f64::consts::FRAC_PI_2;
     let (az_e, az_n) = grid.scene_frame(azimuth.cos(), azimuth.sin());
     let rv = config.sar.range_to_velocity;
-    // the source rows in a fixed number of bands, each moved into its own image in parallel,
-    // the images then added in order: the same bytes however the threads run
-    const BANDS: usize = 4;
-    let band_rows = n.div_ceil(BANDS);
-    let parts: Vec<Array2<f64>> = (0..BANDS)
+    // where each source pixel lands: column and row, fractional
+    let target = |r: usize, c: usize| {
+        let shift = rv * v[[r, c]];
+        (r as f64 - az_n * shift / dx, c as f64 + az_e * shift / dx)
+    };
+    // how many rows any pixel moves at most: a band of output rows gathers from its own rows
+    // and that many beyond each edge (the result does not depend on the bands' height)
+    let reach = v.iter().fold(0.0f64, |m, &x| m.max((az_n * rv * x / dx).abs())).ceil() as usize + 1;
+    // bands several reaches high, so that few rows are visited twice, and enough of them to share
+    let band_rows = (4 * reach).max(n / 16).max(1);
+    let mut out = Array2::zeros((n, n));
+    // output rows in bands, in parallel; each pixel receives its sources in row-major order, as
+    // a serial scatter would, so the bytes do not depend on the threads
+    out.axis_chunks_iter_mut(ndarray::Axis(0), band_rows)
         .into_par_iter()
-        .map(|b| {
-            let mut out = Array2::zeros((n, n));
-            for r in (b * band_rows)..((b + 1) * band_rows).min(n) {
+        .enumerate()
+        .for_each(|(band, mut rows)| {
+            let first = band * band_rows;
+            let last = first + rows.nrows();
+            for r in first.saturating_sub(reach)..(last + reach).min(n) {
                 for c in 0..n {
-                    let shift = rv * v[[r, c]];
-                    let col = c as f64 + az_e * shift / dx;
-                    let row = r as f64 - az_n * shift / dx;
-                    let (c0, r0) = (col.floor(), row.floor());
-                    let (fc, fr) = (col - c0, row - r0);
+                    let (row, col) = target(r, c);
+                    let (r0, c0) = (row.floor(), col.floor());
+                    let (fr, fc) = (row - r0, col - c0);
                     for (dr, wr) in [(0.0, 1.0 - fr), (1.0, fr)] {
+                        let rr = r0 + dr;
+                        if rr < first as f64 || rr >= last as f64 {
+                            continue;
+                        }
                         for (dc, wc) in [(0.0, 1.0 - fc), (1.0, fc)] {
-                            let (rr, cc) = (r0 + dr, c0 + dc);
-                            if rr >= 0.0 && cc >= 0.0 && (rr as usize) < n && (cc as usize) < n {
-                                out[[rr as usize, cc as usize]] += sigma0[[r, c]] * wr * wc;
+                            let cc = c0 + dc;
+                            if cc >= 0.0 && (cc as usize) < n {
+                                rows[[rr as usize - first, cc as usize]] += sigma0[[r, c]] * wr * wc;
                             }
                         }
                     }
                 }
             }
-            out
-        })
-        .collect();
-    let mut out = Array2::zeros((n, n));
-    for part in &parts {
-        out += part;
-    }
+        });
     out
 }
 

@@ -23,12 +23,14 @@ pub fn render_scene(cfg: &WakelabConfig, map: &wakelab_hydro::SurfaceMap, dir: &
     let mut files = wakelab_surface::output::write_surface_scene(dir, cfg, &scene)?;
     let surface_seconds = start.elapsed().as_secs_f64();
     let start = Instant::now();
+    let radar = wakelab_sensors::SarScene::new(cfg, &scene);
     for band in RadarBand::ALL {
-        let image = wakelab_sensors::render_sar(cfg, &scene, band);
+        let image = radar.render(band);
         files.extend(wakelab_sensors::output::write_sar(dir, cfg, &scene.grid, &image)?);
     }
+    let infrared = wakelab_sensors::IrScene::new(cfg, &scene);
     for band in wakelab_sensors::IrBand::ALL {
-        let image = wakelab_sensors::render_ir(cfg, &scene, band);
+        let image = infrared.render(band);
         files.extend(wakelab_sensors::output::write_ir(dir, cfg, &scene.grid, &image)?);
     }
     Ok(RenderedScene {

@@ -104,18 +104,34 @@ pub fn modulate_short_waves(
     wake: &WakeDamping,
     ship_speed: f64,
 ) -> Vec<f64> {
+    let damping = extra_damping(map, gamma, relaxation.k.magnitude(), sea, wake);
+    relax_short_waves(map, &damping, relaxation, ship_speed)
+}
+
+/// The wake's extra damping (1/s) of waves of wavenumber `k` on every cell of the surface map
+/// (row-major like its fields), in parallel: the same for every wave vector of that length.
+pub fn extra_damping(
+    map: &SurfaceMap,
+    gamma: &SurfactantField,
+    k: f64,
+    sea: &SeaSpectrum,
+    wake: &WakeDamping,
+) -> Vec<f64> {
+    let eps = map.field(SliceField::Eps);
+    let at_k = wake.at(k, sea.tension, sea.gravity);
+    gamma
+        .gamma
+        .par_iter()
+        .zip(eps.par_iter())
+        .map(|(&g, &e)| at_k.extra(g, e as f64))
+        .collect()
+}
+
+/// r = N / N_0 on the rows and columns of the surface map for one wave vector, under the wake's
+/// extra damping `damping` on each cell (from [`extra_damping`]).
+pub fn relax_short_waves(map: &SurfaceMap, damping: &[f64], relaxation: &Relaxation, ship_speed: f64) -> Vec<f64> {
     let (rows, cols) = (map.x.len(), map.y.len());
-    let (u, v, eps) = (
-        map.field(SliceField::U),
-        map.field(SliceField::V),
-        map.field(SliceField::Eps),
-    );
-    let at_k = wake.at(relaxation.k.magnitude(), sea.tension, sea.gravity);
-    // the wake's extra damping everywhere on the map (the expensive part), in parallel
-    let damping: Vec<f64> = (0..rows * cols)
-        .into_par_iter()
-        .map(|i| at_k.extra(gamma.gamma[i], eps[i] as f64))
-        .collect();
+    let (u, v) = (map.field(SliceField::U), map.field(SliceField::V));
     let y = &map.y;
     let dy_min = y.windows(2).map(|w| w[1] - w[0]).fold(f64::INFINITY, f64::min);
     let at = |f: &[f32], r: usize, j: usize| f[r * cols + j] as f64;

@@ -59,7 +59,12 @@ pub fn viscous_damping(k: f64) -> f64 {
 /// own scale, nu_k = C eps^{1/3} k^{-4/3}, C = 0.4 (the Kolmogorov-scaling spectral eddy
 /// viscosity; Heisenberg 1948, Kraichnan 1976): only eddies the size of the wave damp it.
 pub fn turbulent_damping(k: f64, dissipation: f64) -> f64 {
-    4.0 * 0.4 * dissipation.max(0.0).cbrt() * k.powf(2.0 / 3.0)
+    turbulent_coefficient(k) * dissipation.max(0.0).cbrt()
+}
+
+/// gamma_t / eps^{1/3} at wavenumber k: 4 C k^{2/3} (see [`turbulent_damping`]).
+fn turbulent_coefficient(k: f64) -> f64 {
+    4.0 * 0.4 * k.powf(2.0 / 3.0)
 }
 
 /// Dissipation of the wind-driven surface layer at depth z (m): the law of the wall
@@ -99,6 +104,7 @@ impl WakeDamping {
             gravity,
             ambient_film: film_damping(k, self.film.elasticity(1.0), self.film.pressure(1.0), tension, gravity),
             ambient_turbulence: turbulent_damping(k, self.ambient_dissipation),
+            turbulence_coefficient: turbulent_coefficient(k),
         }
     }
 }
@@ -112,6 +118,7 @@ pub struct WakeDampingAt {
     gravity: f64,
     ambient_film: f64,
     ambient_turbulence: f64,
+    turbulence_coefficient: f64,
 }
 
 impl WakeDampingAt {
@@ -132,7 +139,7 @@ impl WakeDampingAt {
         };
         let excess = (dissipation - w.model_ambient_dissipation).max(0.0);
         let turbulence = if excess > 0.0 {
-            turbulent_damping(self.k, w.ambient_dissipation + excess)
+            self.turbulence_coefficient * (w.ambient_dissipation + excess).cbrt()
         } else {
             self.ambient_turbulence
         };

@@ -19,7 +19,7 @@ pub mod spectrum_report;
 pub mod surfactant;
 pub mod synthesis;
 
-use action::{modulate_short_waves, Relaxation, WaveVector};
+use action::{extra_damping, relax_short_waves, Relaxation, WaveVector};
 use film::Film;
 use film::WakeDamping;
 use ndarray::Array2;
@@ -131,23 +131,34 @@ pub fn simulate_surface(config: &WakelabConfig, map: Option<&SurfaceMap>) -> Sur
     let short_waves = ShortWaves::new(&spectrum);
     let wake_damping = wake_damping(config, &spectrum);
     let speed = config.ship.speed;
-    let surface = synthesise_surface(
-        &spectrum,
-        n,
-        grid.pixel_spacing,
-        grid.heading,
-        config.sea.window,
-        config.seed,
-    );
     let wind = &config.environment.wind;
-    let slicks = natural::natural_slicks(
-        &grid,
-        &config.slicks,
-        config.sea.film_elasticity,
-        wind.direction,
-        config.seed,
+    // the sea and the natural fields are independent draws: made side by side
+    let (surface, (slicks, wind_speed)) = rayon::join(
+        || {
+            synthesise_surface(
+                &spectrum,
+                n,
+                grid.pixel_spacing,
+                grid.heading,
+                config.sea.window,
+                config.seed,
+            )
+        },
+        || {
+            rayon::join(
+                || {
+                    natural::natural_slicks(
+                        &grid,
+                        &config.slicks,
+                        config.sea.film_elasticity,
+                        wind.direction,
+                        config.seed,
+                    )
+                },
+                || natural::local_wind(&grid, wind, config.seed),
+            )
+        },
     );
-    let wind_speed = natural::local_wind(&grid, wind, config.seed);
     // the slicks' film damping over the open sea's (Eq. (2.69)) at a wavenumber, on the scene
     let slick_damping = |k: f64| {
         slicks.as_ref().map(|s| {
@@ -164,7 +175,7 @@ pub fn simulate_surface(config: &WakelabConfig, map: Option<&SurfaceMap>) -> Sur
                 )
             };
             let open_sea = film_of(config.sea.film_elasticity);
-            s.elasticity.mapv(|e| {
+            ndarray::Zip::from(&s.elasticity).par_map_collect(|&e| {
                 if e == config.sea.film_elasticity {
                     0.0
                 } else {
@@ -183,18 +194,26 @@ pub fn simulate_surface(config: &WakelabConfig, map: Option<&SurfaceMap>) -> Sur
             let breakers = breaking_vector(&spectrum, band);
             let relax = |k: WaveVector| Relaxation::new(k, &spectrum, &short_waves);
             let (rel_t, rel_a, rel_b) = (relax(towards), relax(away), relax(breakers));
-            // the wake's N/N0 of each wave vector on the scene
-            let wake = |rel: &Relaxation| match (&map, &gamma) {
-                (Some(map), Some(gamma)) => to_scene(
-                    &grid,
-                    map,
-                    &modulate_short_waves(map, gamma, rel, &spectrum, &wake_damping, speed),
-                    1.0,
-                ),
-                _ => ones(),
+            // the wake's extra damping at the Bragg and the breakers' wavenumbers (both Bragg
+            // vectors share one), then N/N0 of each wave vector on the scene
+            let damping = |k: f64| match (&map, &gamma) {
+                (Some(map), Some(gamma)) => Some((map, extra_damping(map, gamma, k, &spectrum, &wake_damping))),
+                _ => None,
             };
-            let ((r_t, r_a), r_b) = rayon::join(|| rayon::join(|| wake(&rel_t), || wake(&rel_a)), || wake(&rel_b));
-            let (d_bragg, d_breaking) = (slick_damping(towards.magnitude()), slick_damping(breakers.magnitude()));
+            let (at_bragg, at_breaking) =
+                rayon::join(|| damping(towards.magnitude()), || damping(breakers.magnitude()));
+            let wake = |rel: &Relaxation, damping: &Option<(&SurfaceMap, Vec<f64>)>| match damping {
+                Some((map, d)) => to_scene(&grid, map, &relax_short_waves(map, d, rel, speed), 1.0),
+                None => ones(),
+            };
+            let ((r_t, r_a), r_b) = rayon::join(
+                || rayon::join(|| wake(&rel_t, &at_bragg), || wake(&rel_a, &at_bragg)),
+                || wake(&rel_b, &at_breaking),
+            );
+            let (d_bragg, d_breaking) = rayon::join(
+                || slick_damping(towards.magnitude()),
+                || slick_damping(breakers.magnitude()),
+            );
             let r_t = with_slicks(r_t, d_bragg.as_ref(), rel_t.rate);
             let r_a = with_slicks(r_a, d_bragg.as_ref(), rel_a.rate);
             let (f_t, f_a) = (

@@ -39,31 +39,37 @@ pub const MIN_LOCAL_WIND: f64 = 0.5;
 
 /// A unit-variance Gaussian random field on the scene with correlation lengths `along` and
 /// `across` a direction (heading-frame angle `direction`, radians from the heading).
+///
+/// The transform of white noise is white noise: the field is the real part of one inverse
+/// transform of circular complex Gaussian noise W (E|W|^2 = 1) times the filter, whose
+/// real part has half the filtered power. Noise is drawn, in a fixed order, only in the bins
+/// where the filter exceeds e^-20 of its peak (those beyond add less than 1e-9 of the field).
 pub fn gaussian_field(grid: &SceneGrid, along: f64, across: f64, direction: f64, seed: u64) -> Array2<f64> {
     let n = grid.size();
     let mut rng = ChaCha8Rng::seed_from_u64(seed);
-    let mut data: Vec<Complex64> = (0..n * n)
-        .map(|_| Complex64::new(StandardNormal.sample(&mut rng), 0.0))
-        .collect();
-    fft_2d(&mut data, n, false);
     let (we, wn) = grid.scene_frame(direction.cos(), direction.sin());
     let dk = 2.0 * std::f64::consts::PI / (n as f64 * grid.pixel_spacing);
     let freq = |i: usize| signed_frequency(i, n);
+    let mut data = vec![Complex64::new(0.0, 0.0); n * n];
     let mut power = 0.0;
     for a in 0..n {
         for b in 0..n {
             let (k_east, k_north) = (freq(b) * dk, -freq(a) * dk);
             let k_along = k_east * we + k_north * wn;
             let k_across = -k_east * wn + k_north * we;
-            let spectrum = (-0.5 * ((k_along * along).powi(2) + (k_across * across).powi(2))).exp();
-            power += spectrum;
-            data[a * n + b] *= spectrum.sqrt();
+            // the power spectrum exp(-q / 2); its square root filters the noise
+            let q = (k_along * along).powi(2) + (k_across * across).powi(2);
+            if q < 80.0 {
+                let spectrum = (-0.5 * q).exp();
+                power += spectrum;
+                let (re, im): (f64, f64) = (StandardNormal.sample(&mut rng), StandardNormal.sample(&mut rng));
+                data[a * n + b] = Complex64::new(re, im) * (0.5 * spectrum).sqrt();
+            }
         }
     }
     fft_2d(&mut data, n, true);
-    // white noise of unit variance through the filter has variance power / n^2; the two
-    // unnormalised transforms scale by n^2
-    let scale = 1.0 / ((n * n) as f64 * (power / (n * n) as f64).sqrt());
+    // Re of sum W s_k e^{ikx} has variance sum s_k^2 / 2 = power / 2
+    let scale = 1.0 / (0.5 * power).sqrt();
     Array2::from_shape_fn((n, n), |(r, c)| data[r * n + c].re * scale)
 }
 

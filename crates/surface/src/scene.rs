@@ -14,6 +14,7 @@
 //! port), which [`SceneGrid::heading_frame`] and [`SceneGrid::scene_frame`] connect to the image.
 
 use ndarray::Array2;
+use rayon::prelude::*;
 use wakelab_core::config::SceneConfig;
 pub use wakelab_core::grid::WakeGeometry;
 
@@ -27,6 +28,8 @@ pub struct SceneGrid {
     pub pixel_spacing: f64,
     /// The ship's course in the image (radians clockwise from up).
     pub heading: f64,
+    /// sin and cos of the heading, computed once: every pixel's frame change uses them.
+    rotation: (f64, f64),
 }
 
 impl SceneGrid {
@@ -42,6 +45,7 @@ impl SceneGrid {
             y: (0..n).map(|i| n0 + (half - i as f64 - 0.5) * d).collect(),
             pixel_spacing: d,
             heading,
+            rotation: heading.sin_cos(),
         }
     }
 
@@ -51,12 +55,18 @@ impl SceneGrid {
 
     /// A scene-frame vector (east, north) in the heading frame (forward, port).
     pub fn heading_frame(&self, east: f64, north: f64) -> (f64, f64) {
-        scene_to_heading(self.heading, east, north)
+        rotate_to_heading(self.rotation, east, north)
     }
 
     /// A heading-frame vector (forward, port) in the scene frame (east, north).
     pub fn scene_frame(&self, forward: f64, port: f64) -> (f64, f64) {
-        heading_to_scene(self.heading, forward, port)
+        rotate_to_scene(self.rotation, forward, port)
+    }
+
+    /// A pixel-grid wavenumber (k_col along the columns, eastward; k_row along the rows,
+    /// southward) in the heading frame: [`heading_frame_wavenumber`] for this scene.
+    pub fn heading_frame_wavenumber(&self, k_col: f64, k_row: f64) -> (f64, f64) {
+        rotate_to_heading(self.rotation, k_col, -k_row)
     }
 
     /// A pixel's track-frame position: (m behind the stern, m to port).
@@ -119,12 +129,20 @@ pub fn heading_frame_wavenumber(k_col: f64, k_row: f64, heading: f64) -> (f64, f
 /// A scene-frame vector (east, north) in the heading frame (forward, port): the inverse of
 /// [`heading_to_scene`].
 fn scene_to_heading(heading: f64, east: f64, north: f64) -> (f64, f64) {
-    let (s, c) = heading.sin_cos();
-    (east * s + north * c, -east * c + north * s)
+    rotate_to_heading(heading.sin_cos(), east, north)
 }
 
 fn heading_to_scene(heading: f64, forward: f64, port: f64) -> (f64, f64) {
-    let (s, c) = heading.sin_cos();
+    rotate_to_scene(heading.sin_cos(), forward, port)
+}
+
+/// [`scene_to_heading`] with the heading's (sin, cos) given.
+fn rotate_to_heading((s, c): (f64, f64), east: f64, north: f64) -> (f64, f64) {
+    (east * s + north * c, -east * c + north * s)
+}
+
+/// [`heading_to_scene`] with the heading's (sin, cos) given.
+fn rotate_to_scene((s, c): (f64, f64), forward: f64, port: f64) -> (f64, f64) {
     (forward * s - port * c, forward * c + port * s)
 }
 
@@ -135,34 +153,63 @@ pub struct MapField<'a> {
     pub values: &'a [f64],
 }
 
-/// Fractional index of `v` in the uniform axis `axis`, or None outside it.
-fn locate(axis: &[f64], v: f64) -> Option<(usize, f64)> {
-    let n = axis.len();
-    if n < 2 {
-        return None;
+/// A uniform axis: its first value and the inverse of its step.
+struct UniformAxis {
+    start: f64,
+    per_step: f64,
+    last: usize,
+}
+
+impl UniformAxis {
+    fn new(axis: &[f64]) -> Option<Self> {
+        let n = axis.len();
+        (n >= 2).then(|| Self {
+            start: axis[0],
+            per_step: (n - 1) as f64 / (axis[n - 1] - axis[0]),
+            last: n - 1,
+        })
     }
-    let step = (axis[n - 1] - axis[0]) / (n - 1) as f64;
-    let t = (v - axis[0]) / step;
-    if t < 0.0 || t > (n - 1) as f64 {
-        return None;
+
+    /// Fractional index of `v`: the cell and the weight of its upper node; None outside.
+    fn locate(&self, v: f64) -> Option<(usize, f64)> {
+        let t = (v - self.start) * self.per_step;
+        if !(0.0..=self.last as f64).contains(&t) {
+            return None;
+        }
+        let i = (t as usize).min(self.last - 1);
+        Some((i, t - i as f64))
     }
-    let i = (t.floor() as usize).min(n - 2);
-    Some((i, t - i as f64))
 }
 
 /// Resample `field` (track frame) onto the scene at each pixel's track-frame position; `ambient`
-/// outside the map. Result is (rows, cols).
+/// outside the map. Result is (rows, cols); rows in parallel.
 pub fn resample(scene: &SceneGrid, field: &MapField, ambient: f64) -> Array2<f64> {
     let n = scene.size();
     let cols = field.y.len();
-    Array2::from_shape_fn((n, n), |(r, c)| {
-        let (behind, port) = scene.track_position(r, c);
-        let (Some((i, fx)), Some((j, fy))) = (locate(field.x, behind), locate(field.y, port)) else {
-            return ambient;
-        };
-        let v = |ii: usize, jj: usize| field.values[ii * cols + jj];
-        (1.0 - fx) * ((1.0 - fy) * v(i, j) + fy * v(i, j + 1)) + fx * ((1.0 - fy) * v(i + 1, j) + fy * v(i + 1, j + 1))
-    })
+    let mut out = Array2::from_elem((n, n), ambient);
+    let (Some(ax), Some(ay)) = (UniformAxis::new(field.x), UniformAxis::new(field.y)) else {
+        return out;
+    };
+    // a pixel's track position is affine in its column: one step east moves it by
+    // (-d forward, d port) in the heading frame
+    let (step_forward, step_port) = scene.heading_frame(scene.pixel_spacing, 0.0);
+    out.axis_iter_mut(ndarray::Axis(0))
+        .into_par_iter()
+        .enumerate()
+        .for_each(|(r, mut row)| {
+            let (behind0, port0) = scene.track_position(r, 0);
+            for (c, out) in row.iter_mut().enumerate() {
+                let behind = behind0 - c as f64 * step_forward;
+                let port = port0 + c as f64 * step_port;
+                let (Some((i, fx)), Some((j, fy))) = (ax.locate(behind), ay.locate(port)) else {
+                    continue;
+                };
+                let v = |ii: usize, jj: usize| field.values[ii * cols + jj];
+                *out = (1.0 - fx) * ((1.0 - fy) * v(i, j) + fy * v(i, j + 1))
+                    + fx * ((1.0 - fy) * v(i + 1, j) + fy * v(i + 1, j + 1));
+            }
+        });
+    out
 }
 
 #[cfg(test)]

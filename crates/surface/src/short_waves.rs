@@ -138,11 +138,12 @@ impl ShortWaves {
         for i in 0..n {
             let kk = k_lo * ((i as f64 + 0.5) * step).exp();
             let c = self.phase_speed(kk);
+            let spectrum = sea.ring(kk);
             for a in 0..angles {
                 let phi = self.wind_direction + (a as f64 + 0.5) * dphi;
                 let beta = self.wind_growth(kk, phi);
                 if beta > 0.0 {
-                    let b = kk.powi(4) * sea.directional(kk * phi.cos(), kk * phi.sin());
+                    let b = kk.powi(4) * spectrum.at(phi);
                     sum += c * beta * b * step * dphi;
                 }
             }
@@ -214,7 +215,14 @@ impl ShortWaves {
     /// Net growth per radian of phase, beta_v = beta(k, phi) - 4 nu k^2 / omega (KHCC03 Eq. 17):
     /// the wind's input less viscous decay.
     pub fn net_growth(&self, k: f64, direction: f64) -> f64 {
-        self.net_growth_of(&self.scale(k), direction)
+        self.net_growth_at(k)(direction)
+    }
+
+    /// [`Self::net_growth`] at one wavenumber as a function of direction, its k-dependent
+    /// parts worked out once (for sweeps over direction).
+    pub fn net_growth_at(&self, k: f64) -> impl Fn(f64) -> f64 + '_ {
+        let s = self.scale(k);
+        move |direction| self.net_growth_of(&s, direction)
     }
 
     fn net_growth_of(&self, s: &Scale, direction: f64) -> f64 {

@@ -169,6 +169,11 @@ impl SeaSpectrum {
     /// models (a centro-symmetric spread; Elfouhaily et al. 1997, Eqs. 49, 57), with the
     /// short-wave coefficient a_m raised by [`SHORT_WAVE_SPREADING_GAIN`].
     pub fn spreading(&self, k: f64, phi: f64) -> f64 {
+        (1.0 + self.spreading_contrast(k) * (2.0 * (phi - self.wind_direction)).cos()) / (2.0 * PI)
+    }
+
+    /// Delta(k) of the spreading (Elfouhaily et al. 1997, Eq. 57).
+    fn spreading_contrast(&self, k: f64) -> f64 {
         let g = self.gravity;
         let cm = 0.23;
         let km = 370.0;
@@ -178,8 +183,7 @@ impl SeaSpectrum {
         let a0 = 2f64.ln() / 4.0;
         let ap = 4.0;
         let am = SHORT_WAVE_SPREADING_GAIN * 0.13 * self.friction_velocity() / cm;
-        let delta = (a0 + ap * (c / cp).powf(2.5) + am * (cm / c).powf(2.5)).tanh();
-        (1.0 + delta * (2.0 * (phi - self.wind_direction)).cos()) / (2.0 * PI)
+        (a0 + ap * (c / cp).powf(2.5) + am * (cm / c).powf(2.5)).tanh()
     }
 
     /// Two-sided 2D elevation spectrum F(kx, ky) (m^4): wind sea plus swell.
@@ -188,17 +192,19 @@ impl SeaSpectrum {
         if k <= 0.0 {
             return 0.0;
         }
-        let phi = ky.atan2(kx);
-        let mut f = self.wind_omni(k) * self.spreading(k, phi) / k;
-        if let Some(s) = self.swell {
-            // Gaussian in k and in direction about the swell's own (one-sided) direction
-            let sk = s.width * s.k;
-            let dphi = (phi - s.direction + PI).rem_euclid(2.0 * PI) - PI;
-            let radial = (-(k - s.k).powi(2) / (2.0 * sk * sk)).exp() / ((2.0 * PI).sqrt() * sk);
-            let angular = (-dphi * dphi / (2.0 * s.spread * s.spread)).exp() / ((2.0 * PI).sqrt() * s.spread);
-            f += s.m0 * radial * angular / k;
+        self.ring(k).at(ky.atan2(kx))
+    }
+
+    /// The spectrum on the circle of wavenumber k: its parts that depend on k alone worked out
+    /// once, for the quadratures that sweep the directions of each k.
+    pub fn ring(&self, k: f64) -> Ring<'_> {
+        let positive = k > 0.0;
+        Ring {
+            sea: self,
+            k,
+            omni_per_k: if positive { self.wind_omni(k) / k } else { 0.0 },
+            contrast: if positive { self.spreading_contrast(k) } else { 0.0 },
         }
-        f
     }
 
     /// Wave action spectral density N = rho omega F / k, up to the constant rho (Eq. (2.67)).
@@ -221,9 +227,10 @@ impl SeaSpectrum {
             let dk = k * step;
             let mut ring = 0.0;
             let (mut ring_up, mut ring_cross) = (0.0, 0.0);
+            let spectrum = self.ring(k);
             for a in 0..angles {
                 let phi = (a as f64 + 0.5) * 2.0 * PI / angles as f64;
-                let f = self.directional(k * phi.cos(), k * phi.sin()) * k * 2.0 * PI / angles as f64;
+                let f = spectrum.at(phi) * k * 2.0 * PI / angles as f64;
                 ring += f;
                 let rel = phi - self.wind_direction;
                 ring_up += f * k * k * rel.cos().powi(2);
@@ -264,6 +271,42 @@ pub struct SpectrumSummary {
     pub mss_crosswind: f64,
     /// Largest wavenumber in the slope integrals (rad/m).
     pub slope_cutoff_wavenumber: f64,
+}
+
+/// [`SeaSpectrum::directional`] on one circle |k| = k (see [`SeaSpectrum::ring`]).
+pub struct Ring<'a> {
+    sea: &'a SeaSpectrum,
+    k: f64,
+    omni_per_k: f64,
+    contrast: f64,
+}
+
+impl Ring<'_> {
+    /// F(k cos phi, k sin phi) (m^4): the wind sea Psi(k) D(k, phi) / k, plus the swell.
+    pub fn at(&self, phi: f64) -> f64 {
+        self.at_with(phi, (2.0 * (phi - self.sea.wind_direction)).cos())
+    }
+
+    /// [`Self::at`] with cos 2 (phi - phi_w) given, for sweeps over the same directions at
+    /// every k.
+    pub fn at_with(&self, phi: f64, cos_twice_from_wind: f64) -> f64 {
+        if self.k <= 0.0 {
+            return 0.0;
+        }
+        let sea = self.sea;
+        let spreading = (1.0 + self.contrast * cos_twice_from_wind) / (2.0 * PI);
+        let mut f = self.omni_per_k * spreading;
+        if let Some(s) = sea.swell {
+            // Gaussian in k and in direction about the swell's own (one-sided) direction
+            let k = self.k;
+            let sk = s.width * s.k;
+            let dphi = (phi - s.direction + PI).rem_euclid(2.0 * PI) - PI;
+            let radial = (-(k - s.k).powi(2) / (2.0 * sk * sk)).exp() / ((2.0 * PI).sqrt() * sk);
+            let angular = (-dphi * dphi / (2.0 * s.spread * s.spread)).exp() / ((2.0 * PI).sqrt() * s.spread);
+            f += s.m0 * radial * angular / k;
+        }
+        f
+    }
 }
 
 #[cfg(test)]

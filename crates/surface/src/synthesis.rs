@@ -10,6 +10,9 @@
 //! Re(.) halving the variance, so the factor sqrt(6) (over the spec's 2 pi sqrt(S / (L_x L_y)) =
 //! sqrt(F dk_x dk_y)) makes the surface's variance equal the spectrum's m0 over the resolved band.
 //! Slopes come from the same amplitudes times i k (the window's own gradient is neglected).
+//! Taking the real part equals transforming the amplitudes' Hermitian part, whose transform is
+//! real: so two real fields share one complex transform (elevation and east slope), and each
+//! window needs two transforms for its three fields.
 //! Each window draws from a ChaCha8 stream seeded by (seed, window index): the same seed gives the
 //! same surface, bit for bit, in any thread order.
 
@@ -72,67 +75,85 @@ pub fn synthesise_surface(
         }
     }
     let fft = FftPlanner::new().plan_fft_inverse(m);
-    let windows: Vec<(usize, isize, isize)> = starts
-        .iter()
-        .flat_map(|&r0| starts.iter().map(move |&c0| (r0, c0)))
-        .enumerate()
-        .map(|(i, (r0, c0))| (i, r0, c0))
-        .collect();
     let window_weight: Vec<f64> = (0..m).map(|i| root_hann(i, m)).collect();
-    // each window's three fields, computed in parallel, then added in a fixed order
-    let patches: Vec<[Vec<f64>; 3]> = windows
-        .par_iter()
-        .map(|&(index, _, _)| {
-            let mut rng = ChaCha8Rng::seed_from_u64(seed ^ (index as u64).wrapping_mul(0x9E37_79B9_7F4A_7C15));
-            let mut fields = [
-                vec![Complex64::new(0.0, 0.0); m * m],
-                vec![Complex64::new(0.0, 0.0); m * m],
-                vec![Complex64::new(0.0, 0.0); m * m],
-            ];
-            for a in 0..m {
-                for b in 0..m {
-                    let r: f64 = rng.random_range(-1.0..=1.0);
-                    let psi: f64 = rng.random_range(0.0..2.0 * PI);
-                    let amp = Complex64::from_polar(scale[a * m + b] * r, psi);
-                    // place wavenumber (a - M/2, b - M/2) at FFT index (shifted)
-                    let (fa, fb) = ((a + m / 2) % m, (b + m / 2) % m);
-                    let k_row = (a as f64 - (m / 2) as f64) * dk;
-                    let k_col = (b as f64 - (m / 2) as f64) * dk;
-                    fields[0][fa * m + fb] = amp;
-                    fields[1][fa * m + fb] = amp * Complex64::new(0.0, k_col);
-                    fields[2][fa * m + fb] = amp * Complex64::new(0.0, -k_row);
-                }
-            }
-            let mut scratch = vec![Complex64::new(0.0, 0.0); fft.get_inplace_scratch_len()];
-            fields.map(|mut f| {
-                fft_2d_with(&mut f, m, fft.as_ref(), &mut scratch);
-                f.iter()
-                    .enumerate()
-                    .map(|(i, z)| z.re * window_weight[i / m] * window_weight[i % m])
-                    .collect()
-            })
-        })
+    // per FFT index: its wavenumber and the index of minus it; per centred index, the FFT index
+    let wavenumber: Vec<f64> = (0..m)
+        .map(|i| (((i + m / 2) % m) as f64 - (m / 2) as f64) * dk)
         .collect();
+    let negative: Vec<usize> = (0..m).map(|i| (m - i) % m).collect();
+    let fft_index: Vec<usize> = (0..m).map(|a| (a + m / 2) % m).collect();
     let mut out = [
         Array2::<f64>::zeros((size, size)),
         Array2::<f64>::zeros((size, size)),
         Array2::<f64>::zeros((size, size)),
     ];
-    for (&(_, r0, c0), patch) in windows.iter().zip(&patches) {
-        for (field, values) in out.iter_mut().zip(patch) {
-            for a in 0..m {
-                let row = r0 + a as isize;
-                if row < 0 || row >= size as isize {
-                    continue;
-                }
-                for b in 0..m {
-                    let col = c0 + b as isize;
-                    if col < 0 || col >= size as isize {
-                        continue;
+    // one row of windows at a time: its windows in parallel (each thread reusing its buffers),
+    // then added in a fixed order
+    let mut patches: Vec<[Vec<f64>; 3]> = starts
+        .iter()
+        .map(|_| [vec![0.0; m * m], vec![0.0; m * m], vec![0.0; m * m]])
+        .collect();
+    for (window_row, &r0) in starts.iter().enumerate() {
+        patches.par_iter_mut().enumerate().for_each_init(
+            || {
+                let zero = Complex64::new(0.0, 0.0);
+                [
+                    vec![zero; m * m],
+                    vec![zero; m * m],
+                    vec![zero; m * m],
+                    vec![zero; fft.get_inplace_scratch_len()],
+                ]
+            },
+            |[amplitude, first, second, scratch], (window_col, patch)| {
+                let index = (window_row * starts.len() + window_col) as u64;
+                let mut rng = ChaCha8Rng::seed_from_u64(seed ^ index.wrapping_mul(0x9E37_79B9_7F4A_7C15));
+                // amplitudes in FFT order (index i holds wavenumber index i - M/2 shifted by M/2)
+                for a in 0..m {
+                    for b in 0..m {
+                        amplitude[fft_index[a] * m + fft_index[b]] = scale[a * m + b] * random_phasor(&mut rng);
                     }
-                    field[[row as usize, col as usize]] += values[a * m + b];
                 }
-            }
+                // Re(sum A e^{ikx}) is the transform of A's Hermitian part H(k) = (A(k) +
+                // conj A(-k)) / 2, a real field, and so are its slopes i k H: one complex
+                // transform carries the elevation (real part) and the east slope (imaginary
+                // part), a second the north slope
+                for fa in 0..m {
+                    for fb in 0..m {
+                        let mirror = negative[fa] * m + negative[fb];
+                        let h = 0.5 * (amplitude[fa * m + fb] + amplitude[mirror].conj());
+                        let (k_row, k_col) = (wavenumber[fa], wavenumber[fb]);
+                        first[fa * m + fb] = h * (1.0 - k_col); // H + i (i k_col H)
+                        second[fa * m + fb] = h * Complex64::new(0.0, -k_row);
+                    }
+                }
+                fft_2d_with(first, m, fft.as_ref(), scratch);
+                fft_2d_with(second, m, fft.as_ref(), scratch);
+                let [elevation, east, north] = patch;
+                for (i, (z1, z2)) in first.iter().zip(second.iter()).enumerate() {
+                    let w = window_weight[i / m] * window_weight[i % m];
+                    (elevation[i], east[i], north[i]) = (z1.re * w, z1.im * w, z2.re * w);
+                }
+            },
+        );
+        for (f, field) in out.iter_mut().enumerate() {
+            let rows = (r0.max(0) as usize)..((r0 + m as isize).min(size as isize) as usize);
+            field
+                .slice_mut(ndarray::s![rows.clone(), ..])
+                .axis_iter_mut(ndarray::Axis(0))
+                .into_par_iter()
+                .zip(rows)
+                .for_each(|(mut line, row)| {
+                    let a = (row as isize - r0) as usize;
+                    for (&c0, patch) in starts.iter().zip(&patches) {
+                        let values = &patch[f][a * m..(a + 1) * m];
+                        for (b, v) in values.iter().enumerate() {
+                            let col = c0 + b as isize;
+                            if (0..size as isize).contains(&col) {
+                                line[col as usize] += v;
+                            }
+                        }
+                    }
+                });
         }
     }
     let [elevation, slope_x, slope_y] = out;
@@ -141,6 +162,22 @@ pub fn synthesise_surface(
         slope_x,
         slope_y,
         dx,
+    }
+}
+
+/// r e^{i psi} with r uniform in [-1, 1] and psi uniform in [0, 2 pi) (Eq. (2.76)), drawn as
+/// sqrt(s) (u, v) for (u, v) uniform in the unit disc and s = u^2 + v^2: the angle of (u, v) is
+/// uniform and independent of s, which is uniform in [0, 1] like |r| (a sign of r is a half
+/// turn of psi, so r e^{i psi} and |r| e^{i psi} have one distribution); no sine or cosine.
+fn random_phasor(rng: &mut ChaCha8Rng) -> Complex64 {
+    loop {
+        let u: f64 = rng.random_range(-1.0..1.0);
+        let v: f64 = rng.random_range(-1.0..1.0);
+        let s = u * u + v * v;
+        if s <= 1.0 {
+            let root = s.sqrt();
+            return Complex64::new(root * u, root * v);
+        }
     }
 }
 

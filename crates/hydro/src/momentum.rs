@@ -7,6 +7,7 @@
 //! u_S x omega = (-u_Sy dU/dy, u_Sx dU/dy, u_Sx dU/dz - u_Sy (dW/dy - dV/dz)): the swell turns the
 //! shear of the axial wake into cross-plane circulation, which is what makes wakes persist.
 
+use crate::forcing::{beach_damping, vortex_force_cross, vortex_force_vertical};
 use crate::setup::Setup;
 use crate::transport::upwind_face;
 use rayon::prelude::*;
@@ -103,8 +104,8 @@ pub fn v_tendency(s: &Setup, f: &MomentumInputs, out: &mut [f64]) {
             };
             let div = (centre_flux(jf, k) - centre_flux(jf - 1, k)) / s.dyc[jf] - (bottom - top) / dz;
             let dudy = (u[jf * nz + k] - u[(jf - 1) * nz + k]) / s.dyc[jf];
-            let vortex = s.stokes_centre.along[k] * dudy;
-            col[k] = -div + vortex - s.damping_face[jf] * vf(jf, k);
+            let vortex = vortex_force_cross(s.stokes_centre.along[k], dudy);
+            col[k] = -div + vortex - beach_damping(s.damping_face[jf], vf(jf, k));
             top = bottom;
         }
     });
@@ -175,8 +176,8 @@ pub fn w_tendency(s: &Setup, f: &MomentumInputs, out: &mut [f64]) {
                 0.0
             };
             let dvdz = 0.5 * ((vf(j, kf - 1) - vf(j, kf)) + (vf(j + 1, kf - 1) - vf(j + 1, kf))) / dz;
-            let vortex = s.stokes_face.along[kf] * dudz - s.stokes_face.across[kf] * (dwdy - dvdz);
-            col[kf] = -div + buoyancy + vortex - s.damping_centre[j] * wf(j, kf);
+            let vortex = vortex_force_vertical(s.stokes_face.along[kf], s.stokes_face.across[kf], dudz, dwdy - dvdz);
+            col[kf] = -div + buoyancy + vortex - beach_damping(s.damping_centre[j], wf(j, kf));
         }
     });
 }

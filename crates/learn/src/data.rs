@@ -88,7 +88,8 @@ impl Dataset {
     }
 
     /// The inputs a comma-separated list names, each one band or bands joined by `+` as
-    /// channels ("C,S+X"); `None`: every band of the dataset, one at a time.
+    /// channels ("C,S+X"); `None`: every band of the dataset, one at a time. The list is the
+    /// `--bands` flag's, and errors name it.
     pub fn inputs(&self, list: Option<&str>) -> Result<Vec<Input>, WakelabError> {
         match list {
             None => Ok(self.bands().into_iter().map(Input::single).collect()),
@@ -98,7 +99,7 @@ impl Dataset {
                 .map(|s| {
                     s.trim()
                         .parse::<Input>()
-                        .map_err(|e| ConfigError::new("bands", s.trim(), format!("{e}; several joined by +")).into())
+                        .map_err(|e| ConfigError::new("--bands", s.trim(), format!("{e}; several joined by +")).into())
                 })
                 .collect(),
         }
@@ -195,6 +196,18 @@ pub fn balanced_split(
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// A band list that does not parse is refused naming the flag it came from.
+    #[test]
+    fn a_bad_band_list_names_the_flag() {
+        let dataset = Dataset {
+            dir: PathBuf::from("unused"),
+            records: Vec::new(),
+        };
+        let error = dataset.inputs(Some("C,Q")).unwrap_err().to_string();
+        assert!(error.contains("`--bands` = Q"), "{error}");
+        assert_eq!(dataset.inputs(Some("C, S+X")).unwrap().len(), 2);
+    }
 
     #[test]
     fn normalised_images_have_zero_mean_and_unit_variance() {

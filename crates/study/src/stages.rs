@@ -16,6 +16,7 @@ use wakelab_learn::evaluate::{evaluate, evaluate_held_out, summarise, CurvePoint
 use wakelab_learn::models::Architecture;
 use wakelab_learn::robustness::Perturbation;
 use wakelab_learn::train::Recipe;
+use wakelab_schema::axes::Combination;
 use wakelab_schema::band::Input;
 use wakelab_schema::split::{Network, Split};
 
@@ -247,21 +248,27 @@ fn learning_stage(cx: &Context, inputs: &[Input], dir: &Path) -> Result<(Vec<Out
     Ok((outputs, curves, time))
 }
 
-/// The scenes grouped by their value on the held-out axis (sorted by value).
+/// The scenes grouped by their value on the held-out axis, each value written as the manifest
+/// writes it ([`Combination::value_text`]: "5", not "5.0"), numbers in numeric order.
 fn held_out_groups(dataset: &Dataset, axis: &str) -> Vec<(String, Vec<usize>)> {
+    group_by_value(dataset.records.iter().map(|r| &r.parameters), axis)
+}
+
+fn group_by_value<'a>(parameters: impl Iterator<Item = &'a Combination>, axis: &str) -> Vec<(String, Vec<usize>)> {
     let mut groups: BTreeMap<String, Vec<usize>> = BTreeMap::new();
-    for (i, r) in dataset.records.iter().enumerate() {
-        let value = serde_json::to_value(&r.parameters)
-            .ok()
-            .and_then(|v| v.get(axis).cloned())
-            .map(|v| match v {
-                serde_json::Value::String(s) => s,
-                other => other.to_string(),
-            })
-            .unwrap_or_default();
-        groups.entry(value).or_default().push(i);
+    for (i, p) in parameters.enumerate() {
+        groups
+            .entry(p.value_text(axis).unwrap_or_default())
+            .or_default()
+            .push(i);
     }
-    groups.into_iter().collect()
+    let mut groups: Vec<(String, Vec<usize>)> = groups.into_iter().collect();
+    // numbers by value (text order would put "10" before "5"), names as written
+    groups.sort_by(|(a, _), (b, _)| match (a.parse::<f64>(), b.parse::<f64>()) {
+        (Ok(x), Ok(y)) => x.total_cmp(&y),
+        _ => a.cmp(b),
+    });
+    groups
 }
 
 /// Stage 3: the classifiers trained with one environment held out at a time.
@@ -381,4 +388,24 @@ pub fn run_stages(
         fusion,
         times: vec![dataset_time, learning_time, held_out_time, fusion_time],
     })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use wakelab_core::WakelabConfig;
+
+    /// Held-out groups are named as the manifest writes the values, in numeric order.
+    #[test]
+    fn held_out_groups_are_named_and_ordered_by_value() {
+        let base = Combination::from_config(&WakelabConfig::default());
+        let combos: Vec<Combination> = [3.0, 10.0, 5.0, 5.0, 7.5]
+            .iter()
+            .map(|&w| base.with_value("wind_speed", w).expect("a continuous axis"))
+            .collect();
+        let groups = group_by_value(combos.iter(), "wind_speed");
+        let names: Vec<&str> = groups.iter().map(|(v, _)| v.as_str()).collect();
+        assert_eq!(names, ["3", "5", "7.5", "10"]);
+        assert_eq!(groups[1].1, [2, 3]);
+    }
 }

@@ -12,6 +12,7 @@ use criterion::{criterion_group, criterion_main, Criterion};
 use rayon::prelude::*;
 use wakelab_core::units::RadarBand;
 use wakelab_core::WakelabConfig;
+use wakelab_sensors::image_formation::{form_sar_image, SarFormation};
 use wakelab_sensors::{render_ir, render_sar, IrBand, IrScene, SarScene};
 
 fn sensors(c: &mut Criterion) {
@@ -35,6 +36,18 @@ fn sensors(c: &mut Criterion) {
         })
     });
     g.bench_function("sar_c_band", |b| b.iter(|| render_sar(&cfg, &scene, RadarBand::C)));
+    // the kernels: 4-look speckle with noise over 1024^2, and one band's radar set-up (the
+    // spectrum's slope variances and breakers), which the wind table repeats at 8 winds
+    let uniform = ndarray::Array2::from_elem((1024, 1024), 0.05);
+    let formation = SarFormation {
+        looks: 4,
+        resolution_pixels: 1.0,
+        nesz: 1e-3,
+    };
+    g.bench_function("speckle_4_looks", |b| b.iter(|| form_sar_image(&uniform, formation, 3)));
+    g.bench_function("radar_sea_setup", |b| {
+        b.iter(|| wakelab_sensors::sar_image::radar_sea(&cfg, &scene, RadarBand::C).tilt_variance)
+    });
     g.bench_function("ir_lwir", |b| b.iter(|| render_ir(&cfg, &scene, IrBand::Lwir)));
     let real = WakelabConfig::from_toml_str(
         "[scene]\nsize = 1024\npixel_spacing = 5.0\nalong_track = 6000.0\n[sar]\nlooks = 4\nnoise_floor = true\nvelocity_bunching = true\n",

@@ -260,6 +260,18 @@ impl SmoothTable {
         let f = x - i as f64;
         self.values[i] * (1.0 - f) + self.values[i + 1] * f
     }
+
+    /// The x at which an increasing table takes the value y (linear in between), if y is
+    /// inside the table: the brightness temperature of a radiance.
+    fn inverse(&self, y: f64) -> Option<f64> {
+        let v = &self.values;
+        if !(v[0]..=v[v.len() - 1]).contains(&y) {
+            return None;
+        }
+        let i = v.partition_point(|&x| x < y).clamp(1, v.len() - 1);
+        let f = (y - v[i - 1]) / (v[i] - v[i - 1]);
+        Some(self.lo + (i as f64 - 1.0 + f) / self.per_step)
+    }
 }
 
 /// One band's IR image: radiance and brightness temperature.
@@ -292,31 +304,13 @@ pub struct IrInfo {
     pub netd_k: Option<f64>,
 }
 
-/// Lookup table of band radiance over temperature, for speed (0.01 K steps, linear).
-struct RadianceTable {
-    t0: f64,
-    step: f64,
-    values: Vec<f64>,
-}
-
-impl RadianceTable {
-    fn new(band: IrBand, t0: f64, t1: f64) -> Self {
-        let step = 0.01;
-        let (lo, hi) = band.range();
-        let n = ((t1 - t0) / step).ceil() as usize + 2;
-        Self {
-            t0,
-            step,
-            values: (0..n).map(|i| band_radiance(lo, hi, t0 + i as f64 * step)).collect(),
-        }
-    }
-
-    fn at(&self, t: f64) -> f64 {
-        let x = ((t - self.t0) / self.step).clamp(0.0, (self.values.len() - 2) as f64);
-        let i = x.floor() as usize;
-        let f = x - i as f64;
-        self.values[i] * (1.0 - f) + self.values[i + 1] * f
-    }
+/// Band radiance over temperature in [t0, t1] (K), tabulated in 0.01 K steps, linear in
+/// between.
+fn radiance_table(band: IrBand, t0: f64, t1: f64) -> SmoothTable {
+    let step = 0.01;
+    let (lo, hi) = band.range();
+    let n = ((t1 - t0) / step).ceil() as usize + 2;
+    SmoothTable::new(t0, t0 + (n - 1) as f64 * step, n, |t| band_radiance(lo, hi, t))
 }
 
 /// Render one IR band of `scene` (Algorithm 1; for both bands, [`IrScene`] shares their work).
@@ -348,7 +342,7 @@ impl IrScene<'_> {
             .temperature_anomaly
             .iter()
             .fold((0.0f64, 0.0f64), |(a, b), &v| (a.min(v), b.max(v)));
-        let table = RadianceTable::new(band, t_surface + dmin - 1.0, t_surface + dmax + 1.0);
+        let table = radiance_table(band, t_surface + dmin - 1.0, t_surface + dmax + 1.0);
         let (lo, hi) = band.range();
         // reflectance and sky radiance tabulated finely in the cosines of their angles (within
         // 1e-6 of the radiance: `tabulated_facets_match_the_exact_ones`); the sea's radiance from
@@ -365,13 +359,13 @@ impl IrScene<'_> {
             .iter()
             .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), &r| (a.min(r), b.max(r)));
         let kelvin = |r: f64| brightness_temperature(lo, hi, r).clamp(150.0, 400.0);
-        let bt_table = RadianceTable::new(
+        let bt_table = radiance_table(
             band,
             (kelvin(r_min) - 0.05).max(150.0),
             (kelvin(r_max) + 0.05).min(400.0),
         );
         let mut brightness = ndarray::Zip::from(&radiance)
-            .par_map_collect(|&r| invert(&bt_table, r).unwrap_or_else(|| brightness_temperature(lo, hi, r)));
+            .par_map_collect(|&r| bt_table.inverse(r).unwrap_or_else(|| brightness_temperature(lo, hi, r)));
         let ir = &config.ir;
         let resolution_pixels = ir.resolution / scene.grid.pixel_spacing;
         if ir.noise || resolution_pixels > 1.0 {
@@ -403,20 +397,28 @@ impl IrScene<'_> {
     }
 }
 
-/// Brightness temperature by inverting the monotonic radiance table, if `r` is inside it.
-fn invert(table: &RadianceTable, r: f64) -> Option<f64> {
-    let v = &table.values;
-    if r < v[0] || r > v[v.len() - 1] {
-        return None;
-    }
-    let i = v.partition_point(|&x| x < r).clamp(1, v.len() - 1);
-    let f = (r - v[i - 1]) / (v[i] - v[i - 1]);
-    Some(table.t0 + (i as f64 - 1.0 + f) * table.step)
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// The radiance table read backwards gives the brightness temperature that inverting the
+    /// Planck band integral by bisection gives, within 1e-5 K, and nothing outside its span.
+    #[test]
+    fn the_radiance_table_inverts_to_the_brightness_temperature() {
+        for band in IrBand::ALL {
+            let (lo, hi) = band.range();
+            let table = radiance_table(band, 285.0, 295.0);
+            for t in [285.3, 288.0, 290.123, 294.9] {
+                let r = band_radiance(lo, hi, t);
+                let got = table.inverse(r).expect("inside");
+                assert!(
+                    (got - brightness_temperature(lo, hi, r)).abs() < 1e-5,
+                    "{band:?} {t}: {got}"
+                );
+            }
+            assert_eq!(table.inverse(band_radiance(lo, hi, 280.0)), None);
+        }
+    }
 
     /// The tables the image uses give every facet's radiance within 1e-6 of the exact terms,
     /// over slopes up to 1 in every direction and both bands.

@@ -335,7 +335,8 @@ pub fn velocity_bunching(
                     let (fr, fc) = (row - r0, col - c0);
                     for (dr, wr) in [(0.0, 1.0 - fr), (1.0, fr)] {
                         let rr = r0 + dr;
-                        if rr < first as f64 || rr >= last as f64 {
+                        // (written so that a NaN shift lands nowhere)
+                        if !(rr >= first as f64 && rr < last as f64) {
                             continue;
                         }
                         for (dc, wc) in [(0.0, 1.0 - fc), (1.0, fc)] {

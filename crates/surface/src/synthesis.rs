@@ -196,3 +196,26 @@ pub fn resolved_variance(spectrum: &SeaSpectrum, dx: f64, heading: f64, window: 
     }
     v
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The phasors have the moments of r e^{i psi} with r uniform in [-1, 1] and psi uniform
+    /// (Eq. (2.76)): E|z| = 1/2, E|z|^2 = 1/3, and a uniform phase, E z = E z^2 = 0; and
+    /// |z| is uniform: a quarter of the draws below 1/4.
+    #[test]
+    fn phasors_have_the_moments_of_eq_2_76() {
+        let mut rng = ChaCha8Rng::seed_from_u64(1);
+        let n = 200_000;
+        let draws: Vec<Complex64> = (0..n).map(|_| random_phasor(&mut rng)).collect();
+        let mean = |f: &dyn Fn(&Complex64) -> Complex64| draws.iter().map(f).sum::<Complex64>() / n as f64;
+        // standard errors at n = 2e5 are about 1e-3
+        assert!((mean(&|z| z.norm().into()).re - 0.5).abs() < 4e-3);
+        assert!((mean(&|z| z.norm_sqr().into()).re - 1.0 / 3.0).abs() < 4e-3);
+        assert!(mean(&|z| *z).norm() < 4e-3);
+        assert!(mean(&|z| z * z).norm() < 4e-3);
+        let below = draws.iter().filter(|z| z.norm() < 0.25).count() as f64 / n as f64;
+        assert!((below - 0.25).abs() < 4e-3, "{below}");
+    }
+}

@@ -26,6 +26,8 @@ pub struct WakelabConfig {
     pub scene: SceneConfig,
     /// Natural slicks on the scene.
     pub slicks: SlickConfig,
+    /// The ship's Kelvin wake and its own return in wake scenes.
+    pub kelvin: KelvinConfig,
     pub platform: PlatformConfig,
     pub sar: SarConfig,
     pub ir: IrConfig,
@@ -247,6 +249,42 @@ pub struct SlickConfig {
     /// Reference dilational elasticity of a slick's film (N/m), in place of the open sea's
     /// `sea.film_elasticity`.
     pub elasticity: f64,
+}
+
+/// The ship's Kelvin wave pattern (linear thin-ship theory, Michell 1898) and the ship's own
+/// radar and infrared return, in wake scenes (a no-wake scene has no ship).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct KelvinConfig {
+    /// Add the Kelvin wave field and the ship's return; false leaves scenes as without them.
+    pub enabled: bool,
+    /// The hull's form, scaled to `ship.length`, `ship.beam` and `ship.draft`.
+    pub hull: HullForm,
+    /// Radar cross section of the ship (m^2) in every band; unset: Skolnik's empirical
+    /// sigma = 52 f^(1/2) D^(3/2) (f in MHz, D the displacement in kilotonnes) per band.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub ship_rcs: Option<f64>,
+    /// Temperature of the hull's sides above the sea surface's (K), for its infrared signature.
+    pub hull_temperature_excess: f64,
+    /// Emissivity of the hull's paint in the infrared.
+    pub hull_emissivity: f64,
+}
+
+/// Hull forms of the thin-ship source distribution.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum HullForm {
+    /// Wigley's parabolic hull, y = (B/2) (1 - (2x/L)^2) (1 - (z/T)^2) (Wigley 1934).
+    Wigley,
+}
+
+impl HullForm {
+    /// The form's name as the configuration writes it.
+    pub fn name(self) -> &'static str {
+        match self {
+            Self::Wigley => "wigley",
+        }
+    }
 }
 
 /// The cross-wake grid (spec 2.1.2): a uniform core and stretched damping beaches on each side.

@@ -225,6 +225,19 @@ impl WakelabConfig {
         range("slicks.elongation", sl.elongation, 1.0, 50.0, "(length over width)")?;
         range("slicks.elasticity", sl.elasticity, 0.0, 0.1, "N/m")?;
 
+        let k = &self.kelvin;
+        if let Some(rcs) = k.ship_rcs {
+            range("kelvin.ship_rcs", rcs, 0.0, 1.0e8, "m^2")?;
+        }
+        range(
+            "kelvin.hull_temperature_excess",
+            k.hull_temperature_excess,
+            -20.0,
+            100.0,
+            "K",
+        )?;
+        range("kelvin.hull_emissivity", k.hull_emissivity, 0.0, 1.0, "")?;
+
         let p = &self.platform;
         range("platform.incidence", p.incidence, 15.0, 70.0, "degrees")?;
         range("platform.look_direction", p.look_direction, -360.0, 360.0, "degrees")?;

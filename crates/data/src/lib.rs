@@ -29,8 +29,9 @@ use wakelab_core::{WakelabConfig, WakelabError};
 use wakelab_hydro::SurfaceMap;
 use wakelab_schema::axes::AXES;
 use wakelab_schema::band::Band;
-pub use wakelab_schema::dataset::SceneRecord;
+pub use wakelab_schema::dataset::{KelvinRecord, SceneRecord};
 use wakelab_schema::split::Split;
+use wakelab_surface::kelvin::ThinShip;
 
 /// Wall time per stage (s), summed over the scenes rendered in this run.
 #[derive(Debug, Clone, Default, Serialize)]
@@ -175,9 +176,9 @@ pub fn run_study(
     todo.par_iter()
         .map(|pair| -> Result<(), WakelabError> {
             let map = &maps[&hydro_key(&pair.config)];
-            let (bands, surface, sensors) = render_pair(pair, map, &study.study.bands);
+            let (rendered, surface, sensors) = render_pair(pair, map, &study.study.bands);
             let t = Instant::now();
-            write_pair(dir, study, pair, &bands)?;
+            write_pair(dir, study, pair, &rendered)?;
             let written = t.elapsed().as_secs_f64();
             {
                 let mut rt = render_time.lock().expect("lock");
@@ -211,11 +212,26 @@ fn scene_done(dir: &Path, id: &str) -> bool {
 }
 
 /// Write both scenes of a pair: images, quicklooks and masks first, `scene.json` last.
-fn write_pair(dir: &Path, study: &Study, pair: &ScenePair, bands: &[render::BandPair]) -> Result<(), WakelabError> {
+fn write_pair(
+    dir: &Path,
+    study: &Study,
+    pair: &ScenePair,
+    rendered: &render::RenderedPair,
+) -> Result<(), WakelabError> {
+    let bands = &rendered.bands;
     let (wake_id, no_wake_id) = pair.ids();
     for (id, is_wake) in [(&wake_id, true), (&no_wake_id, false)] {
         let sdir = scene_dir(dir, id);
         std::fs::create_dir_all(&sdir).map_err(|e| WakelabError::io(&sdir, e))?;
+        let rel = |p: &Path| p.strip_prefix(dir).expect("inside the dataset").display().to_string();
+        let kelvin = match (&rendered.kelvin_mask, is_wake) {
+            (Some(mask), true) => {
+                let path = sdir.join("mask_kelvin.npy");
+                write_npy_atomically(&path, mask)?;
+                Some(kelvin_record(&pair.config, bands, rel(&path)))
+            }
+            _ => None,
+        };
         let mut images = BTreeMap::new();
         let mut masks = BTreeMap::new();
         let mut visibility = BTreeMap::new();
@@ -247,7 +263,6 @@ fn write_pair(dir: &Path, study: &Study, pair: &ScenePair, bands: &[render::Band
             };
             let (lo, hi) = (quantile(&wake_display, 0.02), quantile(&wake_display, 0.98));
             write_quicklook(&sdir.join(format!("{}.png", b.band)), &display, rows, cols, lo, hi)?;
-            let rel = |p: &Path| p.strip_prefix(dir).expect("inside the dataset").display().to_string();
             images.insert(b.band, rel(&npy));
             masks.insert(b.band, rel(&mask_path));
             let v = if is_wake { b.visibility.0 } else { b.visibility.1 };
@@ -267,6 +282,7 @@ fn write_pair(dir: &Path, study: &Study, pair: &ScenePair, bands: &[render::Band
             masks,
             geometry: is_wake.then(|| wakelab_surface::scene::SceneGrid::new(&pair.config.scene).wake_geometry()),
             split: None,
+            kelvin,
         };
         write_atomically(
             sdir.join("scene.json"),
@@ -274,6 +290,24 @@ fn write_pair(dir: &Path, study: &Study, pair: &ScenePair, bands: &[render::Band
         )?;
     }
     Ok(())
+}
+
+/// The Kelvin wake's record of a wake scene: its hull and the ship's cross section per radar
+/// band rendered.
+fn kelvin_record(config: &WakelabConfig, bands: &[render::BandPair], mask: String) -> KelvinRecord {
+    let ship = ThinShip::new(&config.ship, config.kelvin.hull, config.environment.gravity);
+    let ship_rcs_m2 = bands
+        .iter()
+        .filter_map(|b| {
+            render::radar_band(b.band)
+                .map(|r| (b.band, wakelab_sensors::sar_image::ship_cross_section(config, &ship, r)))
+        })
+        .collect();
+    KelvinRecord {
+        hull: config.kelvin.hull,
+        ship_rcs_m2,
+        mask,
+    }
 }
 
 fn write_npy_atomically<A: ndarray_npy::WritableElement>(
@@ -392,6 +426,8 @@ fn manifest_csv(records: &[SceneRecord], bands: &[Band]) -> String {
             "stern_col",
             "along_track_from",
             "along_track_to",
+            "kelvin_hull",
+            "kelvin_mask",
         ]
         .map(String::from),
     );
@@ -412,6 +448,9 @@ fn manifest_csv(records: &[SceneRecord], bands: &[Band]) -> String {
         ];
         row.extend(AXES.iter().map(|a| r.parameters.value_text(a.name).unwrap_or_default()));
         row.extend(geometry_columns(r.geometry.as_ref()));
+        let kelvin = r.kelvin.as_ref();
+        row.push(kelvin.map(|k| k.hull.name().to_string()).unwrap_or_default());
+        row.push(kelvin.map(|k| k.mask.clone()).unwrap_or_default());
         for b in bands {
             row.push(format!("{:.6}", r.visibility.get(b).copied().unwrap_or(0.0)));
             row.push(r.label_by_band.get(b).copied().unwrap_or(0).to_string());

@@ -51,6 +51,14 @@ fn sensor(band: Band) -> Sensor {
     }
 }
 
+/// The radar band of a band; None for an infrared band.
+pub fn radar_band(band: Band) -> Option<RadarBand> {
+    match sensor(band) {
+        Sensor::Radar(b) => Some(b),
+        Sensor::Infrared(_) => None,
+    }
+}
+
 /// Contrast-to-clutter ratio of `image` over `mask`.
 pub fn visibility(image: &Array2<f32>, mask: &Array2<u8>) -> f64 {
     let (mut sw, mut nw, mut ss, mut ns) = (0.0, 0usize, 0.0, 0usize);
@@ -80,9 +88,15 @@ pub fn visibility(image: &Array2<f32>, mask: &Array2<u8>) -> f64 {
     (mw - ms).abs() / var.sqrt()
 }
 
+/// A rendered pair: every band, and the Kelvin-arm mask of the wake scene when it has Kelvin waves.
+pub struct RenderedPair {
+    pub bands: Vec<BandPair>,
+    pub kelvin_mask: Option<Array2<u8>>,
+}
+
 /// Render a pair in `bands` from the wake's surface map; also returns the seconds spent in the
 /// surface stage and in the sensors.
-pub fn render_pair(pair: &ScenePair, map: &SurfaceMap, bands: &[Band]) -> (Vec<BandPair>, f64, f64) {
+pub fn render_pair(pair: &ScenePair, map: &SurfaceMap, bands: &[Band]) -> (RenderedPair, f64, f64) {
     let cfg = &pair.config;
     let t = std::time::Instant::now();
     let with: SurfaceScene = simulate_surface(cfg, Some(map));
@@ -110,7 +124,11 @@ pub fn render_pair(pair: &ScenePair, map: &SurfaceMap, bands: &[Band]) -> (Vec<B
             }
         })
         .collect();
-    (out, surface, t.elapsed().as_secs_f64())
+    let rendered = RenderedPair {
+        bands: out,
+        kelvin_mask: with.kelvin.map(|k| k.mask),
+    };
+    (rendered, surface, t.elapsed().as_secs_f64())
 }
 
 fn finish(band: Band, wake: Array2<f32>, no_wake: Array2<f32>, mask: Array2<u8>, quantity: &'static str) -> BandPair {

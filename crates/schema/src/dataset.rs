@@ -35,6 +35,20 @@ pub struct SceneRecord {
     /// Train or test (filled in by the manifest; none in a scene's own `scene.json`).
     #[serde(default, deserialize_with = "split_or_empty")]
     pub split: Option<Split>,
+    /// The ship's Kelvin wake and own return, in a wake scene rendered with `kelvin.enabled`.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub kelvin: Option<KelvinRecord>,
+}
+
+/// What a wake scene's Kelvin wake was made with, and where its mask is.
+#[derive(Debug, Clone, Serialize, Deserialize, PartialEq)]
+pub struct KelvinRecord {
+    pub hull: wakelab_core::config::HullForm,
+    /// The ship's radar cross section (m^2) per radar band.
+    pub ship_rcs_m2: BTreeMap<Band, f64>,
+    /// The Kelvin-arm mask (1 where the Kelvin waves' rms slope exceeds 0.01), relative to the
+    /// dataset directory: one file for every band, apart from the wake masks.
+    pub mask: String,
 }
 
 /// A scene's split as written, where an empty string (written before splits had a type) is none.

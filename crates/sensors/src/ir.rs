@@ -348,12 +348,19 @@ impl IrScene<'_> {
         // 1e-6 of the radiance: `tabulated_facets_match_the_exact_ones`); the sea's radiance from
         // the temperature table
         let (reflectance, sky) = view.tables();
-        let radiance = ndarray::Zip::from(geometry)
+        let mut radiance = ndarray::Zip::from(geometry)
             .and(&scene.temperature_anomaly)
             .par_map_collect(|g, &dt| {
                 view.terms(g, table.at(t_surface + dt), |c| reflectance.at(c), |c| sky.at(c))
                     .total()
             });
+        if let Some(cover) = scene.kelvin.as_ref().and_then(|k| k.hull_cover.as_ref()) {
+            // the hull's sides: a grey body at its own temperature reflecting the horizon's sky
+            let k = &config.kelvin;
+            let hull = k.hull_emissivity * band_radiance(lo, hi, t_surface + k.hull_temperature_excess)
+                + (1.0 - k.hull_emissivity) * band_radiance(lo, hi, config.ir.sky_horizon_temperature);
+            radiance.zip_mut_with(cover, |r, &c| *r = (1.0 - c) * *r + c * hull);
+        }
         // the inverse on a table over the image's own span of temperatures (a short search)
         let (r_min, r_max) = radiance
             .iter()

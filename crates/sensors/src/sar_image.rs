@@ -17,6 +17,7 @@ use rayon::prelude::*;
 use serde::Serialize;
 use wakelab_core::units::RadarBand;
 use wakelab_core::WakelabConfig;
+use wakelab_surface::kelvin::ThinShip;
 use wakelab_surface::scene::SceneGrid;
 use wakelab_surface::short_waves::ShortWaves;
 use wakelab_surface::spectrum::{angular_frequency, SeaSpectrum};
@@ -220,10 +221,23 @@ impl SarScene<'_> {
             // slope rising towards the radar: minus the gradient along the look direction
             (-(sx * look_e + sy * look_n)).atan()
         };
+        // the Kelvin waves' currents strain the Bragg waves too: N/N0 = m (1 + delta)
+        let kelvin_change = scene
+            .kelvin
+            .as_ref()
+            .and_then(|k| k.bragg_change.iter().find(|(b, _)| *b == band).map(|(_, d)| d));
+        let modulation = match kelvin_change {
+            Some(delta) => std::borrow::Cow::Owned(
+                ndarray::Zip::from(&waves.modulation)
+                    .and(delta)
+                    .par_map_collect(|&m, &d| m * (1.0 + d).max(0.0)),
+            ),
+            None => std::borrow::Cow::Borrowed(&waves.modulation),
+        };
         let mut sigma0 = Array2::zeros(waves.modulation.raw_dim());
         match &scene.wind_speed {
             None => ndarray::Zip::from(&mut sigma0)
-                .and(&waves.modulation)
+                .and(modulation.as_ref())
                 .and(&waves.breaking)
                 .and(&surface.slope_x)
                 .and(&surface.slope_y)
@@ -231,7 +245,7 @@ impl SarScene<'_> {
             Some(winds) => {
                 let table = WindTable::new(config, scene, band, winds);
                 ndarray::Zip::from(&mut sigma0)
-                    .and(&waves.modulation)
+                    .and(modulation.as_ref())
                     .and(&waves.breaking)
                     .and(&surface.slope_x)
                     .and(&surface.slope_y)
@@ -240,9 +254,27 @@ impl SarScene<'_> {
             }
         }
         let sar = &config.sar;
+        // the hull hides the sea under it and returns its own cross section
+        let hull = scene.kelvin.as_ref().and_then(|k| k.hull_cover.as_ref());
+        let ship = hull.map(|cover| {
+            sigma0.zip_mut_with(cover, |s, &c| *s *= 1.0 - c);
+            let ship = ThinShip::new(&config.ship, config.kelvin.hull, config.environment.gravity);
+            let area = scene.grid.pixel_spacing.powi(2);
+            let per_cover = ship_cross_section(config, &ship, band) / (ship.waterplane_area().max(area));
+            cover.mapv(|c| c * per_cover)
+        });
         if sar.velocity_bunching {
             let v = self.shared.get_or_init(|| line_of_sight_velocity(config, scene));
             sigma0 = velocity_bunching(config, &scene.grid, v, &sigma0);
+        }
+        if let Some(mut ship) = ship {
+            if sar.velocity_bunching {
+                // the ship's own motion along the line of sight moves it off its wake in azimuth
+                let (st, _) = config.platform.incidence.to_radians().sin_cos();
+                let v = config.ship.speed * config.platform.look_direction.to_radians().cos() * st;
+                ship = velocity_bunching(config, &scene.grid, &Array2::from_elem(ship.raw_dim(), v), &ship);
+            }
+            sigma0 += &ship;
         }
         if sar.looks > 0 || sar.noise_floor {
             let formation = SarFormation {
@@ -280,17 +312,35 @@ impl SarScene<'_> {
     }
 }
 
+/// Radar cross section (m^2) of the ship in `band`: `kelvin.ship_rcs`, or Skolnik's (1980)
+/// empirical sigma = 52 f^(1/2) D^(3/2) for f in MHz and the displacement D in kilotonnes.
+pub fn ship_cross_section(config: &WakelabConfig, ship: &ThinShip, band: RadarBand) -> f64 {
+    config.kelvin.ship_rcs.unwrap_or_else(|| {
+        let kilotonnes = ship.displacement_volume() * config.environment.reference_density / 1e6;
+        52.0 * (band.frequency() / 1e6).sqrt() * kilotonnes.powf(1.5)
+    })
+}
+
 /// The long waves' line-of-sight velocity (m/s, away from the radar) on the scene, from its
-/// elevation by linear wave theory (see [`crate::spectral::line_of_sight_velocity`]).
+/// elevation by linear wave theory (see [`crate::spectral::line_of_sight_velocity`]); the Kelvin
+/// waves, which run with the ship and not with the wind, with their own velocity.
 fn line_of_sight_velocity(config: &WakelabConfig, scene: &SurfaceScene) -> Array2<f64> {
-    crate::spectral::line_of_sight_velocity(
-        &scene.surface.elevation,
+    let sea = match &scene.kelvin {
+        Some(k) => std::borrow::Cow::Owned(&scene.surface.elevation - &k.elevation),
+        None => std::borrow::Cow::Borrowed(&scene.surface.elevation),
+    };
+    let mut v = crate::spectral::line_of_sight_velocity(
+        sea.as_ref(),
         &scene.grid,
         config.platform.incidence.to_radians(),
         config.platform.look_direction.to_radians(),
         config.environment.wind.direction.to_radians(),
         |k| angular_frequency(k, scene.spectrum.gravity, scene.spectrum.tension),
-    )
+    );
+    if let Some(k) = &scene.kelvin {
+        v += &k.line_of_sight_velocity;
+    }
+    v
 }
 
 /// Velocity bunching (Alpers & Rufenach 1979): each scatterer appears shifted in azimuth by

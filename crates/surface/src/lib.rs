@@ -10,6 +10,8 @@
 pub mod action;
 pub mod film;
 pub mod fourier;
+pub mod kelvin;
+pub mod kelvin_scene;
 pub mod natural;
 pub mod output;
 pub mod scene;
@@ -22,6 +24,8 @@ pub mod synthesis;
 use action::{extra_damping, relax_short_waves, Relaxation, WaveVector};
 use film::Film;
 use film::WakeDamping;
+use kelvin::ThinShip;
+use kelvin_scene::{kelvin_scene, BraggWaves, KelvinScene, RadarView};
 use ndarray::Array2;
 use rayon::prelude::*;
 use scene::{resample, MapField, SceneGrid};
@@ -66,6 +70,9 @@ pub struct SurfaceScene {
     pub wind_speed: Option<Array2<f64>>,
     /// 1 where a natural slick covers the sea; None without slicks.
     pub slick_mask: Option<Array2<u8>>,
+    /// The ship's Kelvin waves and hull, in a wake scene with `kelvin.enabled`; their elevation
+    /// and slopes are in `surface` too.
+    pub kelvin: Option<KelvinScene>,
 }
 
 /// The background spectrum of a configuration.
@@ -132,16 +139,24 @@ pub fn simulate_surface(config: &WakelabConfig, map: Option<&SurfaceMap>) -> Sur
     let wake_damping = wake_damping(config, &spectrum);
     let speed = config.ship.speed;
     let wind = &config.environment.wind;
-    // the sea and the natural fields are independent draws: made side by side
-    let (surface, (slicks, wind_speed)) = rayon::join(
+    // the sea, the natural fields and the Kelvin waves are independent: made side by side
+    let ((mut surface, kelvin), (slicks, wind_speed)) = rayon::join(
         || {
-            synthesise_surface(
-                &spectrum,
-                n,
-                grid.pixel_spacing,
-                grid.heading,
-                config.sea.window,
-                config.seed,
+            rayon::join(
+                || {
+                    synthesise_surface(
+                        &spectrum,
+                        n,
+                        grid.pixel_spacing,
+                        grid.heading,
+                        config.sea.window,
+                        config.seed,
+                    )
+                },
+                || {
+                    (map.is_some() && config.kelvin.enabled)
+                        .then(|| kelvin_on_scene(config, &grid, &spectrum, &short_waves))
+                },
             )
         },
         || {
@@ -244,6 +259,11 @@ pub fn simulate_surface(config: &WakelabConfig, map: Option<&SurfaceMap>) -> Sur
         }
         _ => (ones(), Array2::zeros((n, n))),
     };
+    if let Some(k) = &kelvin {
+        surface.elevation += &k.elevation;
+        surface.slope_x += &k.slope_x;
+        surface.slope_y += &k.slope_y;
+    }
     SurfaceScene {
         grid,
         surfactant,
@@ -254,7 +274,38 @@ pub fn simulate_surface(config: &WakelabConfig, map: Option<&SurfaceMap>) -> Sur
         spectrum,
         wind_speed,
         slick_mask: slicks.map(|s| s.mask),
+        kelvin,
     }
+}
+
+/// The Kelvin waves and hull of the configured ship on the scene, with every band's Bragg waves.
+pub fn kelvin_on_scene(
+    config: &WakelabConfig,
+    grid: &SceneGrid,
+    spectrum: &SeaSpectrum,
+    short_waves: &ShortWaves,
+) -> KelvinScene {
+    let ship = ThinShip::new(&config.ship, config.kelvin.hull, config.environment.gravity);
+    let bands: Vec<BraggWaves> = RadarBand::ALL
+        .iter()
+        .map(|&band| {
+            let (towards, away) = bragg_vectors(config, band);
+            BraggWaves {
+                band,
+                towards: Relaxation::new(towards, spectrum, short_waves),
+                away: Relaxation::new(away, spectrum, short_waves),
+                density: (
+                    spectrum.directional(towards.kx, towards.ky),
+                    spectrum.directional(away.kx, away.ky),
+                ),
+            }
+        })
+        .collect();
+    let view = RadarView {
+        incidence: config.platform.incidence.to_radians(),
+        look: config.platform.look_direction.to_radians(),
+    };
+    kelvin_scene(ship, grid, view, &bands)
 }
 
 /// The wave vector of the breakers a band sees: k0 / 10 along the wind.

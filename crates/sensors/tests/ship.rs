@@ -45,6 +45,7 @@ fn the_ship_returns_its_cross_section() {
             &render_sar(&no_ship, &without, band).sigma0,
             5.0,
         );
+        eprintln!("{band:?}: ship return {got:.0} m^2 vs Skolnik {want:.0} m^2");
         assert!(
             (got / want - 1.0).abs() < 0.02,
             "{band:?}: {got:.0} m^2 vs {want:.0} m^2"
@@ -89,6 +90,10 @@ fn a_moving_ship_leaves_its_wake_in_azimuth() {
     let still = centroid(&across, &across_none);
     // heading east, looking along the course (east): azimuth is north, rows decrease
     let shift = 40.0 * c.ship.speed * 30f64.to_radians().sin() / 5.0;
+    eprintln!(
+        "azimuth offset {:.2} rows vs (R/V) U sin(theta) / dx = {shift:.2}",
+        still.0 - moved.0
+    );
     assert!(
         (still.0 - moved.0 - shift).abs() < 0.5,
         "moved {moved:?}, still {still:?}, want {shift} rows"
@@ -120,6 +125,7 @@ fn the_hull_is_warm_in_the_infrared() {
             }
         }
         let (hull, sea) = (hull / n_hull as f64, sea / n_sea as f64);
+        eprintln!("{band:?}: hull {hull:.2} K, sea {sea:.2} K");
         assert!(hull > sea + 0.5, "{band:?}: hull {hull:.2} K, sea {sea:.2} K");
     }
 }

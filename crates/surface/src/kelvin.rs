@@ -209,7 +209,7 @@ impl KelvinWaves {
         let dq = 2.0 * PI / (n as f64 * spacing);
         // the columns of the spectrum the taper keeps: index, K, the amplitude tapered and
         // turned by the phase of y_0 = -n/2 h, and each operator's multipliers at (+-K, q_y)
-        let active: Vec<(usize, f64, Complex64, Vec<(Complex64, Complex64)>)> = (0..n)
+        let active: Vec<ActiveWave> = (0..n)
             .filter_map(|j| {
                 let m = signed_frequency(j, n);
                 let qy = m * dq;
@@ -218,7 +218,12 @@ impl KelvinWaves {
                 (taper > 0.0).then(|| {
                     let sign = if (m as i64).rem_euclid(2) == 0 { 1.0 } else { -1.0 };
                     let ops = operators.iter().map(|op| (op(kx, qy), op(-kx, qy))).collect();
-                    (j, kx, z * taper * sign, ops)
+                    ActiveWave {
+                        column: j,
+                        kx,
+                        amplitude: z * taper * sign,
+                        multipliers: ops,
+                    }
                 })
             })
             .collect();
@@ -237,18 +242,21 @@ impl KelvinWaves {
                 let mut buffer = vec![zero; n * transforms];
                 let mut scratch = vec![zero; fft.get_inplace_scratch_len()];
                 // each wave's e^{i K x} at the block's first row, and its step to the next
-                let mut phase: Vec<Complex64> =
-                    active.iter().map(|w| Complex64::from_polar(1.0, w.1 * xs[0])).collect();
+                let mut phase: Vec<Complex64> = active
+                    .iter()
+                    .map(|w| Complex64::from_polar(1.0, w.kx * xs[0]))
+                    .collect();
                 for (r, &x) in xs.iter().enumerate() {
                     if r > 0 {
                         let dx = x - xs[r - 1];
                         for (p, w) in phase.iter_mut().zip(&active) {
-                            *p *= Complex64::from_polar(1.0, w.1 * dx);
+                            *p *= Complex64::from_polar(1.0, w.kx * dx);
                         }
                     }
                     buffer.fill(zero);
-                    for ((j, _, z, ops), p) in active.iter().zip(&phase) {
-                        let forward = z * p;
+                    for (wave, p) in active.iter().zip(&phase) {
+                        let (j, ops) = (wave.column, &wave.multipliers);
+                        let forward = wave.amplitude * p;
                         // the s = -1 pole's term conj(Z) e^{-i K x}
                         let backward = forward.conj();
                         for (f, (plus, minus)) in ops.iter().enumerate() {
@@ -273,6 +281,16 @@ impl KelvinWaves {
             values,
         }
     }
+}
+
+/// One column of the cross-track spectrum that the taper keeps: its index, K, the amplitude
+/// (tapered, turned by the phase of the first column), and each operator's multipliers at
+/// (+K, q_y) and (-K, q_y).
+struct ActiveWave {
+    column: usize,
+    kx: f64,
+    amplitude: Complex64,
+    multipliers: Vec<(Complex64, Complex64)>,
 }
 
 /// The most fields [`KelvinWaves::track_fields`] computes at once.

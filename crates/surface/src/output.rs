@@ -35,14 +35,14 @@ pub fn write_surface_scene(
         (
             "slope_x".into(),
             "1",
-            "surface slope along x (behind the stern)".into(),
+            "surface slope d zeta / d x (east)".into(),
             f32s(&scene.surface.slope_x),
             Colormap::Diverging,
         ),
         (
             "slope_y".into(),
             "1",
-            "surface slope along y (to port)".into(),
+            "surface slope d zeta / d y (north)".into(),
             f32s(&scene.surface.slope_y),
             Colormap::Diverging,
         ),
@@ -54,6 +54,15 @@ pub fn write_surface_scene(
             Colormap::Diverging,
         ),
     ];
+    if let Some(k) = &scene.kelvin {
+        fields.push((
+            "kelvin_elevation".into(),
+            "m",
+            "elevation of the ship's Kelvin waves (thin-ship theory), part of elevation".into(),
+            f32s(&k.elevation),
+            Colormap::Diverging,
+        ));
+    }
     for b in &scene.bragg {
         fields.push((
             format!("modulation_{}", b.band.name()),

@@ -62,6 +62,7 @@ fn wigley_wave_resistance_is_the_published_michell_value() {
     }
     let rho = 1000.0;
     let cw = waves.wave_resistance(rho) / (0.5 * rho * ship.speed.powi(2) * area);
+    eprintln!("10^3 Cw = {:.4} (published 1.2486)", 1e3 * cw);
     assert!((1e3 * cw / 1.2486 - 1.0).abs() < 0.1, "10^3 Cw = {}", 1e3 * cw);
 }
 
@@ -74,6 +75,7 @@ fn cusp_lines_lie_at_the_kelvin_angle() {
         let (y, _) = cusp(&waves, x);
         let angle = (y / x).atan().to_degrees();
         let kelvin = (1.0f64 / 3.0).asin().to_degrees();
+        eprintln!("cusp at x = {x} m: {angle:.2} degrees");
         assert!((angle - kelvin).abs() < 1.0, "x = {x}: {angle:.2} degrees");
     }
 }
@@ -101,6 +103,7 @@ fn transverse_wavelength_is_two_pi_u_squared_over_g() {
         .collect();
     assert!(up.len() >= 8, "{} crossings", up.len());
     let measured = (up[up.len() - 1] - up[0]) / (up.len() - 1) as f64;
+    eprintln!("transverse wavelength {measured:.3} m vs 2 pi U^2 / g = {want:.3} m");
     assert!((measured / want - 1.0).abs() < 0.02, "{measured} m vs {want} m");
 }
 
@@ -120,5 +123,6 @@ fn cusp_amplitude_decays_as_x_to_the_minus_one_third() {
     );
     let slope = points.iter().map(|p| (p.0 - mx) * (p.1 - my)).sum::<f64>()
         / points.iter().map(|p| (p.0 - mx).powi(2)).sum::<f64>();
+    eprintln!("cusp decay exponent {slope:.4}");
     assert!((slope / (-1.0 / 3.0) - 1.0).abs() < 0.1, "exponent {slope:.3}");
 }

@@ -4,6 +4,7 @@
 
 use wakelab_core::units::RadarBand;
 use wakelab_core::WakelabConfig;
+use wakelab_sensors::planck::{band_radiance, brightness_temperature};
 use wakelab_sensors::{render_ir, render_sar, IrBand};
 use wakelab_surface::simulate_surface;
 
@@ -104,8 +105,9 @@ fn a_moving_ship_leaves_its_wake_in_azimuth() {
     );
 }
 
-/// In both infrared bands the hull's pixels are brighter than the sea around them (its sides are
-/// 2 K warmer, emissivity 0.9).
+/// In both infrared bands the hull's pixels read the brightness temperature of a grey body
+/// (Kirchhoff: emissivity 0.9, reflectance 0.1) 2 K warmer than the sea's surface, reflecting the
+/// horizon's sky, by Planck's law over the band, within 0.05 K; and warmer than the sea.
 #[test]
 fn the_hull_is_warm_in_the_infrared() {
     let c = config("");
@@ -125,6 +127,15 @@ fn the_hull_is_warm_in_the_infrared() {
             }
         }
         let (hull, sea) = (hull / n_hull as f64, sea / n_sea as f64);
+        let (lo, hi) = band.range();
+        let t_surface = c.environment.temperature.at_depth(0.0) + 273.15;
+        let grey =
+            0.9 * band_radiance(lo, hi, t_surface + 2.0) + 0.1 * band_radiance(lo, hi, c.ir.sky_horizon_temperature);
+        let want = brightness_temperature(lo, hi, grey);
+        assert!(
+            (hull - want).abs() < 0.05,
+            "{band:?}: hull {hull:.3} K vs grey body {want:.3} K"
+        );
         eprintln!("{band:?}: hull {hull:.2} K, sea {sea:.2} K");
         assert!(hull > sea + 0.5, "{band:?}: hull {hull:.2} K, sea {sea:.2} K");
     }

@@ -80,36 +80,6 @@ pub struct RadarSea<'a> {
     pub breaking: BreakingZones,
 }
 
-/// Slope variances along and across direction `look` of the waves with k_lo <= k < k_hi.
-pub fn slope_variances(spectrum: &SeaSpectrum, look: f64, k_lo: f64, k_hi: f64) -> (f64, f64) {
-    if k_hi <= k_lo {
-        return (0.0, 0.0);
-    }
-    let n = 400;
-    let angles = 72;
-    let step = (k_hi / k_lo).ln() / n as f64;
-    // the directions, their angle from the wind's for the spreading, and from the look
-    let directions: Vec<(f64, f64, f64, f64)> = (0..angles)
-        .map(|a| {
-            let phi = (a as f64 + 0.5) * 2.0 * PI / angles as f64;
-            let (s, c) = (phi - look).sin_cos();
-            (phi, (2.0 * (phi - spectrum.wind_direction)).cos(), c * c, s * s)
-        })
-        .collect();
-    let (mut along, mut across) = (0.0, 0.0);
-    for i in 0..n {
-        let k = k_lo * ((i as f64 + 0.5) * step).exp();
-        let dk = k * step;
-        let ring = spectrum.ring(k);
-        for &(phi, twice_from_wind, cos2, sin2) in &directions {
-            let f = ring.at_with(phi, twice_from_wind) * k * dk * 2.0 * PI / angles as f64;
-            along += f * k * k * cos2;
-            across += f * k * k * sin2;
-        }
-    }
-    (along, across)
-}
-
 /// The parts of a sea's NRCS (linear).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Sigma0Parts {
@@ -156,8 +126,8 @@ impl<'a> RadarSea<'a> {
             polarisation,
             look,
             cut,
-            tilt_variance: slope_variances(spectrum, look, resolved.min(cut), cut),
-            specular_variance: slope_variances(spectrum, look, 1e-3, k0 / 3.0),
+            tilt_variance: spectrum.slope_variances(look, resolved.min(cut), cut),
+            specular_variance: spectrum.slope_variances(look, 1e-3, k0 / 3.0),
             breaking: breaking_zones(spectrum, short_waves, k0, look),
         }
     }

@@ -192,6 +192,11 @@ pub fn render_sar(config: &WakelabConfig, scene: &SurfaceScene, band: RadarBand)
     SarScene::new(config, scene).render(band)
 }
 
+/// The field of `band` in a per-band list.
+fn band_field(fields: &[(RadarBand, Array2<f64>)], band: RadarBand) -> Option<&Array2<f64>> {
+    fields.iter().find(|(b, _)| *b == band).map(|(_, f)| f)
+}
+
 /// A scene as the SAR sees it in every band: the bands share the long waves' line-of-sight
 /// velocity for velocity bunching.
 pub type SarScene<'a> = crate::SensorScene<'a, Array2<f64>>;
@@ -222,15 +227,17 @@ impl SarScene<'_> {
             (-(sx * look_e + sy * look_n)).atan()
         };
         // the Kelvin waves' currents strain the Bragg waves too: N/N0 = m (1 + delta)
+        // and their own short waves add the narrow-V: N/N0 = m (1 + delta + nu)
         let kelvin_change = scene
             .kelvin
             .as_ref()
-            .and_then(|k| k.bragg_change.iter().find(|(b, _)| *b == band).map(|(_, d)| d));
+            .and_then(|k| band_field(&k.bragg_change, band).zip(band_field(&k.narrow_v, band)));
         let modulation = match kelvin_change {
-            Some(delta) => std::borrow::Cow::Owned(
+            Some((delta, nu)) => std::borrow::Cow::Owned(
                 ndarray::Zip::from(&waves.modulation)
                     .and(delta)
-                    .par_map_collect(|&m, &d| m * (1.0 + d).max(0.0)),
+                    .and(nu)
+                    .par_map_collect(|&m, &d, &v| m * (1.0 + d + v).max(0.0)),
             ),
             None => std::borrow::Cow::Borrowed(&waves.modulation),
         };

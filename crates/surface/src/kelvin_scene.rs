@@ -18,12 +18,16 @@
 
 use crate::action::Relaxation;
 use crate::kelvin::{KelvinWaves, Multiplier, ThinShip, TrackFields, FIELDS};
+use crate::narrow_v::{divergent_ray, BREAKING_STEEPNESS, SPREAD_END};
 use crate::scene::SceneGrid;
 use ndarray::Array2;
 use rayon::prelude::*;
 use rustfft::num_complex::Complex64;
 use std::f64::consts::PI;
 use wakelab_core::units::RadarBand;
+
+/// The narrow-V's nu below which a pixel's is left at 0 (0.0004 dB).
+pub const NARROW_V_FLOOR: f64 = 1e-4;
 
 /// Threshold of the Kelvin waves' local rms slope for the Kelvin-arm mask.
 pub const MASK_KELVIN_SLOPE: f64 = 0.01;
@@ -37,6 +41,9 @@ pub struct BraggWaves {
     pub away: Relaxation,
     /// Background spectral densities (towards, away), m^4.
     pub density: (f64, f64),
+    /// Spread (rad/m) of the Kelvin pattern's own Bragg waves' spectrum ([`crate::narrow_v`]):
+    /// k_B times the rms slope of the longer waves.
+    pub spread: f64,
 }
 
 /// The radar's view: incidence and horizontal look direction (heading frame, radians).
@@ -58,6 +65,9 @@ pub struct KelvinScene {
     pub line_of_sight_velocity: Array2<f64>,
     /// Relative change delta of each band's Bragg spectral density (N/N0 = 1 + delta).
     pub bragg_change: Vec<(RadarBand, Array2<f64>)>,
+    /// The narrow-V: each band's Bragg spectral density added by the Kelvin pattern's own
+    /// short waves, relative to the background's (N/N0 = 1 + delta + nu; [`crate::narrow_v`]).
+    pub narrow_v: Vec<(RadarBand, Array2<f64>)>,
     /// 1 where the Kelvin waves' rms slope over a transverse wavelength exceeds
     /// [`MASK_KELVIN_SLOPE`].
     pub mask: Array2<u8>,
@@ -71,7 +81,14 @@ fn to_track((x, y): (f64, f64)) -> (f64, f64) {
 }
 
 /// The Kelvin waves of `ship` on `grid`, seen by a radar `view`, with each band's Bragg waves.
-pub fn kelvin_scene(ship: ThinShip, grid: &SceneGrid, view: RadarView, bands: &[BraggWaves]) -> KelvinScene {
+/// `viscosity` (m^2/s) damps the short waves of the narrow-V.
+pub fn kelvin_scene(
+    ship: ThinShip,
+    grid: &SceneGrid,
+    view: RadarView,
+    bands: &[BraggWaves],
+    viscosity: f64,
+) -> KelvinScene {
     let waves = KelvinWaves::new(ship);
     let (g, u) = (ship.gravity, ship.speed);
     let h = grid.pixel_spacing;
@@ -137,9 +154,60 @@ pub fn kelvin_scene(ship: ThinShip, grid: &SceneGrid, view: RadarView, bands: &[
         slope_y,
         line_of_sight_velocity: line_of_sight,
         bragg_change,
+        narrow_v: narrow_v(&waves, grid, bands, viscosity),
         mask,
         hull_cover: hull_cover(&ship, grid),
     }
+}
+
+/// Each band's narrow-V, nu = (F(k_B) + F(-k_B)) of the divergent waves over the background's.
+/// The amplitude, the costly part, is worked out only where some band's nu could reach
+/// [`NARROW_V_FLOOR`] at the breaking cap, within 6 standard deviations of the spread.
+fn narrow_v(
+    waves: &KelvinWaves,
+    grid: &SceneGrid,
+    bands: &[BraggWaves],
+    viscosity: f64,
+) -> Vec<(RadarBand, Array2<f64>)> {
+    let n = grid.size();
+    let braggs: Vec<((f64, f64), f64, f64)> = bands
+        .iter()
+        .map(|b| {
+            (
+                to_track((b.towards.k.kx, b.towards.k.ky)),
+                b.spread,
+                b.density.0 + b.density.1,
+            )
+        })
+        .collect();
+    let mut nu = vec![0.0; n * n * bands.len()];
+    nu.par_chunks_mut(bands.len()).enumerate().for_each(|(i, out)| {
+        let (x, y) = grid.track_position(i / n, i % n);
+        let Some(ray) = divergent_ray(waves, x, y) else { return };
+        let cap = 0.5 * (BREAKING_STEEPNESS / ray.wavenumber).powi(2);
+        let mut amplitude = None;
+        for (v, &(bragg, spread, background)) in out.iter_mut().zip(&braggs) {
+            // |k_B -+ k| >= ||k_B| - |k||: the weight is at most 2 G(|k_B| - |k|)
+            let miss = (bragg.0.hypot(bragg.1) - ray.wavenumber) / spread;
+            let exponent = 0.5 * miss * miss;
+            if exponent > SPREAD_END || exponent > (cap / (PI * spread * spread * background * NARROW_V_FLOOR)).ln() {
+                continue;
+            }
+            let weight = ray.bragg_weight(bragg, spread) / background;
+            if cap * weight >= NARROW_V_FLOOR {
+                let a: f64 = *amplitude.get_or_insert_with(|| ray.amplitude(waves, x, viscosity));
+                *v = 0.5 * a * a * weight;
+            }
+        }
+    });
+    bands
+        .iter()
+        .enumerate()
+        .map(|(j, b)| {
+            let field = Array2::from_shape_fn((n, n), |(r, c)| nu[(r * n + c) * bands.len() + j]);
+            (b.band, field)
+        })
+        .collect()
 }
 
 /// Orbital velocity (u_x, u_y, w) at the surface per unit elevation of the steady wave

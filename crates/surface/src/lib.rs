@@ -12,6 +12,7 @@ pub mod film;
 pub mod fourier;
 pub mod kelvin;
 pub mod kelvin_scene;
+pub mod narrow_v;
 pub mod natural;
 pub mod output;
 pub mod scene;
@@ -298,6 +299,12 @@ pub fn kelvin_on_scene(
                     spectrum.directional(towards.kx, towards.ky),
                     spectrum.directional(away.kx, away.ky),
                 ),
+                // the waves the two-scale model tilts by: longer than its cut, k_B / 4
+                spread: {
+                    let kb = towards.magnitude();
+                    let (along, across) = spectrum.slope_variances(towards.ky.atan2(towards.kx), 1e-3, 0.25 * kb);
+                    kb * (along + across).sqrt()
+                },
             }
         })
         .collect();
@@ -305,7 +312,7 @@ pub fn kelvin_on_scene(
         incidence: config.platform.incidence.to_radians(),
         look: config.platform.look_direction.to_radians(),
     };
-    kelvin_scene(ship, grid, view, &bands)
+    kelvin_scene(ship, grid, view, &bands, config.environment.kinematic_viscosity)
 }
 
 /// The wave vector of the breakers a band sees: k0 / 10 along the wind.

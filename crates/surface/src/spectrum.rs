@@ -207,6 +207,36 @@ impl SeaSpectrum {
         }
     }
 
+    /// Slope variances along and across direction `look` of the waves with k_lo <= k < k_hi.
+    pub fn slope_variances(&self, look: f64, k_lo: f64, k_hi: f64) -> (f64, f64) {
+        if k_hi <= k_lo {
+            return (0.0, 0.0);
+        }
+        let n = 400;
+        let angles = 72;
+        let step = (k_hi / k_lo).ln() / n as f64;
+        // the directions, their angle from the wind's for the spreading, and from the look
+        let directions: Vec<(f64, f64, f64, f64)> = (0..angles)
+            .map(|a| {
+                let phi = (a as f64 + 0.5) * 2.0 * PI / angles as f64;
+                let (s, c) = (phi - look).sin_cos();
+                (phi, (2.0 * (phi - self.wind_direction)).cos(), c * c, s * s)
+            })
+            .collect();
+        let (mut along, mut across) = (0.0, 0.0);
+        for i in 0..n {
+            let k = k_lo * ((i as f64 + 0.5) * step).exp();
+            let dk = k * step;
+            let ring = self.ring(k);
+            for &(phi, twice_from_wind, cos2, sin2) in &directions {
+                let f = ring.at_with(phi, twice_from_wind) * k * dk * 2.0 * PI / angles as f64;
+                along += f * k * k * cos2;
+                across += f * k * k * sin2;
+            }
+        }
+        (along, across)
+    }
+
     /// Wave action spectral density N = rho omega F / k, up to the constant rho (Eq. (2.67)).
     pub fn action(&self, kx: f64, ky: f64) -> f64 {
         let k = kx.hypot(ky);

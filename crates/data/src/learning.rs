@@ -6,6 +6,7 @@ use serde::{Deserialize, Serialize};
 use wakelab_core::{ConfigError, WakelabError};
 use wakelab_schema::band::{Band, Input};
 use wakelab_schema::recipe;
+use wakelab_schema::recipe::Augmentation;
 
 /// Training, evaluation and robustness settings of a study.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
@@ -32,6 +33,9 @@ pub struct LearningPlan {
     /// Feature-level fusions: bands joined by `+` as channels of one input (5.1's "SX").
     /// Default: S+X (5.1) and C+LWIR (SAR with IR, 5.4), those of them the study renders.
     pub fused_inputs: Option<Vec<Input>>,
+    /// How training inputs vary from epoch to epoch: `quarter_turns` (4.2) or `geometric`
+    /// (any angle, flips, shifts).
+    pub augmentation: Augmentation,
     /// Robustness: test images rotated by these angles (degrees, not multiples of 90).
     pub rotations: Vec<f64>,
     /// Robustness: square patches dropped (set to the image mean) from each test image.
@@ -58,6 +62,7 @@ impl Default for LearningPlan {
             threshold: recipe::THRESHOLD,
             seed: 0,
             fused_inputs: None,
+            augmentation: Augmentation::QuarterTurns,
             rotations: vec![30.0, 45.0],
             dropped_patches: 4,
             patch_fraction: 0.125,

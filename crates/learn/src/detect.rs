@@ -1,9 +1,10 @@
 //! Detection on a user's own single-band image (npy, TIFF or PNG): the image is cut into tiles
-//! of the detector's input size (half-tile overlap), each tile normalised as in training (4.1)
+//! of the detector's input size (half-tile overlap), each tile made an input as in training
+//! ([`crate::data::detector_input`], radar pixels read in the given [`RadarScale`])
 //! and classified; the scene's wake probability is the largest tile's, and the U-Net's masks are
 //! stitched (overlaps averaged) into one mask of the whole image.
 
-use crate::data::normalise;
+use crate::data::{detector_input, RadarScale};
 use crate::evaluate::detect;
 use crate::models::Architecture;
 use crate::store::{Detector, ModelInfo};
@@ -125,22 +126,24 @@ fn tile_starts(len: usize, size: usize) -> Vec<usize> {
     starts
 }
 
-/// Run a single-band detector on an image of any size at least the detector's input size.
+/// Run a single-band detector on an image of any size at least the detector's input size; a
+/// radar image's pixels are in `scale` (an infrared one's are brightness temperatures, K).
 pub fn detect_image(
     detector: &Detector,
     info: &ModelInfo,
     image: &Array2<f32>,
+    scale: RadarScale,
     device: &Device,
 ) -> Result<Detection, WakelabError> {
     let n = info.input_size;
-    if info.bands.is_fused() {
+    let Some(band) = info.bands.as_single() else {
         return Err(ConfigError::new(
             "--model",
             format!("a detector of {} bands ({})", info.image_channels(), info.bands),
             "a single-band detector",
         )
         .into());
-    }
+    };
     let (h, w) = image.dim();
     if h < n || w < n {
         return Err(ConfigError::new(
@@ -159,7 +162,7 @@ pub fn detect_image(
     let examples: Vec<Example> = origins
         .iter()
         .map(|&(r, c)| Example {
-            image: normalise(image.slice(s![r..r + n, c..c + n]).to_owned()).insert_axis(Axis(0)),
+            image: detector_input(image.slice(s![r..r + n, c..c + n]).to_owned(), band, scale).insert_axis(Axis(0)),
             label: 0,
             mask: None,
         })

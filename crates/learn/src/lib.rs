@@ -6,6 +6,7 @@
 //! The backend is a run-time choice ([`device::parse_device`]): burn's pure-Rust `flex` CPU
 //! backend by default, `wgpu` and `cuda` behind the cargo features of the same names.
 
+pub mod augment;
 pub mod data;
 pub mod detect;
 pub mod device;

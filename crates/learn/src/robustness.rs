@@ -1,7 +1,8 @@
 //! Perturbed test images for the robustness study the spec leaves to future work (6.2): rotations
-//! by angles that are not multiples of 90 degrees (training only ever saw quarter turns), dropped
-//! patches (occlusion, missing data) and added noise. Images are normalised to zero mean and unit
-//! variance when loaded, so "the image mean" is 0 and noise is in units of the image's spread.
+//! by angles that are not multiples of 90 degrees (what quarter-turn training never saw), dropped
+//! patches (occlusion, missing data) and added noise. Images are normalised robustly when loaded
+//! ([`crate::data::detector_input`]), so "the image mean" is near 0 and noise is in units of the
+//! image's robust spread.
 
 use crate::train::Example;
 use ndarray::{Array2, Array3};

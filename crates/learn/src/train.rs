@@ -1,8 +1,8 @@
 //! Training (spec 4.1, "Training and Experiment"): the classifiers by SGD (lr 1e-3, L2 0.1) on
 //! binary cross entropy, the U-Net by Adam (lr 1e-4, weight decay 1e-4) on 0.7 BCE + 0.3 log-Dice
-//! (Eq. (4.1), erratum 9), both with inputs rotated at random by multiples of 90 degrees.
+//! (Eq. (4.1), erratum 9), both with inputs varied by their recipe's augmentation ([`crate::augment`]).
 
-use crate::data::rotate_quarter;
+use crate::augment::Pose;
 use crate::models::{init_seeded, UNet, WakeClassifier};
 use burn::module::Module;
 use burn::nn::loss::BinaryCrossEntropyLossConfig;
@@ -15,6 +15,7 @@ use rand_chacha::ChaCha8Rng;
 use serde::{Deserialize, Serialize};
 use std::time::Instant;
 use wakelab_schema::recipe;
+use wakelab_schema::recipe::Augmentation;
 
 /// One training or test input: `channels` x h x w (already normalised), its label and, for the
 /// U-Net, its wake mask (0 or 1 per pixel).
@@ -43,8 +44,8 @@ pub struct Recipe {
     pub learning_rate: f64,
     /// L2 penalty added to the gradient (PyTorch's `weight_decay`).
     pub weight_decay: f64,
-    /// Random 90-degree rotations of every training input.
-    pub rotate: bool,
+    /// How training inputs vary from epoch to epoch.
+    pub augmentation: Augmentation,
     /// First-level channels of the U-Net (Table 4.2: 64); the classifiers ignore it.
     pub width: usize,
 }
@@ -58,7 +59,7 @@ impl Recipe {
             batch_size: recipe::CLASSIFIER_BATCH_SIZE,
             learning_rate: recipe::CLASSIFIER_LEARNING_RATE,
             weight_decay: recipe::CLASSIFIER_WEIGHT_DECAY,
-            rotate: true,
+            augmentation: Augmentation::QuarterTurns,
             width: recipe::UNET_WIDTH,
         }
     }
@@ -70,7 +71,7 @@ impl Recipe {
             batch_size: recipe::UNET_BATCH_SIZE,
             learning_rate: recipe::UNET_LEARNING_RATE,
             weight_decay: recipe::UNET_WEIGHT_DECAY,
-            rotate: true,
+            augmentation: Augmentation::QuarterTurns,
             width: recipe::UNET_WIDTH,
         }
     }
@@ -88,27 +89,26 @@ pub struct EpochRecord {
     pub seconds: f64,
 }
 
-/// A stack of examples as one [batch, channels, h, w] tensor, each rotated by its quarter turns.
-pub fn batch_images(examples: &[&Example], turns: &[u8], device: &Device) -> Tensor<4> {
+/// A stack of examples as one [batch, channels, h, w] tensor, each in its pose.
+pub fn batch_images(examples: &[&Example], poses: &[Pose], device: &Device) -> Tensor<4> {
     let (c, n) = (examples[0].channels(), examples[0].size());
     let mut data = Vec::with_capacity(examples.len() * c * n * n);
-    for (e, &k) in examples.iter().zip(turns) {
+    for (e, pose) in examples.iter().zip(poses) {
         for channel in e.image.outer_iter() {
-            let channel = channel.to_owned();
-            if k == 0 {
+            if *pose == Pose::IDENTITY {
                 data.extend(channel.iter().copied());
             } else {
-                data.extend(rotate_quarter(&channel, k).iter().copied());
+                data.extend(pose.apply(&channel.to_owned(), false).iter().copied());
             }
         }
     }
     Tensor::from_data(TensorData::new(data, [examples.len(), c, n, n]), device)
 }
 
-pub fn batch_masks(examples: &[&Example], turns: &[u8], device: &Device) -> Tensor<4, Int> {
+pub fn batch_masks(examples: &[&Example], poses: &[Pose], device: &Device) -> Tensor<4, Int> {
     let n = examples[0].size();
     let mut data: Vec<i64> = Vec::with_capacity(examples.len() * n * n);
-    for (e, &k) in examples.iter().zip(turns) {
+    for (e, pose) in examples.iter().zip(poses) {
         let zeros;
         let mask = match &e.mask {
             Some(m) => m,
@@ -117,7 +117,7 @@ pub fn batch_masks(examples: &[&Example], turns: &[u8], device: &Device) -> Tens
                 &zeros
             }
         };
-        data.extend(rotate_quarter(mask, k).iter().map(|&v| (v > 0.5) as i64));
+        data.extend(pose.apply(mask, true).iter().map(|&v| (v > 0.5) as i64));
     }
     Tensor::from_data(TensorData::new(data, [examples.len(), 1, n, n]), device)
 }
@@ -134,17 +134,21 @@ fn check_examples(examples: &[Example]) -> (usize, usize) {
     (c, n)
 }
 
-/// The order and rotations of one epoch, drawn from the recipe's seed.
-fn epoch_plan(count: usize, seed: u64, epoch: usize, rotate: bool) -> (Vec<usize>, Vec<u8>) {
+/// The order and poses of one epoch, drawn from the recipe's seed.
+fn epoch_plan(
+    count: usize,
+    size: usize,
+    seed: u64,
+    epoch: usize,
+    augmentation: Augmentation,
+) -> (Vec<usize>, Vec<Pose>) {
     let mut rng = ChaCha8Rng::seed_from_u64(seed ^ (epoch as u64 + 1).wrapping_mul(0x9E37_79B9_7F4A_7C15));
     let mut order: Vec<usize> = (0..count).collect();
     for i in (1..count).rev() {
         order.swap(i, rng.random_range(0..=i));
     }
-    let turns = (0..count)
-        .map(|_| if rotate { rng.random_range(0..4u8) } else { 0 })
-        .collect();
-    (order, turns)
+    let poses = (0..count).map(|_| Pose::draw(augmentation, size, &mut rng)).collect();
+    (order, poses)
 }
 
 /// Binary cross entropy on logits (Eq. (4.1), PyTorch's `BCEWithLogitsLoss`), mean over elements.
@@ -287,16 +291,16 @@ fn train_epochs<M: Module>(
     seed: u64,
     units: f64,
     on_epoch: &mut dyn FnMut(&EpochRecord),
-    step: impl Fn(&mut Trainer<M>, &[&Example], &[u8]) -> (f64, f64),
+    step: impl Fn(&mut Trainer<M>, &[&Example], &[Pose]) -> (f64, f64),
 ) {
     for epoch in 0..recipe.epochs {
         let start = Instant::now();
-        let (order, turns) = epoch_plan(examples.len(), seed, epoch, recipe.rotate);
+        let (order, poses) = epoch_plan(examples.len(), examples[0].size(), seed, epoch, recipe.augmentation);
         let (mut loss_sum, mut right) = (0.0, 0.0);
         for chunk in order.chunks(recipe.batch_size.max(1)) {
             let batch: Vec<&Example> = chunk.iter().map(|&i| &examples[i]).collect();
-            let turns: Vec<u8> = chunk.iter().map(|&i| turns[i]).collect();
-            let (loss, r) = step(trainer, &batch, &turns);
+            let poses: Vec<Pose> = chunk.iter().map(|&i| poses[i]).collect();
+            let (loss, r) = step(trainer, &batch, &poses);
             loss_sum += loss * batch.len() as f64;
             right += r;
         }
@@ -330,9 +334,9 @@ pub fn train_classifier(
         seed,
         1.0,
         on_epoch,
-        |t, batch, turns| {
+        |t, batch, poses| {
             let labels: Vec<i64> = batch.iter().map(|e| e.label as i64).collect();
-            let images = batch_images(batch, turns, t.device());
+            let images = batch_images(batch, poses, t.device());
             t.step(images, &labels)
         },
     );
@@ -356,9 +360,9 @@ pub fn train_unet(
         seed,
         (size * size) as f64,
         on_epoch,
-        |t, batch, turns| {
-            let images = batch_images(batch, turns, t.device());
-            let masks = batch_masks(batch, turns, t.device());
+        |t, batch, poses| {
+            let images = batch_images(batch, poses, t.device());
+            let masks = batch_masks(batch, poses, t.device());
             t.step(images, masks)
         },
     );
@@ -370,7 +374,7 @@ pub fn classify(model: &WakeClassifier, examples: &[Example], batch_size: usize,
     let all: Vec<&Example> = examples.iter().collect();
     let mut out = Vec::with_capacity(examples.len());
     for chunk in all.chunks(batch_size.max(1)) {
-        let images = batch_images(chunk, &vec![0; chunk.len()], device);
+        let images = batch_images(chunk, &vec![Pose::IDENTITY; chunk.len()], device);
         let p = model
             .probability(images)
             .into_data()
@@ -387,7 +391,7 @@ pub fn segment(model: &UNet, examples: &[Example], batch_size: usize, device: &D
     let mut out = Vec::with_capacity(examples.len());
     for chunk in all.chunks(batch_size.max(1)) {
         let n = chunk[0].size();
-        let images = batch_images(chunk, &vec![0; chunk.len()], device);
+        let images = batch_images(chunk, &vec![Pose::IDENTITY; chunk.len()], device);
         let p = model.mask(images).into_data().try_to_vec::<f32>().expect("f32 outputs");
         for image in p.chunks(n * n) {
             out.push(Array2::from_shape_vec((n, n), image.to_vec()).expect("n x n"));

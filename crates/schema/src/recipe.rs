@@ -23,3 +23,34 @@ pub const UNET_WEIGHT_DECAY: f64 = 1e-4;
 pub const UNET_WIDTH: usize = 64;
 /// Decision threshold on the wake probability (4.2: 0.5; erratum 2).
 pub const THRESHOLD: f64 = 0.5;
+
+/// How training inputs are varied from epoch to epoch.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, serde::Serialize, serde::Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Augmentation {
+    /// Random turns by multiples of 90 degrees (4.2).
+    #[default]
+    QuarterTurns,
+    /// Rotations by any angle, mirror flips and shifts by up to an eighth of the image (the wake
+    /// anywhere, in any direction).
+    Geometric,
+}
+
+impl Augmentation {
+    pub fn name(self) -> &'static str {
+        match self {
+            Augmentation::QuarterTurns => "quarter_turns",
+            Augmentation::Geometric => "geometric",
+        }
+    }
+}
+
+impl std::str::FromStr for Augmentation {
+    type Err = String;
+    fn from_str(s: &str) -> Result<Self, String> {
+        [Augmentation::QuarterTurns, Augmentation::Geometric]
+            .into_iter()
+            .find(|a| a.name() == s)
+            .ok_or_else(|| format!("\"{s}\" is not an augmentation (allowed: quarter_turns, geometric)"))
+    }
+}

@@ -289,6 +289,11 @@ fn recipe_note(plan: &LearningPlan) -> String {
     );
     differ("classifier epochs", plan.epochs.to_string(), spec.epochs.to_string());
     differ(
+        "augmentation",
+        plan.augmentation.name().to_string(),
+        spec.augmentation.name().to_string(),
+    );
+    differ(
         "classifier SGD learning rate",
         plan.learning_rate.to_string(),
         spec.learning_rate.to_string(),

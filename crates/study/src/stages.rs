@@ -107,12 +107,14 @@ pub fn eval_options(plan: &LearningPlan, dataset: &Dataset) -> EvalOptions {
             epochs: plan.epochs,
             batch_size: plan.batch_size,
             learning_rate: plan.learning_rate,
+            augmentation: plan.augmentation,
             ..Recipe::classifier()
         },
         unet: Recipe {
             epochs: plan.unet_epochs,
             learning_rate: plan.unet_learning_rate,
             width: plan.unet_width,
+            augmentation: plan.augmentation,
             ..Recipe::unet()
         },
         threshold: plan.threshold,

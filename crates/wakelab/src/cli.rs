@@ -265,6 +265,10 @@ pub struct DetectArgs {
     /// Write the wake mask (PNG) here.
     #[arg(long, value_name = "FILE")]
     pub mask: Option<PathBuf>,
+    /// How a radar image's pixels are scaled: linear (sigma0, as wakelab writes), db or
+    /// amplitude (sqrt sigma0). Infrared images are brightness temperatures (K).
+    #[arg(long, default_value = "linear", value_name = "linear|db|amplitude")]
+    pub scale: wakelab_learn::data::RadarScale,
     /// Backend: cpu, or wgpu / cuda in builds with those features.
     #[arg(long, default_value = "cpu")]
     pub device: String,

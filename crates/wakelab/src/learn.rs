@@ -41,9 +41,13 @@ pub struct LearnArgs {
     /// Decision threshold on the wake probability (spec 4.2: 0.5).
     #[arg(long, default_value_t = recipe::THRESHOLD)]
     pub threshold: f64,
-    /// Seed of the weights, splits, batch order and rotations.
+    /// Seed of the weights, splits, batch order and augmentation.
     #[arg(long, default_value_t = 0)]
     pub seed: u64,
+    /// How training inputs vary: quarter_turns (spec 4.2) or geometric (rotations by any angle,
+    /// flips and shifts).
+    #[arg(long, default_value = "quarter_turns", value_name = "quarter_turns|geometric")]
+    pub augmentation: wakelab_schema::recipe::Augmentation,
     /// Backend: cpu, or wgpu / cuda in builds with those features.
     #[arg(long, default_value = "cpu")]
     pub device: String,
@@ -71,11 +75,13 @@ impl LearnArgs {
                 epochs: self.epochs,
                 batch_size: self.batch_size,
                 learning_rate: self.learning_rate,
+                augmentation: self.augmentation,
                 ..Recipe::classifier()
             },
             unet: Recipe {
                 epochs: self.unet_epochs,
                 width: self.unet_width,
+                augmentation: self.augmentation,
                 ..Recipe::unet()
             },
             threshold: self.threshold,
@@ -181,7 +187,7 @@ pub fn run_detect(args: &DetectArgs) -> Result<()> {
     let device = parse_device(device)?;
     let (detector, info) = load_detector(model, None, &device)?;
     let pixels = wakelab_learn::detect::read_single_band(image)?;
-    let detection = wakelab_learn::detect::detect_image(&detector, &info, &pixels, &device)?;
+    let detection = wakelab_learn::detect::detect_image(&detector, &info, &pixels, args.scale, &device)?;
     if let (Some(path), Some(m)) = (mask, &detection.mask) {
         write_mask_png(path, m)?;
     } else if mask.is_some() {

@@ -67,6 +67,19 @@ impl Pose {
                 plane[[r as usize, c as usize]]
             }
         };
+        let bilinear = |y: f64, x: f64| -> f32 {
+            // positions a rounding error outside the edge are on it
+            let (y, x) = (snap(y, rows), snap(x, cols));
+            if y < 0.0 || x < 0.0 || y > (rows - 1) as f64 || x > (cols - 1) as f64 {
+                return 0.0;
+            }
+            let (y0, x0) = (y.floor() as usize, x.floor() as usize);
+            let (y1, x1) = ((y0 + 1).min(rows - 1), (x0 + 1).min(cols - 1));
+            let (fy, fx) = ((y - y0 as f64) as f32, (x - x0 as f64) as f32);
+            let top = plane[[y0, x0]] * (1.0 - fx) + plane[[y0, x1]] * fx;
+            let bottom = plane[[y1, x0]] * (1.0 - fx) + plane[[y1, x1]] * fx;
+            top * (1.0 - fy) + bottom * fy
+        };
         Array2::from_shape_fn((rows, cols), |(r, c)| {
             // to centred axes (x right, y up), undo the shift and the turn, then the flip
             let x1 = c as f64 - self.shift.1 as f64 - cc;
@@ -75,14 +88,22 @@ impl Pose {
             let x = if self.flip { -x } else { x };
             let (ri, ci) = (cr - y, cc + x);
             if nearest {
-                return read(ri.round() as isize, ci.round() as isize);
+                read(ri.round() as isize, ci.round() as isize)
+            } else {
+                bilinear(ri, ci)
             }
-            let (r0, c0) = (ri.floor(), ci.floor());
-            let (fr, fc) = ((ri - r0) as f32, (ci - c0) as f32);
-            let (r0, c0) = (r0 as isize, c0 as isize);
-            (1.0 - fr) * ((1.0 - fc) * read(r0, c0) + fc * read(r0, c0 + 1))
-                + fr * ((1.0 - fc) * read(r0 + 1, c0) + fc * read(r0 + 1, c0 + 1))
         })
+    }
+}
+
+/// `v` on the edge 0 or n - 1 when within a rounding error of it.
+fn snap(v: f64, n: usize) -> f64 {
+    if v.abs() < 1e-9 {
+        0.0
+    } else if (v - (n - 1) as f64).abs() < 1e-9 {
+        (n - 1) as f64
+    } else {
+        v
     }
 }
 

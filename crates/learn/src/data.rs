@@ -196,14 +196,10 @@ pub fn robust_normalise(mut image: Array2<f32>) -> Array2<f32> {
     image
 }
 
-/// The median of an image's values (the upper one of an even count).
+/// The median of an image's finite values (the upper one of an even count).
 pub fn median(image: &Array2<f32>) -> f32 {
-    let mut values: Vec<f32> = image.iter().copied().collect();
-    if values.is_empty() {
-        return 0.0;
-    }
-    let middle = values.len() / 2;
-    *values.select_nth_unstable_by(middle, f32::total_cmp).1
+    let values: Vec<f32> = image.iter().copied().collect();
+    wakelab_core::io::geotiff::quantile(&values, 0.5) as f32
 }
 
 /// Rotate a square image by `quarter_turns` x 90 degrees counter-clockwise.

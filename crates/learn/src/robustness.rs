@@ -4,6 +4,7 @@
 //! ([`crate::data::detector_input`]), so "the image mean" is near 0 and noise is in units of the
 //! image's robust spread.
 
+use crate::augment::Pose;
 use crate::train::Example;
 use ndarray::{Array2, Array3};
 use rand::{RngExt, SeedableRng};
@@ -82,40 +83,14 @@ impl Perturbation {
     }
 }
 
-fn snap(v: f64, n: usize) -> f64 {
-    if v.abs() < 1e-9 {
-        0.0
-    } else if (v - (n - 1) as f64).abs() < 1e-9 {
-        (n - 1) as f64
-    } else {
-        v
-    }
-}
-
-/// Rotate a plane about its centre by `degrees` (counter-clockwise), bilinear; 0 outside.
+/// Rotate a plane about its centre by `degrees` (counter-clockwise), bilinear; 0 outside: the
+/// training augmentation's resampling ([`crate::augment::Pose`]).
 pub fn rotate(plane: &Array2<f32>, degrees: f64) -> Array2<f32> {
-    let (h, w) = plane.dim();
-    let (sin, cos) = degrees.to_radians().sin_cos();
-    let (cy, cx) = ((h as f64 - 1.0) / 2.0, (w as f64 - 1.0) / 2.0);
-    let sample = |y: f64, x: f64| -> f32 {
-        // positions a rounding error outside the edge are on it
-        let (y, x) = (snap(y, h), snap(x, w));
-        if y < 0.0 || x < 0.0 || y > (h - 1) as f64 || x > (w - 1) as f64 {
-            return 0.0;
-        }
-        let (y0, x0) = (y.floor() as usize, x.floor() as usize);
-        let (y1, x1) = ((y0 + 1).min(h - 1), (x0 + 1).min(w - 1));
-        let (fy, fx) = ((y - y0 as f64) as f32, (x - x0 as f64) as f32);
-        let top = plane[[y0, x0]] * (1.0 - fx) + plane[[y0, x1]] * fx;
-        let bottom = plane[[y1, x0]] * (1.0 - fx) + plane[[y1, x1]] * fx;
-        top * (1.0 - fy) + bottom * fy
-    };
-    // each output pixel takes the input at the inverse rotation of its position (rows grow
-    // downwards, so a counter-clockwise turn on screen is clockwise in (row, column))
-    Array2::from_shape_fn((h, w), |(r, c)| {
-        let (dy, dx) = (r as f64 - cy, c as f64 - cx);
-        sample(cy + cos * dy + sin * dx, cx - sin * dy + cos * dx)
-    })
+    Pose {
+        degrees,
+        ..Pose::IDENTITY
+    }
+    .apply(plane, false)
 }
 
 #[cfg(test)]

@@ -295,7 +295,7 @@ fn bad_study_files_are_refused_before_any_work() {
 #[test]
 fn the_embedded_studies_are_valid_and_realistic() {
     use wakelab_data::study::{DEFAULT_STUDY, PAPER_STUDY};
-    for (name, text, pairs) in [("default", DEFAULT_STUDY, 16), ("paper", PAPER_STUDY, 180)] {
+    for (name, text, pairs) in [("default", DEFAULT_STUDY, 48), ("paper", PAPER_STUDY, 180)] {
         let study = Study::from_toml_str(text, name).unwrap();
         let all = study.pairs().unwrap();
         assert_eq!(all.len(), pairs, "{name}");

@@ -1,14 +1,18 @@
-//! Detection on a user's own single-band image (npy, TIFF or PNG): the image is cut into tiles
-//! of the detector's input size (half-tile overlap), each tile made an input as in training
-//! ([`crate::data::detector_input`], radar pixels read in the given [`RadarScale`])
-//! and classified; the scene's wake probability is the largest tile's, and the U-Net's masks are
-//! stitched (overlaps averaged) into one mask of the whole image.
+//! Detection on a user's own single-band image (npy, TIFF or PNG) of any size: windows of the
+//! detector's input size slide over the image with a stride, each made an input as in training
+//! ([`crate::data::detector_input`], radar pixels read in the given [`RadarScale`]) and scored,
+//! a batch at a time so that memory holds one batch of windows, not the window set. Each cell of
+//! `stride` x `stride` pixels gets the mean probability of the windows that cover it (a cell on a
+//! wake is covered only by windows that hold the wake, so the map peaks on it); the U-Net's masks
+//! are stitched (overlaps averaged) into one mask of the image; the windows above the threshold
+//! that overlap no stronger one are the detections, each placed by the mean map and with its
+//! orientation and length from the mask.
 
 use crate::data::{detector_input, RadarScale};
-use crate::evaluate::detect;
+use crate::evaluate::detect_with_masks;
 use crate::models::Architecture;
 use crate::store::{Detector, ModelInfo};
-use crate::train::{segment, Example};
+use crate::train::Example;
 use burn::tensor::Device;
 use ndarray::{s, Array2, Axis};
 use serde::Serialize;
@@ -79,7 +83,7 @@ fn read_tiff(path: &Path) -> Result<Array2<f32>, WakelabError> {
     Array2::from_shape_vec((h as usize, w as usize), values).map_err(|e| image_error(path, e))
 }
 
-/// One tile's result.
+/// One window's result.
 #[derive(Debug, Clone, Serialize)]
 pub struct Tile {
     pub row: usize,
@@ -87,53 +91,126 @@ pub struct Tile {
     pub probability: f64,
 }
 
+/// How a scene is scanned.
+#[derive(Debug, Clone, Copy)]
+pub struct ScanOptions {
+    /// Step between windows (pixels); None: half the window.
+    pub stride: Option<usize>,
+    /// How a radar image's pixels are scaled.
+    pub scale: RadarScale,
+    /// Windows scored at once (bounds the memory).
+    pub batch: usize,
+    /// Decision threshold on a window's wake probability; None: the detector's.
+    pub threshold: Option<f64>,
+}
+
+impl Default for ScanOptions {
+    fn default() -> Self {
+        Self {
+            stride: None,
+            scale: RadarScale::Linear,
+            batch: 64,
+            threshold: None,
+        }
+    }
+}
+
+/// A window above the threshold that overlaps no stronger one.
+#[derive(Debug, Clone, Serialize)]
+pub struct Found {
+    /// Probability-weighted centroid of the cells (pixels; row down, column right).
+    pub row: f64,
+    pub col: f64,
+    /// The window's probability.
+    pub score: f64,
+    /// Area of the window's cells (pixels).
+    pub area: usize,
+    /// Direction of the U-Net mask's principal axis within the cells: degrees in [0, 180),
+    /// anticlockwise from the image's column axis (0 = along a row, 90 = up the image). None
+    /// without a U-Net or with fewer than 3 mask pixels.
+    pub orientation: Option<f64>,
+    /// Extent of those mask pixels along that axis (pixels).
+    pub length: Option<f64>,
+}
+
+/// The map's strongest cell.
+#[derive(Debug, Clone, Copy, Serialize)]
+pub struct Peak {
+    /// Centre of the cell (pixels).
+    pub row: f64,
+    pub col: f64,
+    /// Its mean window probability.
+    pub probability: f64,
+}
+
 /// Detection on one image.
 #[derive(Debug, Clone, Serialize)]
 pub struct Detection {
-    /// Largest tile probability: the chance a wake is somewhere in the image.
+    /// Largest window probability: the chance a wake is somewhere in the image.
     pub probability: f64,
     pub wake: bool,
     pub threshold: f64,
+    /// Window side and step (pixels).
+    pub window: usize,
+    pub stride: usize,
     pub tiles: Vec<Tile>,
+    /// The map's strongest cell.
+    pub peak: Peak,
+    /// Wakes found: the windows above the threshold that overlap no stronger one, strongest
+    /// first.
+    pub detections: Vec<Found>,
+    /// Mean probability of the windows covering each `stride` x `stride` cell.
+    #[serde(skip)]
+    pub map: Array2<f32>,
+    /// The U-Net's stitched wake mask (image size).
     #[serde(skip)]
     pub mask: Option<Array2<f32>>,
 }
 
 impl Detection {
-    /// "wake probability 0.912 (wake at threshold 0.5), 4 tile(s) of 64 x 64 px".
-    pub fn describe(&self, tile_size: usize) -> String {
+    /// "wake probability 0.912 (wake at threshold 0.5), 4 window(s) of 64 x 64 px, 1 detection(s)".
+    pub fn describe(&self) -> String {
         format!(
-            "wake probability {:.3} ({} at threshold {}), {} tile(s) of {tile_size} x {tile_size} px",
+            "wake probability {:.3} ({} at threshold {}), {} window(s) of {n} x {n} px at stride {}, {} detection(s)",
             self.probability,
             if self.wake { "wake" } else { "no wake" },
             self.threshold,
-            self.tiles.len()
+            self.tiles.len(),
+            self.stride,
+            self.detections.len(),
+            n = self.window,
         )
     }
 }
 
-/// Tile origins along one axis of length `len` for tiles of `size` with half-tile steps; the last
-/// tile ends at the border.
-fn tile_starts(len: usize, size: usize) -> Vec<usize> {
+/// Window origins along one axis of length `len` for windows of `size` every `stride`; the last
+/// window ends at the border.
+fn tile_starts(len: usize, size: usize, stride: usize) -> Vec<usize> {
     if len <= size {
         return vec![0];
     }
-    let step = (size / 2).max(1);
-    let mut starts: Vec<usize> = (0..=len - size).step_by(step).collect();
+    let mut starts: Vec<usize> = (0..=len - size).step_by(stride.max(1)).collect();
     if *starts.last().unwrap() != len - size {
         starts.push(len - size);
     }
     starts
 }
 
-/// Run a single-band detector on an image of any size at least the detector's input size; a
-/// radar image's pixels are in `scale` (an infrared one's are brightness temperatures, K).
+/// For each origin, the range of `stride`-cells its window of `size` covers.
+fn covered_cells(start: usize, size: usize, stride: usize) -> std::ops::Range<usize> {
+    start / stride..(start + size - 1) / stride + 1
+}
+
+/// Scan a single-band detector over an image of any size at least the detector's input; a radar
+/// image's pixels are in `options.scale` (an infrared one's are brightness temperatures, K).
+/// `progress(done, total)` follows the windows.
 pub fn detect_image(
     detector: &Detector,
     info: &ModelInfo,
     image: &Array2<f32>,
-    scale: RadarScale,
+    options: ScanOptions,
     device: &Device,
+    progress: &mut dyn FnMut(usize, usize),
 ) -> Result<Detection, WakelabError> {
     let n = info.input_size;
     let Some(band) = info.bands.as_single() else {
@@ -153,46 +230,196 @@ pub fn detect_image(
         )
         .into());
     }
-    let mut origins = Vec::new();
-    for &r in &tile_starts(h, n) {
-        for &c in &tile_starts(w, n) {
-            origins.push((r, c));
-        }
+    let stride = options.stride.unwrap_or((n / 2).max(1));
+    if stride == 0 || stride > n {
+        return Err(ConfigError::new("--stride", stride, format!("an integer in [1, {n}] (the window side)")).into());
     }
-    let examples: Vec<Example> = origins
-        .iter()
-        .map(|&(r, c)| Example {
-            image: detector_input(image.slice(s![r..r + n, c..c + n]).to_owned(), band, scale).insert_axis(Axis(0)),
-            label: 0,
-            mask: None,
-        })
-        .collect();
-    let p = detect(detector, info.architecture, &examples, device);
-    let mask = match (&detector.segmenter, info.architecture) {
-        (Some(unet), Architecture::Unet) => {
-            let masks = segment(unet, &examples, 4, device);
-            let mut sum = Array2::<f32>::zeros((h, w));
-            let mut count = Array2::<f32>::zeros((h, w));
-            for (&(r, c), m) in origins.iter().zip(&masks) {
-                sum.slice_mut(s![r..r + n, c..c + n]).zip_mut_with(m, |a, b| *a += b);
-                count.slice_mut(s![r..r + n, c..c + n]).mapv_inplace(|v| v + 1.0);
+    let threshold = options.threshold.unwrap_or(info.threshold);
+    if !(0.0..=1.0).contains(&threshold) {
+        return Err(ConfigError::new("--threshold", threshold, "in [0, 1]").into());
+    }
+    let (rows, cols) = (tile_starts(h, n, stride), tile_starts(w, n, stride));
+    let origins: Vec<(usize, usize)> = rows.iter().flat_map(|&r| cols.iter().map(move |&c| (r, c))).collect();
+    let cells = (h.div_ceil(stride), w.div_ceil(stride));
+    let mut sum = Array2::<f32>::zeros(cells);
+    let mut count = Array2::<f32>::zeros(cells);
+    let with_mask = detector.segmenter.is_some() && info.architecture == Architecture::Unet;
+    let mut mask_sum = with_mask.then(|| Array2::<f32>::zeros((h, w)));
+    let mut tiles = Vec::with_capacity(origins.len());
+    for (k, batch) in origins.chunks(options.batch.max(1)).enumerate() {
+        let examples: Vec<Example> = batch
+            .iter()
+            .map(|&(r, c)| Example {
+                image: detector_input(image.slice(s![r..r + n, c..c + n]).to_owned(), band, options.scale)
+                    .insert_axis(Axis(0)),
+                label: 0,
+                mask: None,
+            })
+            .collect();
+        let (p, masks) = detect_with_masks(detector, info.architecture, &examples, device);
+        for (i, (&(r, c), &probability)) in batch.iter().zip(&p).enumerate() {
+            let region = s![covered_cells(r, n, stride), covered_cells(c, n, stride)];
+            sum.slice_mut(region).mapv_inplace(|v| v + probability as f32);
+            count.slice_mut(region).mapv_inplace(|v| v + 1.0);
+            if let (Some(total), Some(m)) = (mask_sum.as_mut(), masks.as_ref()) {
+                total
+                    .slice_mut(s![r..r + n, c..c + n])
+                    .zip_mut_with(&m[i], |a, b| *a += b);
             }
-            Some(sum / count)
+            tiles.push(Tile {
+                row: r,
+                col: c,
+                probability,
+            });
         }
-        _ => None,
+        progress(
+            (k * options.batch.max(1) + batch.len()).min(origins.len()),
+            origins.len(),
+        );
+    }
+    let map = sum / count.mapv(|v| v.max(1.0));
+    // every pixel is covered by (windows over its row) x (windows over its column)
+    let mask = mask_sum.map(|mut total| {
+        let per_axis = |starts: &[usize], len: usize| {
+            let mut c = vec![0.0f32; len];
+            for &s0 in starts {
+                c[s0..s0 + n].iter_mut().for_each(|v| *v += 1.0);
+            }
+            c
+        };
+        let (rc, cc) = (per_axis(&rows, h), per_axis(&cols, w));
+        for ((r, c), v) in total.indexed_iter_mut() {
+            *v /= rc[r] * cc[c];
+        }
+        total
+    });
+    let probability = tiles.iter().map(|t| t.probability).fold(0.0, f64::max);
+    let ((pr, pc), &top) = map
+        .indexed_iter()
+        .max_by(|a, b| a.1.total_cmp(b.1).then(b.0.cmp(&a.0)))
+        .expect("a map of at least one cell");
+    let half = stride as f64 / 2.0;
+    let peak = Peak {
+        row: (pr * stride) as f64 + half,
+        col: (pc * stride) as f64 + half,
+        probability: top as f64,
     };
-    let probability = p.iter().cloned().fold(0.0, f64::max);
+    let detections = find_wakes(&map, &tiles, n, stride, threshold, mask.as_ref());
     Ok(Detection {
         probability,
-        wake: probability > info.threshold,
-        threshold: info.threshold,
-        tiles: origins
-            .iter()
-            .zip(&p)
-            .map(|(&(row, col), &probability)| Tile { row, col, probability })
-            .collect(),
+        wake: probability > threshold,
+        threshold,
+        window: n,
+        stride,
+        tiles,
+        peak,
+        detections,
+        map,
         mask,
     })
+}
+
+/// The windows above `threshold` after non-maximum suppression: strongest first, a window is
+/// kept unless it overlaps one already kept (the usual sliding-window detector's rule). Each is
+/// placed at the centroid of the mean map over its cells (which peaks on the wake, not on the
+/// window's centre) and measured on the mask where there is one.
+fn find_wakes(
+    map: &Array2<f32>,
+    tiles: &[Tile],
+    window: usize,
+    stride: usize,
+    threshold: f64,
+    mask: Option<&Array2<f32>>,
+) -> Vec<Found> {
+    let mut candidates: Vec<&Tile> = tiles.iter().filter(|t| t.probability > threshold).collect();
+    candidates.sort_by(|a, b| b.probability.total_cmp(&a.probability));
+    // kept windows by the window-sized block of their origin: an overlapping one is in the 3 x 3
+    // blocks around
+    let mut kept: std::collections::HashMap<(usize, usize), Vec<(usize, usize)>> = Default::default();
+    let mut found = Vec::new();
+    for t in candidates {
+        let block = (t.row / window, t.col / window);
+        let overlaps = (block.0.saturating_sub(1)..=block.0 + 1).any(|br| {
+            (block.1.saturating_sub(1)..=block.1 + 1).any(|bc| {
+                kept.get(&(br, bc)).is_some_and(|list| {
+                    list.iter()
+                        .any(|&(r, c)| r.abs_diff(t.row) < window && c.abs_diff(t.col) < window)
+                })
+            })
+        });
+        if overlaps {
+            continue;
+        }
+        kept.entry(block).or_default().push((t.row, t.col));
+        let cells: Vec<(usize, usize)> = covered_cells(t.row, window, stride)
+            .flat_map(|r| covered_cells(t.col, window, stride).map(move |c| (r, c)))
+            .filter(|&(r, c)| r < map.nrows() && c < map.ncols())
+            .collect();
+        found.push(measure(map, &cells, stride, t.probability, mask));
+    }
+    found
+}
+
+/// Centroid (weighted by the mean map) and area of a window's cells, its score, and the mask's
+/// principal axis within them.
+fn measure(
+    map: &Array2<f32>,
+    cells: &[(usize, usize)],
+    stride: usize,
+    score: f64,
+    mask: Option<&Array2<f32>>,
+) -> Found {
+    let half = stride as f64 / 2.0;
+    let (mut weight, mut row, mut col) = (0.0, 0.0, 0.0);
+    for &(r, c) in cells {
+        let p = (map[[r, c]] as f64).max(1e-12);
+        weight += p;
+        row += p * (r as f64 * stride as f64 + half);
+        col += p * (c as f64 * stride as f64 + half);
+    }
+    let (orientation, length) = mask.map(|m| principal_axis(m, cells, stride)).unwrap_or((None, None));
+    Found {
+        row: row / weight,
+        col: col / weight,
+        score,
+        area: cells.len() * stride * stride,
+        orientation,
+        length,
+    }
+}
+
+/// Direction and extent of the mask pixels (> 0.5) inside the cells, from their second moments.
+fn principal_axis(mask: &Array2<f32>, cells: &[(usize, usize)], stride: usize) -> (Option<f64>, Option<f64>) {
+    let (h, w) = mask.dim();
+    let mut points = Vec::new();
+    for &(cr, cc) in cells {
+        for r in cr * stride..((cr + 1) * stride).min(h) {
+            for c in cc * stride..((cc + 1) * stride).min(w) {
+                if mask[[r, c]] > 0.5 {
+                    // x to the right, y up the image
+                    points.push((c as f64, -(r as f64)));
+                }
+            }
+        }
+    }
+    if points.len() < 3 {
+        return (None, None);
+    }
+    let count = points.len() as f64;
+    let (mx, my) = points
+        .iter()
+        .fold((0.0, 0.0), |(a, b), (x, y)| (a + x / count, b + y / count));
+    let (mut sxx, mut syy, mut sxy) = (0.0, 0.0, 0.0);
+    for (x, y) in &points {
+        sxx += (x - mx) * (x - mx);
+        syy += (y - my) * (y - my);
+        sxy += (x - mx) * (y - my);
+    }
+    let angle = 0.5 * (2.0 * sxy).atan2(sxx - syy);
+    let (s, c) = angle.sin_cos();
+    let along = points.iter().map(|(x, y)| (x - mx) * c + (y - my) * s);
+    let (lo, hi) = along.fold((f64::MAX, f64::MIN), |(lo, hi), v| (lo.min(v), hi.max(v)));
+    (Some(angle.to_degrees().rem_euclid(180.0)), Some(hi - lo + 1.0))
 }
 
 #[cfg(test)]
@@ -200,10 +427,61 @@ mod tests {
     use super::*;
 
     #[test]
-    fn tiles_cover_the_image_with_half_overlap() {
-        assert_eq!(tile_starts(100, 100), vec![0]);
-        assert_eq!(tile_starts(64, 100), vec![0]);
-        assert_eq!(tile_starts(250, 100), vec![0, 50, 100, 150]);
-        assert_eq!(tile_starts(260, 100), vec![0, 50, 100, 150, 160]);
+    fn windows_cover_the_image_with_their_stride() {
+        assert_eq!(tile_starts(100, 100, 50), vec![0]);
+        assert_eq!(tile_starts(64, 100, 50), vec![0]);
+        assert_eq!(tile_starts(250, 100, 50), vec![0, 50, 100, 150]);
+        assert_eq!(tile_starts(260, 100, 50), vec![0, 50, 100, 150, 160]);
+        assert_eq!(tile_starts(260, 100, 100), vec![0, 100, 160]);
+        // a window from 160 of 100 px covers the 40 px cells 4, 5, 6 (pixels 160..260)
+        assert_eq!(covered_cells(160, 100, 40), 4..7);
+        assert_eq!(covered_cells(0, 64, 32), 0..2);
+    }
+
+    #[test]
+    fn a_line_in_the_mask_gives_its_direction_and_length() {
+        // a line 40 px long rising at 45 degrees (up and to the right) in a 64 x 64 mask
+        let mut mask = Array2::<f32>::zeros((64, 64));
+        for k in 0..40 {
+            mask[[50 - k, 10 + k]] = 1.0;
+        }
+        let cells: Vec<(usize, usize)> = (0..4).flat_map(|r| (0..4).map(move |c| (r, c))).collect();
+        let (angle, length) = principal_axis(&mask, &cells, 16);
+        assert!((angle.unwrap() - 45.0).abs() < 1e-9, "{angle:?}");
+        // 40 pixels on the diagonal span 39 sqrt 2 between centres, plus one pixel
+        assert!(
+            (length.unwrap() - (39.0 * 2f64.sqrt() + 1.0)).abs() < 1e-9,
+            "{length:?}"
+        );
+        // a row of pixels lies along the column axis
+        let mut row = Array2::<f32>::zeros((64, 64));
+        row.slice_mut(s![20, 5..25]).fill(1.0);
+        let (angle, length) = principal_axis(&row, &cells, 16);
+        assert!(angle.unwrap().abs() < 1e-9 || (angle.unwrap() - 180.0).abs() < 1e-9);
+        assert_eq!(length, Some(20.0));
+    }
+
+    #[test]
+    fn overlapping_windows_give_the_strongest_one_detection() {
+        let tile = |row, col, probability| Tile { row, col, probability };
+        // 20 px windows every 10 px: (0, 0) and (10, 10) overlap, (40, 40) does not
+        let tiles = [
+            tile(10, 10, 0.7),
+            tile(0, 0, 0.9),
+            tile(40, 40, 0.6),
+            tile(20, 0, 0.5), // at the threshold: not above it
+        ];
+        let mut map = Array2::<f32>::from_elem((6, 6), 0.1);
+        map[[0, 0]] = 0.9;
+        map[[1, 1]] = 0.7;
+        let found = find_wakes(&map, &tiles, 20, 10, 0.5, None);
+        assert_eq!(found.len(), 2);
+        assert_eq!((found[0].score, found[0].area), (0.9, 400));
+        assert_eq!(found[1].score, 0.6);
+        // the first window's cells (0..2, 0..2) weighted by the mean map: cell centres 5 and 15 px
+        let expected = (0.9 * 5.0 + 0.1 * 5.0 + 0.1 * 15.0 + 0.7 * 15.0) / 1.8;
+        assert!((found[0].row - expected).abs() < 1e-6 && (found[0].col - expected).abs() < 1e-6);
+        assert!((found[1].row - 50.0).abs() < 1e-6 && (found[1].col - 50.0).abs() < 1e-6);
+        assert!(found[0].orientation.is_none());
     }
 }

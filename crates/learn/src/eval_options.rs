@@ -2,6 +2,7 @@
 //! share, the two training recipes, the threshold, the seed and the perturbed test images.
 
 use crate::robustness::Perturbation;
+use crate::store::ModelInfo;
 use crate::train::Recipe;
 use wakelab_core::{ConfigError, WakelabError};
 use wakelab_schema::band::{Band, Input};
@@ -32,6 +33,18 @@ pub struct EvalOptions {
 }
 
 impl EvalOptions {
+    /// What a detector of `architecture` trained with these options on `bands` at `input_size`
+    /// records beside its weights.
+    pub fn model_info(&self, architecture: Architecture, bands: &Input, input_size: usize) -> ModelInfo {
+        ModelInfo {
+            architecture,
+            bands: bands.clone(),
+            input_size,
+            threshold: self.threshold,
+            unet_width: self.unet.width,
+        }
+    }
+
     /// The spec's experiment on the given bands, one at a time.
     pub fn spec(bands: &[Band]) -> Self {
         Self {

@@ -9,8 +9,10 @@ pub use crate::held_out::evaluate_held_out;
 use crate::store::{Detector, ModelInfo};
 use crate::train::{classify, duplicated, segment, train_classifier, train_unet, with_masks, EpochRecord, Example};
 use burn::tensor::Device;
-use ndarray::{Array3, Axis};
+use ndarray::{Array2, Array3, Axis};
+use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
+use std::sync::Mutex;
 use wakelab_core::{ConfigError, WakelabError};
 use wakelab_schema::band::Input;
 use wakelab_schema::results::Architecture;
@@ -133,30 +135,55 @@ pub fn train_detector(
 /// Wake probabilities of a detector on examples (the image channels only; the "cls" copy and the
 /// "unet" mask are made here).
 pub fn detect(detector: &Detector, architecture: Architecture, examples: &[Example], device: &Device) -> Vec<f64> {
+    detect_with_masks(detector, architecture, examples, device).0
+}
+
+/// [`detect`], and the U-Net's wake masks where the detector has one.
+pub fn detect_with_masks(
+    detector: &Detector,
+    architecture: Architecture,
+    examples: &[Example],
+    device: &Device,
+) -> (Vec<f64>, Option<Vec<Array2<f32>>>) {
     let batch = 8;
     match (architecture, &detector.segmenter) {
-        (Architecture::Base, _) => classify(&detector.classifier, examples, batch, device),
-        (Architecture::Cls, _) => classify(&detector.classifier, &duplicated(examples), batch, device),
+        (Architecture::Base, _) => (classify(&detector.classifier, examples, batch, device), None),
+        (Architecture::Cls, _) => (
+            classify(&detector.classifier, &duplicated(examples), batch, device),
+            None,
+        ),
         (Architecture::Unet, Some(unet)) => {
             let masks = segment(unet, examples, 4, device);
-            classify(&detector.classifier, &with_masks(examples, &masks), batch, device)
+            let p = classify(&detector.classifier, &with_masks(examples, &masks), batch, device);
+            (p, Some(masks))
         }
         (Architecture::Unet, None) => panic!("a \"unet\" detector without its U-Net"),
     }
 }
 
-/// Run Algorithm 2 on a dataset.
+/// What one (repetition, architecture) job of Algorithm 2 produced.
+struct Job {
+    outputs: Vec<Output>,
+    curves: Vec<CurvePoint>,
+    detector: Option<(Detector, ModelInfo)>,
+}
+
+/// Run Algorithm 2 on a dataset. The (repetition, architecture) trainings of an input are
+/// independent, each seeded by its repetition, so they run in parallel (one network's small
+/// tensors keep about one core busy); their results are gathered in the sequential order, so
+/// outputs, curves and detectors are the same bit for bit as one after another.
 pub fn evaluate(
     dataset: &Dataset,
     options: &EvalOptions,
     device: &Device,
-    progress: &mut dyn FnMut(&EvalProgress),
+    progress: &mut (dyn FnMut(&EvalProgress) + Send),
 ) -> Result<Evaluation, WakelabError> {
     options.validate()?;
     let available = dataset.bands();
     let mut outputs = Vec::new();
     let mut curves = Vec::new();
     let mut detectors = Vec::new();
+    let progress = Mutex::new(progress);
     for input in &options.band_sets {
         if let Some(b) = input.bands().iter().find(|b| !available.contains(b)) {
             let names: Vec<&str> = available.iter().map(|b| b.name()).collect();
@@ -181,14 +208,25 @@ pub fn evaluate(
             .into());
         }
         let train_per_class = per_class - test_per_class;
+        let mut splits = Vec::with_capacity(options.repetitions);
         for repetition in 0..options.repetitions {
             let seed = options.seed.wrapping_add(1000 * repetition as u64);
             let (train_idx, test_idx) = balanced_split(&labels, &pairs, train_per_class, test_per_class, seed)?;
             let train = load_examples(dataset, input, &train_idx)?;
             let test = load_examples(dataset, input, &test_idx)?;
-            for &architecture in &options.architectures {
-                let detector = train_detector(architecture, &train, options, seed, device, &mut |network, e| {
-                    progress(&EvalProgress {
+            splits.push((seed, train_idx, test_idx, train, test));
+        }
+        let jobs: Vec<(usize, Architecture)> = (0..options.repetitions)
+            .flat_map(|r| options.architectures.iter().map(move |&a| (r, a)))
+            .collect();
+        let done: Vec<Job> = jobs
+            .par_iter()
+            .map(|&(repetition, architecture)| {
+                let (seed, train_idx, test_idx, train, test) = &splits[repetition];
+                let seed = *seed;
+                let mut curves = Vec::new();
+                let detector = train_detector(architecture, train, options, seed, device, &mut |network, e| {
+                    (progress.lock().expect("progress lock"))(&EvalProgress {
                         bands: input,
                         network,
                         repetition,
@@ -202,13 +240,14 @@ pub fn evaluate(
                         epoch: e.clone(),
                     });
                 });
-                let mut splits = vec![(Split::Train, train.clone()), (Split::Test, test.clone())];
+                let mut sets = vec![(Split::Train, train.clone()), (Split::Test, test.clone())];
                 for (k, p) in options.perturbations.iter().enumerate() {
-                    let perturbed = p.apply(&test, seed.wrapping_add(k as u64 + 1));
-                    splits.push((Split::Perturbed(p.name()), perturbed));
+                    let perturbed = p.apply(test, seed.wrapping_add(k as u64 + 1));
+                    sets.push((Split::Perturbed(p.name()), perturbed));
                 }
-                for (split, examples) in &splits {
-                    let idx = if *split == Split::Train { &train_idx } else { &test_idx };
+                let mut outputs = Vec::new();
+                for (split, examples) in &sets {
+                    let idx = if *split == Split::Train { train_idx } else { test_idx };
                     let o = detect(&detector, architecture, examples, device);
                     outputs.extend(idx.iter().zip(examples.iter()).zip(o).map(|((&i, e), output)| Output {
                         bands: input.clone(),
@@ -220,20 +259,19 @@ pub fn evaluate(
                         output,
                     }));
                 }
-                if repetition + 1 == options.repetitions {
-                    let size = train[0].size();
-                    detectors.push((
-                        detector,
-                        ModelInfo {
-                            architecture,
-                            bands: input.clone(),
-                            input_size: size,
-                            threshold: options.threshold,
-                            unet_width: options.unet.width,
-                        },
-                    ));
+                let last = repetition + 1 == options.repetitions;
+                let detector = last.then(|| (detector, options.model_info(architecture, input, train[0].size())));
+                Job {
+                    outputs,
+                    curves,
+                    detector,
                 }
-            }
+            })
+            .collect();
+        for job in done {
+            outputs.extend(job.outputs);
+            curves.extend(job.curves);
+            detectors.extend(job.detector);
         }
     }
     let summaries = summarise(&outputs, options.threshold);

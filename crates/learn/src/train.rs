@@ -1,6 +1,8 @@
 //! Training (spec 4.1, "Training and Experiment"): the classifiers by SGD (lr 1e-3, L2 0.1) on
 //! binary cross entropy, the U-Net by Adam (lr 1e-4, weight decay 1e-4) on 0.7 BCE + 0.3 log-Dice
 //! (Eq. (4.1), erratum 9), both with inputs varied by their recipe's augmentation ([`crate::augment`]).
+//! A recipe may name another optimiser ([`Optimiser`]): a shortened study trains its classifiers
+//! by the spec's Adam, since plain SGD barely moves in a few hundred steps.
 
 use crate::augment::Pose;
 use crate::models::{init_seeded, UNet, WakeClassifier};
@@ -15,7 +17,7 @@ use rand_chacha::ChaCha8Rng;
 use serde::{Deserialize, Serialize};
 use std::time::Instant;
 use wakelab_schema::recipe;
-use wakelab_schema::recipe::Augmentation;
+use wakelab_schema::recipe::{Augmentation, Optimiser};
 
 /// One training or test input: `channels` x h x w (already normalised), its label and, for the
 /// U-Net, its wake mask (0 or 1 per pixel).
@@ -42,6 +44,9 @@ pub struct Recipe {
     pub epochs: usize,
     pub batch_size: usize,
     pub learning_rate: f64,
+    /// The update rule (4.1: SGD for the classifiers, Adam for the U-Net).
+    #[serde(default)]
+    pub optimiser: Optimiser,
     /// L2 penalty added to the gradient (PyTorch's `weight_decay`).
     pub weight_decay: f64,
     /// How training inputs vary from epoch to epoch.
@@ -58,6 +63,7 @@ impl Recipe {
             epochs: recipe::CLASSIFIER_EPOCHS,
             batch_size: recipe::CLASSIFIER_BATCH_SIZE,
             learning_rate: recipe::CLASSIFIER_LEARNING_RATE,
+            optimiser: recipe::CLASSIFIER_OPTIMISER,
             weight_decay: recipe::CLASSIFIER_WEIGHT_DECAY,
             augmentation: Augmentation::QuarterTurns,
             width: recipe::UNET_WIDTH,
@@ -70,6 +76,7 @@ impl Recipe {
             epochs: recipe::UNET_EPOCHS,
             batch_size: recipe::UNET_BATCH_SIZE,
             learning_rate: recipe::UNET_LEARNING_RATE,
+            optimiser: Optimiser::Adam,
             weight_decay: recipe::UNET_WEIGHT_DECAY,
             augmentation: Augmentation::QuarterTurns,
             width: recipe::UNET_WIDTH,
@@ -175,6 +182,16 @@ fn scalar(t: Tensor<1>) -> f64 {
     t.into_data().try_to_vec::<f32>().expect("f32 tensor")[0] as f64
 }
 
+/// The recipe's update rule with its weight decay; Adam with PyTorch's epsilon 1e-8, as the
+/// spec's training had.
+fn optimiser(recipe: &Recipe) -> ModuleOptimizer {
+    let decay = Some(WeightDecayConfig::new(recipe.weight_decay as f32));
+    match recipe.optimiser {
+        Optimiser::Sgd => SgdConfig::new().with_weight_decay(decay).init(),
+        Optimiser::Adam => AdamConfig::new().with_epsilon(1e-8).with_weight_decay(decay).init(),
+    }
+}
+
 /// A network being trained on the autodiff form of a device: one optimiser step per batch.
 pub struct Trainer<M: Module> {
     model: Option<M>,
@@ -189,17 +206,11 @@ pub type ClassifierTrainer = Trainer<WakeClassifier>;
 pub type UNetTrainer = Trainer<UNet>;
 
 impl<M: Module> Trainer<M> {
-    fn with(
-        device: &Device,
-        seed: u64,
-        recipe: &Recipe,
-        optimiser: ModuleOptimizer,
-        build: impl FnOnce(&Device) -> M,
-    ) -> Self {
+    fn with(device: &Device, seed: u64, recipe: &Recipe, build: impl FnOnce(&Device) -> M) -> Self {
         let device = device.clone().autodiff();
         Self {
             model: Some(init_seeded(seed, &device, build)),
-            optimiser,
+            optimiser: optimiser(recipe),
             learning_rate: recipe.learning_rate,
             device,
         }
@@ -228,15 +239,13 @@ impl<M: Module> Trainer<M> {
 }
 
 impl Trainer<WakeClassifier> {
-    /// A fresh classifier with SGD and L2 (4.1), its weights drawn from `seed`.
+    /// A fresh classifier with its recipe's optimiser (4.1: SGD with L2), its weights drawn from
+    /// `seed`.
     pub fn new(channels: usize, size: usize, recipe: &Recipe, seed: u64, device: &Device) -> Self {
-        let sgd = SgdConfig::new()
-            .with_weight_decay(Some(WeightDecayConfig::new(recipe.weight_decay as f32)))
-            .init();
-        Self::with(device, seed, recipe, sgd, |d| WakeClassifier::new(channels, size, d))
+        Self::with(device, seed, recipe, |d| WakeClassifier::new(channels, size, d))
     }
 
-    /// One SGD step on BCE; returns the batch's mean loss and how many it classified right.
+    /// One optimiser step on BCE; returns the batch's mean loss and how many it classified right.
     pub fn step(&mut self, images: Tensor<4>, labels: &[i64]) -> (f64, f64) {
         let targets = Tensor::<1, Int>::from_data(TensorData::new(labels.to_vec(), [labels.len()]), &self.device);
         self.optimise(|model| {
@@ -253,19 +262,12 @@ impl Trainer<WakeClassifier> {
 }
 
 impl Trainer<UNet> {
-    /// A fresh U-Net with Adam and weight decay (4.1), PyTorch's epsilon 1e-8 as the spec's
-    /// training had.
+    /// A fresh U-Net with its recipe's optimiser (4.1: Adam with weight decay).
     pub fn new(channels: usize, recipe: &Recipe, seed: u64, device: &Device) -> Self {
-        let adam = AdamConfig::new()
-            .with_epsilon(1e-8)
-            .with_weight_decay(Some(WeightDecayConfig::new(recipe.weight_decay as f32)))
-            .init();
-        Self::with(device, seed, recipe, adam, |d| {
-            UNet::with_width(channels, recipe.width, d)
-        })
+        Self::with(device, seed, recipe, |d| UNet::with_width(channels, recipe.width, d))
     }
 
-    /// One Adam step on the U-Net loss; returns the batch's mean loss and how many pixels it
+    /// One optimiser step on the U-Net loss; returns the batch's mean loss and how many pixels it
     /// classified right.
     pub fn step(&mut self, images: Tensor<4>, masks: Tensor<4, Int>) -> (f64, f64) {
         self.optimise(|model| {
@@ -315,7 +317,7 @@ fn train_epochs<M: Module>(
     }
 }
 
-/// Train a classifier (Table 4.1) on `examples` with the SGD recipe; `seed` fixes the initial
+/// Train a classifier (Table 4.1) on `examples` with its recipe (4.1: SGD); `seed` fixes the initial
 /// weights, the order of the batches and the rotations. `device` is a plain device; training
 /// runs on its autodiff form. `on_epoch` sees every epoch's record.
 pub fn train_classifier(

@@ -273,3 +273,77 @@ fn saved_detector_reloads_with_the_same_outputs_and_refuses_the_wrong_architectu
         .to_string();
     assert!(junk.contains("not a safetensors file"), "{junk}");
 }
+
+/// A detector scanned over a scene much larger than its window (the stride's cells averaging
+/// the windows over them) puts the map's peak on the one line in the scene, and finds it there.
+#[test]
+fn a_scan_of_a_large_scene_peaks_on_its_line() {
+    use wakelab_learn::detect::{detect_image, ScanOptions};
+    let device = Device::flex();
+    let train = examples(&line_versus_noise(128, 32, 3.0, 1));
+    let detector = train_detector(Architecture::Base, &train, &quick_options(), 7, &device, &mut |_, _| {});
+    // 256 x 256 of unit Gaussian noise (the training images' clutter), a 120 px line of the
+    // training contrast (a wake is far longer than a window) through (140, 120) at 30 degrees
+    let noise = line_versus_noise(2, 256, 0.0, 9).remove(1).image;
+    let mut scene = noise;
+    let (r0, c0, angle) = (140.0f64, 120.0f64, 30f64.to_radians());
+    let on_line = |r: f64, c: f64| {
+        let (dr, dc) = (r - r0, c - c0);
+        let along = dc * angle.cos() - dr * angle.sin();
+        let across = (dc * angle.sin() + dr * angle.cos()).abs();
+        (along.abs() <= 60.0).then_some(across)
+    };
+    for ((r, c), v) in scene.indexed_iter_mut() {
+        if let Some(d) = on_line(r as f64 + 0.5, c as f64 + 0.5) {
+            *v += (3.0 * (-d * d / 0.5).exp()) as f32;
+        }
+    }
+    let info = ModelInfo {
+        architecture: Architecture::Base,
+        bands: "LWIR".parse().unwrap(),
+        input_size: 32,
+        threshold: 0.5,
+        unet_width: wakelab_learn::models::UNET_WIDTH,
+    };
+    let options = ScanOptions {
+        stride: Some(16),
+        batch: 10,
+        ..ScanOptions::default()
+    };
+    let mut calls = Vec::new();
+    let scan = detect_image(&detector, &info, &scene, options, &device, &mut |done, total| {
+        calls.push((done, total))
+    })
+    .unwrap();
+    // 15 x 15 windows of 32 px every 16 px, scored 10 at a time
+    assert_eq!(scan.tiles.len(), 225);
+    assert_eq!(calls.len(), 23);
+    assert_eq!(calls.last(), Some(&(225, 225)));
+    assert_eq!(scan.map.dim(), (16, 16));
+    let (peak, _) = scan.map.indexed_iter().max_by(|a, b| a.1.total_cmp(b.1)).unwrap();
+    // the peak cell's centre within one cell (16 px) of the line
+    let centre = (peak.0 as f64 * 16.0 + 8.0, peak.1 as f64 * 16.0 + 8.0);
+    assert_eq!((scan.peak.row, scan.peak.col), centre);
+    let near = (0..=32)
+        .map(|k| {
+            let t = (k as f64 - 16.0) / 16.0 * 60.0;
+            let (r, c) = (r0 - t * angle.sin(), c0 + t * angle.cos());
+            ((r - centre.0).powi(2) + (c - centre.1).powi(2)).sqrt()
+        })
+        .fold(f64::MAX, f64::min);
+    eprintln!(
+        "peak cell {peak:?} ({:.3}), {near:.1} px from the line; {:?}",
+        scan.map[peak],
+        scan.detections.first()
+    );
+    assert!(near <= 16.0, "peak cell {peak:?} is {near:.1} px from the line");
+    let first = scan.detections.first().expect("a detection");
+    assert!(first.score > 0.5);
+    let d = ((first.row - r0).powi(2) + (first.col - c0).powi(2)).sqrt();
+    assert!(
+        d < 60.0,
+        "strongest detection at ({}, {}), {d:.0} px from the line's centre",
+        first.row,
+        first.col
+    );
+}

@@ -11,6 +11,8 @@ pub const CLASSIFIER_BATCH_SIZE: usize = 8;
 pub const CLASSIFIER_LEARNING_RATE: f64 = 1e-3;
 /// Classifier weight decay (4.1: 0.1).
 pub const CLASSIFIER_WEIGHT_DECAY: f64 = 0.1;
+/// Classifier optimiser (4.1: SGD).
+pub const CLASSIFIER_OPTIMISER: Optimiser = Optimiser::Sgd;
 /// U-Net epochs (4.1: 60).
 pub const UNET_EPOCHS: usize = 60;
 /// U-Net batch size (4.1: 4).
@@ -23,6 +25,43 @@ pub const UNET_WEIGHT_DECAY: f64 = 1e-4;
 pub const UNET_WIDTH: usize = 64;
 /// Decision threshold on the wake probability (4.2: 0.5; erratum 2).
 pub const THRESHOLD: f64 = 0.5;
+
+/// The rule that turns gradients into weight updates, each with its L2 weight decay added to the
+/// gradient (PyTorch's `weight_decay`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, serde::Serialize, serde::Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Optimiser {
+    /// Plain stochastic gradient descent, no momentum (4.1's classifiers).
+    #[default]
+    Sgd,
+    /// Adam (Kingma & Ba 2015) with beta (0.9, 0.999) and epsilon 1e-8 (4.1's U-Net).
+    Adam,
+}
+
+impl Optimiser {
+    pub fn name(self) -> &'static str {
+        match self {
+            Optimiser::Sgd => "sgd",
+            Optimiser::Adam => "adam",
+        }
+    }
+}
+
+impl std::fmt::Display for Optimiser {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(self.name())
+    }
+}
+
+impl std::str::FromStr for Optimiser {
+    type Err = String;
+    fn from_str(s: &str) -> Result<Self, String> {
+        [Optimiser::Sgd, Optimiser::Adam]
+            .into_iter()
+            .find(|o| o.name() == s)
+            .ok_or_else(|| format!("\"{s}\" is not an optimiser (allowed: sgd, adam)"))
+    }
+}
 
 /// How training inputs are varied from epoch to epoch.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default, serde::Serialize, serde::Deserialize)]

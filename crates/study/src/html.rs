@@ -294,9 +294,19 @@ fn recipe_note(plan: &LearningPlan) -> String {
         spec.augmentation.name().to_string(),
     );
     differ(
-        "classifier SGD learning rate",
+        "classifier optimiser",
+        plan.optimiser.name().to_string(),
+        spec.optimiser.name().to_string(),
+    );
+    differ(
+        "classifier learning rate",
         plan.learning_rate.to_string(),
         spec.learning_rate.to_string(),
+    );
+    differ(
+        "classifier weight decay",
+        plan.weight_decay.to_string(),
+        spec.weight_decay.to_string(),
     );
     differ(
         "U-Net epochs",
@@ -307,6 +317,11 @@ fn recipe_note(plan: &LearningPlan) -> String {
         "U-Net Adam learning rate",
         plan.unet_learning_rate.to_string(),
         spec.unet_learning_rate.to_string(),
+    );
+    differ(
+        "U-Net batch size",
+        plan.unet_batch_size.to_string(),
+        spec.unet_batch_size.to_string(),
     );
     differ("U-Net width", plan.unet_width.to_string(), spec.unet_width.to_string());
     if changes.is_empty() {

@@ -13,7 +13,7 @@ use wakelab_learn::evaluate::{
 };
 use wakelab_learn::metrics::{roc_auc, Confusion};
 use wakelab_learn::models::Architecture;
-use wakelab_learn::store::{save_detector, ModelInfo};
+use wakelab_learn::store::save_detector;
 use wakelab_learn::train::EpochRecord;
 use wakelab_schema::band::Input;
 use wakelab_schema::split::{Network, Split};
@@ -44,7 +44,7 @@ pub fn evaluate_into(
     options: &EvalOptions,
     dir: &Path,
     device: &Device,
-    progress: &mut dyn FnMut(&EvalProgress),
+    progress: &mut (dyn FnMut(&EvalProgress) + Send),
 ) -> Result<(Evaluation, Vec<(Summary, f64)>)> {
     let evaluation = evaluate(dataset, options, device, progress)?;
     write_evaluation(dir, &evaluation)?;
@@ -114,13 +114,7 @@ pub fn train_into(
             });
         },
     );
-    let info = ModelInfo {
-        architecture,
-        bands: input.clone(),
-        input_size: train[0].size(),
-        threshold: options.threshold,
-        unet_width: options.unet.width,
-    };
+    let info = options.model_info(architecture, input, train[0].size());
     std::fs::create_dir_all(dir).map_err(|e| anyhow::anyhow!("{}: {e}", dir.display()))?;
     let path = model
         .map(Path::to_path_buf)

@@ -20,6 +20,7 @@ pub mod learning;
 pub mod output;
 mod radar;
 pub mod report;
+pub mod scan;
 pub mod scene;
 pub mod stages;
 mod svg;

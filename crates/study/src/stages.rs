@@ -107,11 +107,14 @@ pub fn eval_options(plan: &LearningPlan, dataset: &Dataset) -> EvalOptions {
             epochs: plan.epochs,
             batch_size: plan.batch_size,
             learning_rate: plan.learning_rate,
+            optimiser: plan.optimiser,
+            weight_decay: plan.weight_decay,
             augmentation: plan.augmentation,
             ..Recipe::classifier()
         },
         unet: Recipe {
             epochs: plan.unet_epochs,
+            batch_size: plan.unet_batch_size,
             learning_rate: plan.unet_learning_rate,
             width: plan.unet_width,
             augmentation: plan.augmentation,

@@ -262,7 +262,19 @@ pub struct DetectArgs {
     /// Detector file written by `train` or `eval`.
     #[arg(long, value_name = "FILE")]
     pub model: PathBuf,
-    /// Write the wake mask (PNG) here.
+    /// Step between the detector's windows (pixels, at most the window side); default: half
+    /// the window.
+    #[arg(long, value_name = "PIXELS")]
+    pub stride: Option<usize>,
+    /// Decision threshold on a window's wake probability; default: the detector's.
+    #[arg(long, value_name = "P")]
+    pub threshold: Option<f64>,
+    /// Output directory: probability.tif (the wake-probability map, GeoTIFF on the input's
+    /// ground) with its probability.json sidecar, overlay.png, detections.json and, for a "unet"
+    /// detector, mask.tif. Default: detect-<image name> in the current directory.
+    #[arg(long, value_name = "DIR")]
+    pub out: Option<PathBuf>,
+    /// Also write the wake mask (PNG) here.
     #[arg(long, value_name = "FILE")]
     pub mask: Option<PathBuf>,
     /// How a radar image's pixels are scaled: linear (sigma0, as wakelab writes), db or
@@ -275,6 +287,9 @@ pub struct DetectArgs {
     /// Print JSON.
     #[arg(long)]
     pub json: bool,
+    /// No progress bar.
+    #[arg(long)]
+    pub quiet: bool,
 }
 
 /// Options of `sar sigma0`.

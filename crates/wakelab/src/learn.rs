@@ -6,6 +6,7 @@ use crate::Result;
 use indicatif::ProgressBar;
 use std::path::PathBuf;
 use wakelab_learn::data::Dataset;
+use wakelab_learn::detect::{detect_image, ScanOptions};
 use wakelab_learn::device::parse_device;
 use wakelab_learn::evaluate::EvalOptions;
 use wakelab_learn::models::Architecture;
@@ -13,6 +14,7 @@ use wakelab_learn::store::load_detector;
 use wakelab_learn::train::Recipe;
 use wakelab_schema::recipe;
 use wakelab_study::learning::{evaluate_into, summary_table, total_epochs, train_into, write_mask_png};
+use wakelab_study::scan::write_scan;
 
 /// Options shared by `train` and `eval`.
 #[derive(clap::Args, Debug, Clone)]
@@ -29,6 +31,9 @@ pub struct LearnArgs {
     /// U-Net epochs (spec: 60).
     #[arg(long, default_value_t = recipe::UNET_EPOCHS)]
     pub unet_epochs: usize,
+    /// U-Net batch size (spec: 4).
+    #[arg(long, default_value_t = recipe::UNET_BATCH_SIZE)]
+    pub unet_batch_size: usize,
     /// First-level channels of the U-Net (Table 4.2: 64; narrower trains faster).
     #[arg(long, default_value_t = recipe::UNET_WIDTH)]
     pub unet_width: usize,
@@ -38,6 +43,13 @@ pub struct LearnArgs {
     /// Classifier learning rate (spec: 1e-3, SGD).
     #[arg(long, default_value_t = recipe::CLASSIFIER_LEARNING_RATE)]
     pub learning_rate: f64,
+    /// Classifier optimiser: sgd (spec 4.1) or adam (the spec's U-Net optimiser; learns in far
+    /// fewer steps).
+    #[arg(long, default_value = "sgd", value_name = "sgd|adam")]
+    pub optimiser: wakelab_schema::recipe::Optimiser,
+    /// Classifier L2 weight decay (spec: 0.1).
+    #[arg(long, default_value_t = recipe::CLASSIFIER_WEIGHT_DECAY)]
+    pub weight_decay: f64,
     /// Decision threshold on the wake probability (spec 4.2: 0.5).
     #[arg(long, default_value_t = recipe::THRESHOLD)]
     pub threshold: f64,
@@ -75,11 +87,14 @@ impl LearnArgs {
                 epochs: self.epochs,
                 batch_size: self.batch_size,
                 learning_rate: self.learning_rate,
+                optimiser: self.optimiser,
+                weight_decay: self.weight_decay,
                 augmentation: self.augmentation,
                 ..Recipe::classifier()
             },
             unet: Recipe {
                 epochs: self.unet_epochs,
+                batch_size: self.unet_batch_size,
                 width: self.unet_width,
                 augmentation: self.augmentation,
                 ..Recipe::unet()
@@ -181,26 +196,49 @@ pub fn run_train(train: &TrainArgs) -> Result<()> {
     Ok(())
 }
 
-/// `wakelab detect`: a saved single-band detector on a user's image.
+/// `wakelab detect`: a saved single-band detector scanned over a user's image of any size.
 pub fn run_detect(args: &DetectArgs) -> Result<()> {
-    let (image, model, device, mask, json) = (&args.image, &args.model, &args.device, args.mask.as_deref(), args.json);
-    let device = parse_device(device)?;
-    let (detector, info) = load_detector(model, None, &device)?;
-    let pixels = wakelab_learn::detect::read_single_band(image)?;
-    let detection = wakelab_learn::detect::detect_image(&detector, &info, &pixels, args.scale, &device)?;
-    if let (Some(path), Some(m)) = (mask, &detection.mask) {
-        write_mask_png(path, m)?;
-    } else if mask.is_some() {
-        eprintln!(
+    let device = parse_device(&args.device)?;
+    let (detector, info) = load_detector(&args.model, None, &device)?;
+    let pixels = wakelab_learn::detect::read_single_band(&args.image)?;
+    let options = ScanOptions {
+        stride: args.stride,
+        threshold: args.threshold,
+        scale: args.scale,
+        ..ScanOptions::default()
+    };
+    let template = "{spinner} detect [{bar:30}] {pos}/{len} windows | {elapsed_precise}, {eta} left";
+    let bar = wakelab_study::progress_bar(args.quiet, 0, template);
+    let detection = detect_image(&detector, &info, &pixels, options, &device, &mut |done, total| {
+        bar.set_length(total as u64);
+        bar.set_position(done as u64);
+    })?;
+    bar.finish_and_clear();
+    let band = info.bands.as_single().expect("detect_image checked a single band");
+    let dir = args.out.clone().unwrap_or_else(|| {
+        let stem = args.image.file_stem().map(|s| s.to_string_lossy().into_owned());
+        PathBuf::from(format!("detect-{}", stem.unwrap_or_else(|| "image".into())))
+    });
+    let files = write_scan(&dir, &args.image, &args.model, &pixels, band, args.scale, &detection)?;
+    match (&args.mask, &detection.mask) {
+        (Some(path), Some(m)) => write_mask_png(path, m)?,
+        (Some(_), None) => eprintln!(
             "note: --mask needs a \"unet\" detector; {} is \"{}\"",
-            model.display(),
+            args.model.display(),
             info.architecture
-        );
+        ),
+        _ => {}
     }
-    if json {
+    if args.json {
         println!("{}", serde_json::to_string_pretty(&detection)?);
     } else {
-        println!("{}: {}", image.display(), detection.describe(info.input_size));
+        println!("{}: {}", args.image.display(), detection.describe());
+        println!(
+            "wrote {} (map), {} and {}",
+            files.map.display(),
+            files.overlay.display(),
+            files.detections.display()
+        );
     }
     Ok(())
 }

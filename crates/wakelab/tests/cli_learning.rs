@@ -80,9 +80,10 @@ fn train_eval_and_detect_on_a_small_dataset() {
     assert_eq!(outputs.lines().filter(|l| l.contains(",train,")).count(), 2 * 2 * 8);
     assert!(data.join("learn/models/X_cls.safetensors").exists());
 
-    // detect on a plain image larger than the model's input: tiles, probability, mask PNG
+    // detect on a plain image: windows, probability, the map, overlay, detections and mask
     let image = data.join("scenes/000000-w/X.npy");
     let mask = dir.path().join("mask.png");
+    let scan = dir.path().join("scan");
     let o = wakelab(&[
         "detect",
         image.to_str().unwrap(),
@@ -90,13 +91,33 @@ fn train_eval_and_detect_on_a_small_dataset() {
         model.to_str().unwrap(),
         "--mask",
         mask.to_str().unwrap(),
+        "--stride",
+        "8",
+        "--out",
+        scan.to_str().unwrap(),
         "--json",
+        "--quiet",
     ]);
     assert!(o.status.success(), "{}", stderr(&o));
     let det: serde_json::Value = serde_json::from_str(&stdout(&o)).unwrap();
     let p = det["probability"].as_f64().unwrap();
     assert!((0.0..=1.0).contains(&p));
+    assert_eq!((det["window"].as_u64(), det["stride"].as_u64()), (Some(32), Some(8)));
     assert!(image::open(&mask).unwrap().width() == 32);
+    // a 32 px image in 8 px cells: a 4 x 4 map, on the image's pixel grid scaled by the cell
+    let map = scan.join("probability.tif");
+    let geo = wakelab_core::io::geotiff::Georeference::read(&map).unwrap().unwrap();
+    assert_eq!(geo.model_xy(1.0, 1.0), Some((8.0, -8.0)));
+    let values = wakelab_learn::detect::read_single_band(&map).unwrap();
+    assert_eq!(values.dim(), (4, 4));
+    // one window covers the whole image, so every cell holds its probability
+    assert!(values.iter().all(|&v| (v as f64 - p).abs() < 1e-6), "{values}");
+    let written: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(scan.join("detections.json")).unwrap()).unwrap();
+    assert_eq!(written["probability"].as_f64(), Some(p));
+    assert!(written["detections"].is_array() && written["georeferenced"] == false);
+    assert!(scan.join("overlay.png").exists() && scan.join("mask.tif").exists());
+    assert!(scan.join("probability.json").exists());
 
     let small = dir.path().join("small.npy");
     std::fs::write(&small, npy_f32_2x2()).unwrap();
@@ -104,6 +125,19 @@ fn train_eval_and_detect_on_a_small_dataset() {
         (
             vec!["detect", small.to_str().unwrap(), "--model", model.to_str().unwrap()],
             "at least the detector's input, 32 x 32 pixels",
+        ),
+        (
+            vec![
+                "detect",
+                image.to_str().unwrap(),
+                "--model",
+                model.to_str().unwrap(),
+                "--stride",
+                "0",
+                "--out",
+                scan.to_str().unwrap(),
+            ],
+            "--stride",
         ),
         (
             vec!["eval", d, "--arch", "resnet"],

@@ -24,6 +24,7 @@ pub mod scan;
 pub mod scene;
 pub mod stages;
 mod svg;
+pub mod visibility;
 
 use indicatif::{ProgressBar, ProgressStyle};
 use serde::{Deserialize, Serialize};

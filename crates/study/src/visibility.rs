@@ -1,0 +1,148 @@
+//! How visible the study's wakes are per band, and whether the detectors' scores follow it: the
+//! share of wake scenes whose wake stands out of the clutter (the detection ceiling), the
+//! distribution of their contrast to clutter, and the rank correlation between a wake scene's
+//! visibility and the score a detector gave it on the test images.
+
+use crate::report::Table;
+use wakelab_core::io::geotiff::quantile;
+use wakelab_learn::evaluate::Output;
+use wakelab_learn::models::Architecture;
+use wakelab_schema::band::Band;
+use wakelab_schema::dataset::SceneRecord;
+use wakelab_schema::split::Split;
+
+/// Spearman's rank correlation (Spearman 1904): Pearson's correlation of the ranks, tied values
+/// sharing their mean rank; None for fewer than 3 pairs or a constant variable.
+pub fn spearman(x: &[f64], y: &[f64]) -> Option<f64> {
+    if x.len() != y.len() || x.len() < 3 {
+        return None;
+    }
+    let (rx, ry) = (ranks(x), ranks(y));
+    let n = x.len() as f64;
+    let (mx, my) = (rx.iter().sum::<f64>() / n, ry.iter().sum::<f64>() / n);
+    let (mut sxy, mut sxx, mut syy) = (0.0, 0.0, 0.0);
+    for (a, b) in rx.iter().zip(&ry) {
+        sxy += (a - mx) * (b - my);
+        sxx += (a - mx) * (a - mx);
+        syy += (b - my) * (b - my);
+    }
+    (sxx > 0.0 && syy > 0.0).then(|| sxy / (sxx * syy).sqrt())
+}
+
+/// Ranks from 1, ties given the mean of the ranks they span.
+fn ranks(v: &[f64]) -> Vec<f64> {
+    let mut order: Vec<usize> = (0..v.len()).collect();
+    order.sort_by(|&a, &b| v[a].total_cmp(&v[b]));
+    let mut out = vec![0.0; v.len()];
+    let mut i = 0;
+    while i < order.len() {
+        let mut j = i;
+        while j + 1 < order.len() && v[order[j + 1]] == v[order[i]] {
+            j += 1;
+        }
+        let mean = (i + j) as f64 / 2.0 + 1.0;
+        for &k in &order[i..=j] {
+            out[k] = mean;
+        }
+        i = j + 1;
+    }
+    out
+}
+
+/// One row per single band: wake scenes, their visibility's quartiles, the share at or above 1,
+/// and per architecture Spearman's rho between visibility and test score over the wake scenes'
+/// test outputs of every repetition.
+pub fn visibility_rows(records: &[SceneRecord], outputs: &[Output], bands: &[Band]) -> Vec<Vec<String>> {
+    let visibility_of = |id: &str, band: Band| {
+        records
+            .iter()
+            .find(|r| r.id == id)
+            .and_then(|r| r.visibility.get(&band).copied())
+    };
+    bands
+        .iter()
+        .map(|&band| {
+            let wakes: Vec<f32> = records
+                .iter()
+                .filter(|r| r.label == 1)
+                .filter_map(|r| r.visibility.get(&band).map(|&v| v as f32))
+                .collect();
+            let mut row = vec![band.to_string(), wakes.len().to_string()];
+            if wakes.is_empty() {
+                row.extend(std::iter::repeat_n("-".to_string(), 2 + Architecture::ALL.len()));
+                return row;
+            }
+            row.push(format!(
+                "{:.2} [{:.2}, {:.2}]",
+                quantile(&wakes, 0.5),
+                quantile(&wakes, 0.25),
+                quantile(&wakes, 0.75)
+            ));
+            let visible = wakes.iter().filter(|&&v| v >= 1.0).count();
+            row.push(format!("{:.0}%", 100.0 * visible as f64 / wakes.len() as f64));
+            for a in Architecture::ALL {
+                let (x, y): (Vec<f64>, Vec<f64>) = outputs
+                    .iter()
+                    .filter(|o| {
+                        o.architecture == a
+                            && o.split == Split::Test
+                            && o.label == 1
+                            && o.bands.as_single() == Some(band)
+                    })
+                    .filter_map(|o| visibility_of(&o.scene, band).map(|v| (v, o.output)))
+                    .unzip();
+                row.push(match spearman(&x, &y) {
+                    Some(rho) => format!("{rho:.2} (n = {})", x.len()),
+                    None => "-".into(),
+                });
+            }
+            row
+        })
+        .collect()
+}
+
+/// The table of [`visibility_rows`] for the report.
+pub fn visibility_table(records: &[SceneRecord], outputs: &[Output], bands: &[Band]) -> Table {
+    let mut header: Vec<String> = ["band", "wake scenes", "visibility median [quartiles]", "visible (>= 1)"]
+        .map(String::from)
+        .to_vec();
+    header.extend(Architecture::ALL.iter().map(|a| format!("{a}: rho(visibility, score)")));
+    Table {
+        id: "visibility".into(),
+        title: "Wake visibility and the detectors' scores".into(),
+        caption: "Visibility: a wake scene's contrast to clutter, |mean over the wake mask - mean outside| / \
+                  standard deviation outside, per pixel, in the band's image (speckle and noise included). \
+                  The share at or above 1 is the share of wakes a single pixel shows; a detector integrates \
+                  along the wake and can find fainter ones. rho: Spearman's rank correlation between a wake \
+                  scene's visibility and the score a detector gave it on the test images (every repetition, \
+                  wake scenes only): positive when the detectors see the wakes that stand out more."
+            .into(),
+        header,
+        rows: visibility_rows(records, outputs, bands),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn spearman_matches_the_textbook_formula_and_handles_ties() {
+        // no ties: rho = 1 - 6 sum d^2 / (n (n^2 - 1)) = 1 - 6 * 4 / 120 = 0.8
+        let x = [1.0, 2.0, 3.0, 4.0, 5.0];
+        let y = [2.0, 1.0, 4.0, 3.0, 5.0];
+        assert!((spearman(&x, &y).unwrap() - 0.8).abs() < 1e-12);
+        // any monotone map of x ranks the same: +1 increasing, -1 decreasing
+        let cubes: Vec<f64> = x.iter().map(|v| v * v * v).collect();
+        assert!((spearman(&x, &cubes).unwrap() - 1.0).abs() < 1e-12);
+        let falling: Vec<f64> = x.iter().map(|v| -v).collect();
+        assert!((spearman(&x, &falling).unwrap() + 1.0).abs() < 1e-12);
+        // ties share their mean rank: y's ranks are 1.5, 1.5, 3, 4
+        assert_eq!(ranks(&[2.0, 2.0, 5.0, 7.0]), vec![1.5, 1.5, 3.0, 4.0]);
+        // Pearson of ranks (1, 2, 3, 4) and (1.5, 1.5, 3, 4): 4.5 / sqrt(5 * 4.5)
+        let rho = spearman(&[1.0, 2.0, 3.0, 4.0], &[2.0, 2.0, 5.0, 7.0]).unwrap();
+        assert!((rho - 4.5 / (5.0f64 * 4.5).sqrt()).abs() < 1e-12);
+        assert_eq!(spearman(&[1.0, 2.0, 3.0], &[4.0, 4.0, 4.0]), None);
+        assert_eq!(spearman(&[1.0, 2.0], &[1.0, 2.0]), None);
+    }
+}

@@ -22,6 +22,7 @@ mod radar;
 pub mod report;
 pub mod scan;
 pub mod scene;
+pub mod stability;
 pub mod stages;
 mod svg;
 pub mod visibility;

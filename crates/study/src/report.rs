@@ -363,6 +363,7 @@ pub fn result_tables(run: &StudyRun) -> Vec<Table> {
     tables.push(sar_ir_table(run));
     tables.push(confusion_table(run));
     tables.push(robustness_table(run));
+    tables.push(crate::stability::score_change_table(run));
     let bands: Vec<Band> = run.inputs.iter().filter_map(|i| i.as_single()).collect();
     tables.push(crate::visibility::visibility_table(
         &run.dataset.records,

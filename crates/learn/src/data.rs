@@ -163,10 +163,7 @@ impl std::fmt::Display for RadarScale {
 impl std::str::FromStr for RadarScale {
     type Err = String;
     fn from_str(s: &str) -> Result<Self, String> {
-        Self::ALL
-            .into_iter()
-            .find(|k| k.name().eq_ignore_ascii_case(s))
-            .ok_or_else(|| format!("\"{s}\" is not a radar scale (allowed: linear, db, amplitude)"))
+        wakelab_schema::recipe::parse_named(s, &Self::ALL, Self::name, "a radar scale")
     }
 }
 

@@ -168,7 +168,8 @@ pub struct Detection {
 }
 
 impl Detection {
-    /// "wake probability 0.912 (wake at threshold 0.5), 4 window(s) of 64 x 64 px, 1 detection(s)".
+    /// "wake probability 0.912 (wake at threshold 0.5), 4 window(s) of 64 x 64 px at stride 32,
+    /// 1 detection(s)".
     pub fn describe(&self) -> String {
         format!(
             "wake probability {:.3} ({} at threshold {}), {} window(s) of {n} x {n} px at stride {}, {} detection(s)",

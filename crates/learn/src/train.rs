@@ -45,7 +45,6 @@ pub struct Recipe {
     pub batch_size: usize,
     pub learning_rate: f64,
     /// The update rule (4.1: SGD for the classifiers, Adam for the U-Net).
-    #[serde(default)]
     pub optimiser: Optimiser,
     /// L2 penalty added to the gradient (PyTorch's `weight_decay`).
     pub weight_decay: f64,
@@ -200,9 +199,9 @@ pub struct Trainer<M: Module> {
     device: Device,
 }
 
-/// A classifier being trained by SGD (4.1).
+/// A classifier being trained (4.1: by SGD).
 pub type ClassifierTrainer = Trainer<WakeClassifier>;
-/// The U-Net being trained by Adam (4.1).
+/// The U-Net being trained (4.1: by Adam).
 pub type UNetTrainer = Trainer<UNet>;
 
 impl<M: Module> Trainer<M> {

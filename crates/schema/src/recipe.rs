@@ -26,6 +26,18 @@ pub const UNET_WIDTH: usize = 64;
 /// Decision threshold on the wake probability (4.2: 0.5; erratum 2).
 pub const THRESHOLD: f64 = 0.5;
 
+/// The one of `all` whose `name` is `text` (ASCII case ignored), or an error naming `what` it is
+/// not and every allowed name: the `FromStr` of the choices a user types.
+pub fn parse_named<T: Copy>(text: &str, all: &[T], name: fn(T) -> &'static str, what: &str) -> Result<T, String> {
+    all.iter()
+        .copied()
+        .find(|&v| name(v).eq_ignore_ascii_case(text))
+        .ok_or_else(|| {
+            let names: Vec<&str> = all.iter().map(|&v| name(v)).collect();
+            format!("\"{text}\" is not {what} (allowed: {})", names.join(", "))
+        })
+}
+
 /// The rule that turns gradients into weight updates, each with its L2 weight decay added to the
 /// gradient (PyTorch's `weight_decay`).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default, serde::Serialize, serde::Deserialize)]
@@ -39,6 +51,8 @@ pub enum Optimiser {
 }
 
 impl Optimiser {
+    pub const ALL: [Optimiser; 2] = [Optimiser::Sgd, Optimiser::Adam];
+
     pub fn name(self) -> &'static str {
         match self {
             Optimiser::Sgd => "sgd",
@@ -56,10 +70,7 @@ impl std::fmt::Display for Optimiser {
 impl std::str::FromStr for Optimiser {
     type Err = String;
     fn from_str(s: &str) -> Result<Self, String> {
-        [Optimiser::Sgd, Optimiser::Adam]
-            .into_iter()
-            .find(|o| o.name() == s)
-            .ok_or_else(|| format!("\"{s}\" is not an optimiser (allowed: sgd, adam)"))
+        parse_named(s, &Self::ALL, Self::name, "an optimiser")
     }
 }
 
@@ -76,6 +87,8 @@ pub enum Augmentation {
 }
 
 impl Augmentation {
+    pub const ALL: [Augmentation; 2] = [Augmentation::QuarterTurns, Augmentation::Geometric];
+
     pub fn name(self) -> &'static str {
         match self {
             Augmentation::QuarterTurns => "quarter_turns",
@@ -87,9 +100,29 @@ impl Augmentation {
 impl std::str::FromStr for Augmentation {
     type Err = String;
     fn from_str(s: &str) -> Result<Self, String> {
-        [Augmentation::QuarterTurns, Augmentation::Geometric]
-            .into_iter()
-            .find(|a| a.name() == s)
-            .ok_or_else(|| format!("\"{s}\" is not an augmentation (allowed: quarter_turns, geometric)"))
+        parse_named(s, &Self::ALL, Self::name, "an augmentation")
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn choices_parse_by_name_and_a_wrong_one_lists_the_allowed() {
+        for o in Optimiser::ALL {
+            assert_eq!(o.name().parse::<Optimiser>(), Ok(o));
+        }
+        for a in Augmentation::ALL {
+            assert_eq!(a.name().to_uppercase().parse::<Augmentation>(), Ok(a));
+        }
+        assert_eq!(
+            "momentum".parse::<Optimiser>(),
+            Err("\"momentum\" is not an optimiser (allowed: sgd, adam)".to_string())
+        );
+        assert_eq!(
+            "spin".parse::<Augmentation>(),
+            Err("\"spin\" is not an augmentation (allowed: quarter_turns, geometric)".to_string())
+        );
     }
 }

@@ -24,7 +24,7 @@ const OVERLAY_SIDE: usize = 2048;
 struct Located<'a, T> {
     #[serde(flatten)]
     found: &'a T,
-    /// Model coordinates of the centroid in the input's CRS (GeoTIFF inputs only).
+    /// Model coordinates of its (row, col) in the input's CRS (GeoTIFF inputs only).
     x: Option<f64>,
     y: Option<f64>,
 }

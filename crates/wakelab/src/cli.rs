@@ -267,7 +267,7 @@ pub struct DetectArgs {
     #[arg(long, value_name = "PIXELS")]
     pub stride: Option<usize>,
     /// Decision threshold on a window's wake probability; default: the detector's.
-    #[arg(long, value_name = "P")]
+    #[arg(long, value_name = "P", allow_negative_numbers = true)]
     pub threshold: Option<f64>,
     /// Output directory: probability.tif (the wake-probability map, GeoTIFF on the input's
     /// ground) with its probability.json sidecar, overlay.png, detections.json and, for a "unet"

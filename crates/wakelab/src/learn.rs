@@ -41,17 +41,17 @@ pub struct LearnArgs {
     #[arg(long, default_value_t = recipe::CLASSIFIER_BATCH_SIZE)]
     pub batch_size: usize,
     /// Classifier learning rate (spec: 1e-3, SGD).
-    #[arg(long, default_value_t = recipe::CLASSIFIER_LEARNING_RATE)]
+    #[arg(long, default_value_t = recipe::CLASSIFIER_LEARNING_RATE, allow_negative_numbers = true)]
     pub learning_rate: f64,
     /// Classifier optimiser: sgd (spec 4.1) or adam (the spec's U-Net optimiser; learns in far
     /// fewer steps).
     #[arg(long, default_value = "sgd", value_name = "sgd|adam")]
     pub optimiser: wakelab_schema::recipe::Optimiser,
     /// Classifier L2 weight decay (spec: 0.1).
-    #[arg(long, default_value_t = recipe::CLASSIFIER_WEIGHT_DECAY)]
+    #[arg(long, default_value_t = recipe::CLASSIFIER_WEIGHT_DECAY, allow_negative_numbers = true)]
     pub weight_decay: f64,
     /// Decision threshold on the wake probability (spec 4.2: 0.5).
-    #[arg(long, default_value_t = recipe::THRESHOLD)]
+    #[arg(long, default_value_t = recipe::THRESHOLD, allow_negative_numbers = true)]
     pub threshold: f64,
     /// Seed of the weights, splits, batch order and augmentation.
     #[arg(long, default_value_t = 0)]

@@ -39,20 +39,14 @@ fn train_eval_and_detect_on_a_small_dataset() {
     assert!(model.exists() && dir.path().join("x_unet.pytorch.safetensors").exists());
     assert!(data.join("learn/X_unet_curve.csv").exists());
 
-    let o = wakelab(&[
-        "eval",
-        d,
-        "--arch",
-        "base,cls",
-        "--bands",
-        "X",
-        "--epochs",
-        "2",
-        "--repetitions",
-        "2",
-        "--quiet",
-        "--json",
-    ]);
+    // 2 architectures x 2 repetitions of 2 epochs on X, then `extra`
+    let eval_x = |extra: &[&str]| {
+        let mut args = vec!["eval", d, "--arch", "base,cls", "--bands", "X", "--epochs", "2"];
+        args.extend(["--repetitions", "2", "--quiet"]);
+        args.extend_from_slice(extra);
+        wakelab(&args)
+    };
+    let o = eval_x(&["--json"]);
     assert!(o.status.success(), "{}", stderr(&o));
     let metrics: serde_json::Value = serde_json::from_str(&stdout(&o)).unwrap();
     assert_eq!(metrics.as_array().unwrap().len(), 2);
@@ -79,6 +73,26 @@ fn train_eval_and_detect_on_a_small_dataset() {
     assert_eq!(outputs.lines().filter(|l| l.contains(",test,")).count(), 2 * 2 * 4);
     assert_eq!(outputs.lines().filter(|l| l.contains(",train,")).count(), 2 * 2 * 8);
     assert!(data.join("learn/models/X_cls.safetensors").exists());
+    // the repetitions and architectures train in parallel: a second run writes the same bytes,
+    // its rows in the sequential order (repetition, then architecture)
+    let again = dir.path().join("again");
+    let o = eval_x(&["--out", again.to_str().unwrap()]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    assert_eq!(std::fs::read_to_string(again.join("outputs.csv")).unwrap(), outputs);
+    let order: Vec<(String, String)> = outputs
+        .lines()
+        .skip(1)
+        .map(|l| {
+            let f: Vec<&str> = l.split(',').collect();
+            (f[2].to_string(), f[1].to_string())
+        })
+        .collect();
+    let mut blocks = order.clone();
+    blocks.dedup();
+    let expected: Vec<(String, String)> = [("0", "base"), ("0", "cls"), ("1", "base"), ("1", "cls")]
+        .map(|(r, a)| (r.to_string(), a.to_string()))
+        .to_vec();
+    assert_eq!(blocks, expected);
 
     // detect on a plain image: windows, probability, the map, overlay, detections and mask
     let image = data.join("scenes/000000-w/X.npy");
@@ -150,6 +164,14 @@ fn train_eval_and_detect_on_a_small_dataset() {
         ),
         (vec!["eval", d, "--bands", "S"], "one of the dataset's bands [\"X\"]"),
         (vec!["eval", d, "--repetitions", "0"], "repetitions"),
+        (
+            vec!["eval", d, "--weight-decay", "-1"],
+            "`classifier.weight_decay` = -1: in [0, 10]",
+        ),
+        (
+            vec!["eval", d, "--optimiser", "momentum"],
+            "\"momentum\" is not an optimiser (allowed: sgd, adam)",
+        ),
         (
             vec!["detect", image.to_str().unwrap(), "--model", study.to_str().unwrap()],
             "not a safetensors file",

@@ -1,0 +1,168 @@
+"""wakelab's detectors in PyTorch: load a `*.pytorch.safetensors` export with strict=True.
+
+wakelab (Rust, burn) saves every trained detector twice: `NAME.safetensors` for wakelab and
+`NAME.pytorch.safetensors` in PyTorch's layout (linear weights as [out, in], BatchNorm's
+gamma/beta as weight/bias). This module defines the same networks (spec Tables 4.1-4.3) with the
+same parameter names, so the export loads with `load_state_dict(strict=True)`:
+
+    from wakelab_torch import load_detector, detector_input
+    model, info = load_detector("S_unet.pytorch.safetensors")
+    x = detector_input(sigma0_image, info["bands"][0])        # a 2-D numpy array
+    p = model(torch.from_numpy(x)[None, None])                 # wake probability, shape [1]
+
+Architectures: "base" (the image), "cls" (the image and a copy of its first band) and "unet"
+(the image and the mask a U-Net of any width draws on it). PyTorch, numpy and safetensors are
+the only requirements; wakelab itself never needs Python.
+"""
+import numpy as np
+import torch
+from safetensors import safe_open
+from safetensors.torch import load_file
+from torch import nn
+from torch.nn import functional as F
+
+#: The input normalisation this module implements (wakelab's `INPUT_NORMALISATION`); a detector
+#: file that records another is refused.
+INPUT_NORMALISATION = (
+    "robust-v1: radar sigma0 in dB, infrared brightness temperature; (v - median) / (1.4826 MAD)"
+)
+FORMAT = "wakelab-detector-2"
+RADAR_BANDS = ("S", "C", "X")
+
+
+class Classifier(nn.Module):
+    """Table 4.1: three (conv 3x3, BatchNorm, ReLU, max-pool 2) stages of 10, 20 and 30 channels,
+    then Linear 70 -> 30 -> 1 with no activation between them; returns logits, shape [batch]."""
+
+    def __init__(self, channels, size):
+        super().__init__()
+        self.conv1, self.norm1 = nn.Conv2d(channels, 10, 3), nn.BatchNorm2d(10)
+        self.conv2, self.norm2 = nn.Conv2d(10, 20, 3), nn.BatchNorm2d(20)
+        self.conv3, self.norm3 = nn.Conv2d(20, 30, 3), nn.BatchNorm2d(30)
+        side = size
+        for _ in range(3):
+            side = (side - 2) // 2
+        self.linear1 = nn.Linear(30 * side * side, 70)
+        self.linear2 = nn.Linear(70, 30)
+        self.linear3 = nn.Linear(30, 1)
+
+    def forward(self, x):
+        for conv, norm in ((self.conv1, self.norm1), (self.conv2, self.norm2), (self.conv3, self.norm3)):
+            x = F.max_pool2d(F.relu(norm(conv(x))), 2)
+        return self.linear3(self.linear2(self.linear1(x.flatten(1)))).flatten()
+
+
+class DoubleConv(nn.Module):
+    """Table 4.3: conv 3x3 (padding 1), ReLU, conv 3x3 (padding 1), ReLU."""
+
+    def __init__(self, i, o):
+        super().__init__()
+        self.first = nn.Conv2d(i, o, 3, padding=1)
+        self.second = nn.Conv2d(o, o, 3, padding=1)
+
+    def forward(self, x):
+        return F.relu(self.second(F.relu(self.first(x))))
+
+
+class UNet(nn.Module):
+    """Table 4.2 at first-level width w (w-2w-4w-8w; the paper's is 64): max-pool down, bilinear
+    (align_corners) up with skip connections; returns per-pixel logits [batch, 1, h, w]."""
+
+    def __init__(self, channels, width=64):
+        super().__init__()
+        w = width
+        self.down0, self.down1 = DoubleConv(channels, w), DoubleConv(w, 2 * w)
+        self.down2, self.bottom = DoubleConv(2 * w, 4 * w), DoubleConv(4 * w, 8 * w)
+        self.up2, self.up1 = DoubleConv(12 * w, 4 * w), DoubleConv(6 * w, 2 * w)
+        self.up0 = DoubleConv(3 * w, w)
+        self.output = nn.Conv2d(w, 1, 1)
+
+    def forward(self, x):
+        def up(t):
+            return F.interpolate(t, scale_factor=2, mode="bilinear", align_corners=True)
+
+        l0 = self.down0(x)
+        l1 = self.down1(F.max_pool2d(l0, 2))
+        l2 = self.down2(F.max_pool2d(l1, 2))
+        x = self.bottom(F.max_pool2d(l2, 2))
+        x = self.up2(torch.cat([up(x), l2], 1))
+        x = self.up1(torch.cat([up(x), l1], 1))
+        x = self.up0(torch.cat([up(x), l0], 1))
+        return self.output(x)
+
+
+class Detector(nn.Module):
+    """A wakelab detector: its classifier and, for "unet", the U-Net whose mask it reads.
+    `forward` takes images [batch, bands, n, n] made by `detector_input` and returns the wake
+    probability per image."""
+
+    def __init__(self, architecture, bands, size, unet_width=64):
+        super().__init__()
+        if architecture not in ("base", "cls", "unet"):
+            raise ValueError(f"architecture {architecture!r}: one of base, cls, unet")
+        self.architecture = architecture
+        extra = 0 if architecture == "base" else 1
+        self.classifier = Classifier(bands + extra, size)
+        self.segmenter = UNet(bands, unet_width) if architecture == "unet" else None
+
+    def mask(self, images):
+        """The U-Net's wake mask (per-pixel probability) of a "unet" detector."""
+        return torch.sigmoid(self.segmenter(images))
+
+    def forward(self, images):
+        if self.architecture == "cls":
+            images = torch.cat([images, images[:, :1]], 1)
+        elif self.architecture == "unet":
+            images = torch.cat([images, self.mask(images)], 1)
+        return torch.sigmoid(self.classifier(images))
+
+
+def read_info(path):
+    """The `wakelab.*` metadata of a detector file, checked: format and input normalisation."""
+    with safe_open(path, framework="pt") as f:
+        meta = f.metadata() or {}
+    if meta.get("wakelab.format") != FORMAT:
+        raise ValueError(f"{path}: format {meta.get('wakelab.format')!r}, this module reads {FORMAT}")
+    if meta.get("wakelab.normalisation") != INPUT_NORMALISATION:
+        raise ValueError(f"{path}: inputs normalised as {meta.get('wakelab.normalisation')!r}")
+    return {
+        "architecture": meta["wakelab.architecture"],
+        "bands": meta["wakelab.bands"].split(","),
+        "input_size": int(meta["wakelab.input_size"]),
+        "threshold": float(meta["wakelab.threshold"]),
+        "unet_width": int(meta["wakelab.unet_width"]),
+    }
+
+
+def load_detector(path):
+    """A detector from its PyTorch export, loaded with strict=True, in eval mode; and its info."""
+    info = read_info(path)
+    model = Detector(info["architecture"], len(info["bands"]), info["input_size"], info["unet_width"])
+    # BatchNorm's num_batches_tracked is not in the file: PyTorch fills it in for a state dict
+    # without version metadata, so strict loading still checks every other name and shape
+    model.load_state_dict(load_file(path), strict=True)
+    return model.eval(), info
+
+
+def upper_median(values):
+    """The median as wakelab takes it: the upper one of an even count."""
+    v = np.sort(values.ravel())
+    return v[len(v) // 2]
+
+
+def detector_input(image, band):
+    """wakelab's input for one band's image (`INPUT_NORMALISATION`): radar sigma0 in dB, then
+    (v - median) / (1.4826 MAD); where the MAD is 0 the mean absolute deviation stands in, and a
+    constant image becomes zeros. Returns float32 [n, n]."""
+    v = np.asarray(image, dtype=np.float64)
+    if band in RADAR_BANDS:
+        v = 10.0 * np.log10(np.maximum(v, 1e-30))
+    v = v.astype(np.float32)
+    centre = upper_median(v)
+    deviations = np.abs(v - centre)
+    scale = 1.4826 * float(upper_median(deviations))
+    if scale <= 0.0:
+        scale = float(deviations.mean())
+    if scale <= 0.0:
+        return np.zeros_like(v, dtype=np.float32)
+    return ((v - centre) / scale).astype(np.float32)

@@ -173,8 +173,9 @@ impl Profile {
     }
 }
 
-/// Swell direction relative to the ship's track.
-#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+/// Swell direction relative to the ship's track: a name or degrees. Read by hand rather than as
+/// an untagged enum, whose error ("did not match any variant") names no allowed value.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
 #[serde(untagged)]
 pub enum SwellDirection {
     /// `calm`, `following`, `head` or `beam`.
@@ -182,6 +183,43 @@ pub enum SwellDirection {
     /// Direction of propagation in degrees from the ship's heading, counter-clockwise seen from
     /// above (0 = following, 90 = towards port, the +y side, 180 = head).
     Degrees(f64),
+}
+
+impl<'de> Deserialize<'de> for SwellDirection {
+    fn deserialize<D: serde::Deserializer<'de>>(deserializer: D) -> Result<Self, D::Error> {
+        struct Visitor;
+        const ALLOWED: &str = "calm, following, head, beam, or degrees from the heading (a number)";
+        impl serde::de::Visitor<'_> for Visitor {
+            type Value = SwellDirection;
+            fn expecting(&self, f: &mut std::fmt::Formatter) -> std::fmt::Result {
+                write!(f, "a swell direction: {ALLOWED}")
+            }
+            fn visit_str<E: serde::de::Error>(self, v: &str) -> Result<SwellDirection, E> {
+                let named = match v {
+                    "calm" => NamedDirection::Calm,
+                    "following" => NamedDirection::Following,
+                    "head" => NamedDirection::Head,
+                    "beam" => NamedDirection::Beam,
+                    _ => {
+                        return Err(E::custom(format!(
+                            "unknown swell direction \"{v}\"; allowed: {ALLOWED}"
+                        )))
+                    }
+                };
+                Ok(SwellDirection::Named(named))
+            }
+            fn visit_f64<E: serde::de::Error>(self, v: f64) -> Result<SwellDirection, E> {
+                Ok(SwellDirection::Degrees(v))
+            }
+            fn visit_i64<E: serde::de::Error>(self, v: i64) -> Result<SwellDirection, E> {
+                Ok(SwellDirection::Degrees(v as f64))
+            }
+            fn visit_u64<E: serde::de::Error>(self, v: u64) -> Result<SwellDirection, E> {
+                Ok(SwellDirection::Degrees(v as f64))
+            }
+        }
+        deserializer.deserialize_any(Visitor)
+    }
 }
 
 /// The named swell directions.
@@ -653,6 +691,20 @@ mod tests {
             (2000.0, 300.0, 500.0)
         );
         assert_eq!(c.time.duration, 3600.0);
+    }
+
+    #[test]
+    fn a_swell_direction_is_a_name_or_degrees_and_a_bad_name_lists_the_allowed() {
+        let read = |d: &str| WakelabConfig::from_toml_str(&format!("[environment.swell]\ndirection = {d}\n"), "t");
+        let direction = |d: &str| read(d).unwrap().environment.swell.direction;
+        assert_eq!(direction("\"head\""), SwellDirection::Named(NamedDirection::Head));
+        assert_eq!(direction("45"), SwellDirection::Degrees(45.0));
+        assert_eq!(direction("-22.5"), SwellDirection::Degrees(-22.5));
+        let e = read("\"opposing\"").unwrap_err().to_string();
+        assert!(
+            e.contains("\"opposing\"") && e.contains("calm, following, head, beam"),
+            "{e}"
+        );
     }
 
     #[test]

@@ -33,25 +33,26 @@ pub enum WakelabError {
     Parse { path: String, message: String },
     #[error("simulation blew up at step {step} (t = {time:.2} s): {detail}")]
     BlowUp { step: usize, time: f64, detail: String },
-    #[error("I/O error on {path}: {source}")]
-    Io {
-        path: String,
-        #[source]
-        source: std::io::Error,
-    },
+    /// The I/O error is part of the message, not a `source`: a `{:#}` chain would say it twice.
+    #[error("I/O error on {path}: {error}")]
+    Io { path: String, error: std::io::Error },
     #[error("NetCDF error on {path}: {message}")]
     NetCdf { path: String, message: String },
     #[error("image error on {path}: {message}")]
     Image { path: String, message: String },
     #[error("model file {path}: {message}")]
     Model { path: String, message: String },
+    #[error("dataset {path}: {message}")]
+    Dataset { path: String, message: String },
+    #[error("training stopped: {0}")]
+    Training(String),
 }
 
 impl WakelabError {
     pub fn io(path: impl AsRef<std::path::Path>, source: std::io::Error) -> Self {
         Self::Io {
             path: path.as_ref().display().to_string(),
-            source,
+            error: source,
         }
     }
 }

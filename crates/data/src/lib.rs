@@ -42,6 +42,8 @@ pub struct StageTimes {
     pub writing: f64,
     pub scenes_rendered: usize,
     pub scenes_skipped: usize,
+    /// Scenes found in the directory but rendered from another configuration (re-rendered).
+    pub scenes_stale: usize,
 }
 
 impl StageTimes {
@@ -49,9 +51,13 @@ impl StageTimes {
     /// each stage.
     pub fn describe(&self, wall: f64) -> String {
         format!(
-            "rendered {} scenes ({} already done) in {wall:.1} s: {:.1} scenes/min; hydro {:.1} s, then per core: surface {:.1} s, sensors {:.1} s, writing {:.1} s",
+            "rendered {} scenes ({} already done{}) in {wall:.1} s: {:.1} scenes/min; hydro {:.1} s, then per core: surface {:.1} s, sensors {:.1} s, writing {:.1} s",
             self.scenes_rendered,
             self.scenes_skipped,
+            match self.scenes_stale {
+                0 => String::new(),
+                n => format!(", {n} re-rendered: made from another configuration"),
+            },
             self.scenes_rendered as f64 / wall * 60.0,
             self.hydro,
             self.surface,
@@ -133,16 +139,28 @@ pub fn run_study(
         None => (0..pairs.len()).collect(),
     };
     std::fs::create_dir_all(dir).map_err(|e| WakelabError::io(dir, e))?;
-    let todo: Vec<&ScenePair> = selected
-        .iter()
-        .map(|&i| &pairs[i])
-        .filter(|p| {
-            let (w, n) = p.ids();
-            !(scene_done(dir, &w) && scene_done(dir, &n))
-        })
-        .collect();
+    let mut stale = 0;
+    let mut todo: Vec<&ScenePair> = Vec::new();
+    for pair in selected.iter().map(|&i| &pairs[i]) {
+        let key = render_key(study, pair);
+        let (w, n) = pair.ids();
+        let states = [scene_state(dir, &w, &key), scene_state(dir, &n, &key)];
+        if states.iter().all(|s| *s == SceneState::Done) {
+            continue;
+        }
+        // a scene of another configuration goes whole: no file of it may outlive the re-render
+        for (id, state) in [(&w, states[0]), (&n, states[1])] {
+            if state == SceneState::Stale {
+                stale += 1;
+                let sdir = scene_dir(dir, id);
+                std::fs::remove_dir_all(&sdir).map_err(|e| WakelabError::io(&sdir, e))?;
+            }
+        }
+        todo.push(pair);
+    }
     let mut times = StageTimes {
         scenes_skipped: 2 * (selected.len() - todo.len()),
+        scenes_stale: stale,
         ..Default::default()
     };
     let todo: Vec<&ScenePair> = match stop_after {
@@ -207,8 +225,40 @@ fn scene_dir(dir: &Path, id: &str) -> PathBuf {
     dir.join("scenes").join(id)
 }
 
-fn scene_done(dir: &Path, id: &str) -> bool {
-    scene_dir(dir, id).join("scene.json").exists()
+/// Hash of everything a pair's scenes are rendered from: their configuration, the study's bands
+/// and its label policy (`min_visibility`).
+pub fn render_key(study: &Study, pair: &ScenePair) -> String {
+    let what = serde_json::json!({
+        "config": pair.config,
+        "combination": pair.combination,
+        "bands": study.study.bands,
+        "min_visibility": study.study.min_visibility,
+    });
+    format!("{:016x}", fnv(&what.to_string()))
+}
+
+/// Whether a scene in the dataset directory is finished and rendered from `key`.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum SceneState {
+    Missing,
+    Done,
+    /// Finished, but from another configuration (or by a wakelab that wrote no key).
+    Stale,
+}
+
+fn scene_state(dir: &Path, id: &str, key: &str) -> SceneState {
+    let Ok(text) = std::fs::read_to_string(scene_dir(dir, id).join("scene.json")) else {
+        return SceneState::Missing;
+    };
+    let written: Option<serde_json::Value> = serde_json::from_str(&text).ok();
+    match written
+        .as_ref()
+        .and_then(|v| v.get("render_key"))
+        .and_then(|k| k.as_str())
+    {
+        Some(k) if k == key => SceneState::Done,
+        _ => SceneState::Stale,
+    }
 }
 
 /// Write both scenes of a pair: images, quicklooks and masks first, `scene.json` last.
@@ -220,6 +270,7 @@ fn write_pair(
 ) -> Result<(), WakelabError> {
     let bands = &rendered.bands;
     let (wake_id, no_wake_id) = pair.ids();
+    let key = render_key(study, pair);
     for (id, is_wake) in [(&wake_id, true), (&no_wake_id, false)] {
         let sdir = scene_dir(dir, id);
         std::fs::create_dir_all(&sdir).map_err(|e| WakelabError::io(&sdir, e))?;
@@ -283,6 +334,7 @@ fn write_pair(
             geometry: is_wake.then(|| wakelab_surface::scene::SceneGrid::new(&pair.config.scene).wake_geometry()),
             split: None,
             kelvin,
+            render_key: key.clone(),
         };
         write_atomically(
             sdir.join("scene.json"),
@@ -331,6 +383,7 @@ pub fn write_manifest(study: &Study, dir: &Path) -> Result<Vec<SceneRecord>, Wak
     let mut records = Vec::new();
     for pair in &pairs {
         let (w, n) = pair.ids();
+        let key = render_key(study, pair);
         for id in [w, n] {
             let path = scene_dir(dir, &id).join("scene.json");
             if let Ok(text) = std::fs::read_to_string(&path) {
@@ -338,9 +391,22 @@ pub fn write_manifest(study: &Study, dir: &Path) -> Result<Vec<SceneRecord>, Wak
                     path: path.display().to_string(),
                     message: e.to_string(),
                 })?;
-                records.push(r);
+                // a scene of another configuration is not this study's (run_study re-renders it)
+                if r.render_key == key {
+                    records.push(r);
+                }
             }
         }
+    }
+    if records.is_empty() {
+        return Err(WakelabError::Dataset {
+            path: dir.display().to_string(),
+            message: format!(
+                "no finished scene of study \"{}\" ({} expected): render them first (wakelab dataset, or its Slurm shards), then merge",
+                study.study.name,
+                2 * pairs.len()
+            ),
+        });
     }
     // split by group: hash-ordered groups fill the test side up to test_fraction of the pairs
     let group_of = |r: &SceneRecord| {

@@ -30,6 +30,7 @@ use wakelab_schema::axes::axis_of_config_field;
 pub use wakelab_schema::axes::{Axes, Combination, Combine};
 pub use wakelab_schema::band::Band;
 pub use wakelab_schema::dataset::BANDS;
+use wakelab_schema::results::Architecture;
 
 /// The `[study]` table.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
@@ -148,6 +149,7 @@ impl Study {
         }
         let base = self.base_config()?;
         let combinations = self.axes.combinations(&Combination::from_config(&base), o.combine)?;
+        self.validate_image_sizes(&combinations)?;
         self.validate_draws(&base, &combinations[0])?;
         let mut pairs = Vec::with_capacity(combinations.len() * o.seeds);
         for combination in combinations {
@@ -165,6 +167,23 @@ impl Study {
             }
         }
         Ok(pairs)
+    }
+
+    /// `wakelab run` trains every architecture on the images, so each image side must suit the
+    /// strictest of them (the U-Net's); checked before any scene is rendered.
+    fn validate_image_sizes(&self, combinations: &[Combination]) -> Result<(), WakelabError> {
+        let listed = serde_json::to_value(&self.axes).expect("serialisable");
+        let field = if listed.get("image_size").is_some_and(|v| !v.is_null()) {
+            "axes.image_size"
+        } else {
+            "base.scene.size"
+        };
+        for c in combinations {
+            Architecture::Unet
+                .accepts_input_size(c.image_size)
+                .map_err(|allowed| study_error(field, c.image_size, &allowed))?;
+        }
+        Ok(())
     }
 
     /// Every `[draws]` entry names a continuous axis not also listed in `[axes]`, with

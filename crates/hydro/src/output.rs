@@ -35,16 +35,32 @@ fn global_attributes(config: &WakelabConfig, title: &str) -> Vec<(String, String
 }
 
 fn field_variables(dims: &[&str]) -> Vec<CfVariable> {
-    SLICE_FIELDS
+    SliceField::ALL
         .iter()
-        .map(|(name, units, long)| CfVariable::new(name, dims, units, long))
+        .map(|f| {
+            let (name, units, long) = f.cf();
+            let v = CfVariable::new(name, dims, units, long);
+            match f.standard_name() {
+                Some(s) => v.standard_name(s),
+                None => v,
+            }
+        })
         .collect()
 }
 
+/// CF's time coordinate is "seconds since" a reference (CF-1.8 Sec. 4.4). A simulation has no
+/// calendar date, so the initial data plane is put at a nominal epoch, said in the long name.
+pub const TIME_UNITS: &str = "seconds since 2000-01-01 00:00:00";
+
 fn time_var() -> CfVariable {
-    CfVariable::new("time", &["time"], "s", "time since the initial data plane")
-        .axis("T")
-        .standard_name("time")
+    CfVariable::new(
+        "time",
+        &["time"],
+        TIME_UNITS,
+        "time since the initial data plane (at the nominal reference 2000-01-01)",
+    )
+    .axis("T")
+    .standard_name("time")
 }
 
 fn y_var() -> CfVariable {

@@ -55,6 +55,20 @@ impl SliceField {
         self.cf().0
     }
 
+    /// The CF standard name (CF standard name table, version 84), where the table has one: the
+    /// track-frame velocities are the grid's x and y components; the perturbations and the
+    /// eddy viscosity have none.
+    pub const fn standard_name(self) -> Option<&'static str> {
+        match self {
+            SliceField::U => Some("sea_water_x_velocity"),
+            SliceField::V => Some("sea_water_y_velocity"),
+            SliceField::W => Some("upward_sea_water_velocity"),
+            SliceField::K => Some("specific_turbulent_kinetic_energy_of_sea_water"),
+            SliceField::Eps => Some("specific_turbulent_kinetic_energy_dissipation_in_sea_water"),
+            SliceField::NuT | SliceField::DT | SliceField::DS | SliceField::RhoAnomaly => None,
+        }
+    }
+
     /// Position in a slice's `fields`.
     pub fn index(self) -> usize {
         self as usize

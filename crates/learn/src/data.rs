@@ -26,7 +26,8 @@ pub struct Dataset {
 }
 
 impl Dataset {
-    /// Open `dir/manifest.json`.
+    /// Open `dir/manifest.json`. Every scene must have one image side (the networks train on
+    /// batches of equal images); a dataset without scenes is refused.
     pub fn open(dir: &Path) -> Result<Self, WakelabError> {
         let path = dir.join("manifest.json");
         let text = std::fs::read_to_string(&path).map_err(|e| WakelabError::io(&path, e))?;
@@ -34,10 +35,29 @@ impl Dataset {
             path: path.display().to_string(),
             message: e.to_string(),
         })?;
+        let dataset_error = |message: String| WakelabError::Dataset {
+            path: dir.display().to_string(),
+            message,
+        };
+        let first = records
+            .first()
+            .ok_or_else(|| dataset_error("its manifest lists no scenes: render them first (wakelab dataset)".into()))?;
+        let size = first.parameters.image_size;
+        if let Some(other) = records.iter().find(|r| r.parameters.image_size != size) {
+            return Err(dataset_error(format!(
+                "scenes {} and {} differ in image_size ({size} and {} pixels); the networks train on images of one size",
+                first.id, other.id, other.parameters.image_size
+            )));
+        }
         Ok(Self {
             dir: dir.to_path_buf(),
             records,
         })
+    }
+
+    /// The side of every image of the dataset (pixels).
+    pub fn image_size(&self) -> usize {
+        self.records[0].parameters.image_size
     }
 
     /// The image of scene `i` in `band` as a detector's input ([`detector_input`]).
@@ -56,6 +76,17 @@ impl Dataset {
             path: path.display().to_string(),
             message: e.to_string(),
         })?;
+        let size = self.image_size();
+        if image.dim() != (size, size) {
+            let (rows, cols) = image.dim();
+            return Err(WakelabError::Image {
+                path: path.display().to_string(),
+                message: format!(
+                    "{rows} x {cols} pixels; the manifest's image_size is {size}, and every image of a dataset must be {size} x {size}"
+                ),
+            });
+        }
+        check_finite(&image, &path)?;
         Ok(detector_input(image, band, RadarScale::Linear))
     }
 
@@ -120,6 +151,26 @@ impl Dataset {
             .filter(|b| !self.records.is_empty() && self.records.iter().all(|r| r.images.contains_key(b)))
             .collect()
     }
+}
+
+/// Refuse an image with NaN or infinite pixels: one of them turns every weight a detector learns
+/// into NaN, and every probability it gives.
+pub fn check_finite(image: &Array2<f32>, path: &Path) -> Result<(), WakelabError> {
+    let bad = image.iter().filter(|v| !v.is_finite()).count();
+    if bad == 0 {
+        return Ok(());
+    }
+    let (row, col) = image
+        .indexed_iter()
+        .find(|(_, v)| !v.is_finite())
+        .map(|(i, _)| i)
+        .expect("counted");
+    Err(WakelabError::Image {
+        path: path.display().to_string(),
+        message: format!(
+            "{bad} pixel(s) are NaN or infinite (the first at row {row}, column {col}); images must be finite"
+        ),
+    })
 }
 
 /// How a radar image's pixels are scaled: sigma0 (wakelab's images), sigma0 in dB, or amplitude

@@ -27,8 +27,23 @@ fn image_error(path: &Path, message: impl ToString) -> WakelabError {
 }
 
 /// Read a single-band image: `.npy` (2-D, f32, f64 or u8), `.tif`/`.tiff` (one sample per pixel,
-/// any integer or float type) or `.png` (converted to grey levels).
+/// any integer or float type) or `.png` (grey levels, 8 or 16 bits). Refused, naming the file:
+/// colour or alpha channels (which band would it be?), NaN or infinite pixels (they would score
+/// "no wake" silently), and a constant image (nothing to detect: a blank or masked product).
 pub fn read_single_band(path: &Path) -> Result<Array2<f32>, WakelabError> {
+    let image = read_pixels(path)?;
+    crate::data::check_finite(&image, path)?;
+    let first = image.iter().next().copied().unwrap_or(0.0);
+    if image.iter().all(|&v| v == first) {
+        return Err(image_error(
+            path,
+            format!("every pixel is {first}: a constant image holds no wake to find (a blank or masked product?)"),
+        ));
+    }
+    Ok(image)
+}
+
+fn read_pixels(path: &Path) -> Result<Array2<f32>, WakelabError> {
     let ext = path
         .extension()
         .and_then(|e| e.to_str())
@@ -48,7 +63,18 @@ pub fn read_single_band(path: &Path) -> Result<Array2<f32>, WakelabError> {
         }
         "tif" | "tiff" => read_tiff(path),
         "png" => {
-            let img = image::open(path).map_err(|e| image_error(path, e))?.to_luma32f();
+            let img = image::open(path).map_err(|e| image_error(path, e))?;
+            let channels = img.color().channel_count();
+            if channels != 1 {
+                return Err(image_error(
+                    path,
+                    format!(
+                        "has {channels} channels ({:?}); detect reads single-band images: save one band as a greyscale PNG, TIFF or npy",
+                        img.color()
+                    ),
+                ));
+            }
+            let img = img.to_luma32f();
             let (w, h) = img.dimensions();
             Array2::from_shape_vec((h as usize, w as usize), img.into_raw()).map_err(|e| image_error(path, e))
         }

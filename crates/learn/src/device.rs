@@ -15,6 +15,15 @@ pub fn available_devices() -> Vec<&'static str> {
     names
 }
 
+/// The device in words for reports: the backend and, on the CPU, its threads.
+pub fn describe_device(device: &Device) -> String {
+    let threads = rayon::current_num_threads();
+    match format!("{device:?}") {
+        d if d.to_lowercase().contains("flex") => format!("cpu (burn flex backend, {threads} threads)"),
+        d => d,
+    }
+}
+
 /// `cpu` (burn's pure-Rust `flex` backend, multi-threaded), `wgpu` (Vulkan/Metal/DX12; built with
 /// `--features wgpu`), `cuda` (`--features cuda`, needs the CUDA toolkit), or `auto`: the GPU
 /// backend this build has (cuda before wgpu), else the CPU.

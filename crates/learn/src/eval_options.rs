@@ -68,6 +68,21 @@ impl EvalOptions {
         }
     }
 
+    /// Whether every architecture takes the dataset's images, checked before any training.
+    pub fn check_dataset(&self, dataset: &crate::data::Dataset) -> Result<(), WakelabError> {
+        let size = dataset.image_size();
+        for a in &self.architectures {
+            a.accepts_input_size(size).map_err(|allowed| {
+                ConfigError::new(
+                    "image_size",
+                    format!("{size} (the images of {})", dataset.dir.display()),
+                    allowed,
+                )
+            })?;
+        }
+        Ok(())
+    }
+
     pub fn validate(&self) -> Result<(), WakelabError> {
         let err = |f: &str, v: String, a: &str| Err(ConfigError::new(f, v, a).into());
         if self.repetitions == 0 || self.repetitions > 1000 {

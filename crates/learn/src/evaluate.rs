@@ -98,24 +98,24 @@ pub fn train_detector(
     seed: u64,
     device: &Device,
     on_epoch: &mut dyn FnMut(Network, &EpochRecord),
-) -> Detector {
+) -> Result<Detector, WakelabError> {
     match architecture {
-        Architecture::Base => Detector {
+        Architecture::Base => Ok(Detector {
             classifier: train_classifier(train, &options.classifier, seed, device, &mut |e| {
                 on_epoch(Network::Classifier(Architecture::Base), e)
-            }),
+            })?,
             segmenter: None,
-        },
-        Architecture::Cls => Detector {
+        }),
+        Architecture::Cls => Ok(Detector {
             classifier: train_classifier(&duplicated(train), &options.classifier, seed, device, &mut |e| {
                 on_epoch(Network::Classifier(Architecture::Cls), e)
-            }),
+            })?,
             segmenter: None,
-        },
+        }),
         Architecture::Unet => {
             let unet = train_unet(train, &options.unet, seed ^ 0x5555, device, &mut |e| {
                 on_epoch(Network::Segmenter, e)
-            });
+            })?;
             let masks = segment(&unet, train, options.unet.batch_size, device);
             let classifier = train_classifier(
                 &with_masks(train, &masks),
@@ -123,12 +123,22 @@ pub fn train_detector(
                 seed,
                 device,
                 &mut |e| on_epoch(Network::Classifier(Architecture::Unet), e),
-            );
-            Detector {
+            )?;
+            Ok(Detector {
                 classifier,
                 segmenter: Some(unet),
-            }
+            })
         }
+    }
+}
+
+/// A training's error with the input, architecture and repetition it stopped in.
+pub fn which_training(e: WakelabError, input: &Input, architecture: Architecture, repetition: usize) -> WakelabError {
+    match e {
+        WakelabError::Training(m) => {
+            WakelabError::Training(format!("{input} \"{architecture}\" (repetition {repetition}): {m}"))
+        }
+        other => other,
     }
 }
 
@@ -179,6 +189,7 @@ pub fn evaluate(
     progress: &mut (dyn FnMut(&EvalProgress) + Send),
 ) -> Result<Evaluation, WakelabError> {
     options.validate()?;
+    options.check_dataset(dataset)?;
     let available = dataset.bands();
     let mut outputs = Vec::new();
     let mut curves = Vec::new();
@@ -221,7 +232,7 @@ pub fn evaluate(
             .collect();
         let done: Vec<Job> = jobs
             .par_iter()
-            .map(|&(repetition, architecture)| {
+            .map(|&(repetition, architecture)| -> Result<Job, WakelabError> {
                 let (seed, train_idx, test_idx, train, test) = &splits[repetition];
                 let seed = *seed;
                 let mut curves = Vec::new();
@@ -239,7 +250,8 @@ pub fn evaluate(
                         repetition,
                         epoch: e.clone(),
                     });
-                });
+                })
+                .map_err(|e| which_training(e, input, architecture, repetition))?;
                 let mut sets = vec![(Split::Train, train.clone()), (Split::Test, test.clone())];
                 for (k, p) in options.perturbations.iter().enumerate() {
                     let perturbed = p.apply(test, seed.wrapping_add(k as u64 + 1));
@@ -261,13 +273,13 @@ pub fn evaluate(
                 }
                 let last = repetition + 1 == options.repetitions;
                 let detector = last.then(|| (detector, options.model_info(architecture, input, train[0].size())));
-                Job {
+                Ok(Job {
                     outputs,
                     curves,
                     detector,
-                }
+                })
             })
-            .collect();
+            .collect::<Result<_, _>>()?;
         for job in done {
             outputs.extend(job.outputs);
             curves.extend(job.curves);

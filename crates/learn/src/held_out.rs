@@ -2,7 +2,7 @@
 //! out and tested on it.
 
 use crate::data::Dataset;
-use crate::evaluate::{detect, load_examples, train_detector, EvalOptions, EvalProgress};
+use crate::evaluate::{detect, load_examples, train_detector, which_training, EvalOptions, EvalProgress};
 use burn::tensor::Device;
 use rayon::prelude::*;
 use std::sync::Mutex;
@@ -24,6 +24,7 @@ pub fn evaluate_held_out(
     progress: &mut (dyn FnMut(&EvalProgress) + Send),
 ) -> Result<Vec<Output>, WakelabError> {
     options.validate()?;
+    options.check_dataset(dataset)?;
     let mut outputs = Vec::new();
     let progress = Mutex::new(progress);
     for input in &options.band_sets {
@@ -42,7 +43,7 @@ pub fn evaluate_held_out(
             .collect();
         let done: Vec<Vec<Output>> = jobs
             .par_iter()
-            .map(|&(k, architecture)| {
+            .map(|&(k, architecture)| -> Result<Vec<Output>, WakelabError> {
                 let (g, test_idx, train, test) = &sets[k];
                 let g = *g;
                 let seed = options.seed.wrapping_add(7919 * (g as u64 + 1));
@@ -54,9 +55,10 @@ pub fn evaluate_held_out(
                         epoch: e,
                         epochs: options.epochs_of(network),
                     })
-                });
+                })
+                .map_err(|e| which_training(e, input, architecture, g))?;
                 let o = detect(&detector, architecture, test, device);
-                test_idx
+                Ok(test_idx
                     .iter()
                     .zip(test)
                     .zip(o)
@@ -69,9 +71,9 @@ pub fn evaluate_held_out(
                         label: e.label,
                         output,
                     })
-                    .collect()
+                    .collect())
             })
-            .collect();
+            .collect::<Result<_, _>>()?;
         outputs.extend(done.into_iter().flatten());
     }
     Ok(outputs)

@@ -17,8 +17,7 @@ fn stage_output(size: usize) -> usize {
     (size - 2) / 2
 }
 
-/// Smallest input side the classifier accepts (three stages leave at least one pixel).
-pub const MIN_CLASSIFIER_SIZE: usize = 22;
+pub use wakelab_schema::results::{MIN_CLASSIFIER_SIZE, UNET_SIZE_MULTIPLE};
 
 /// Flatten size after the three stages (erratum 1: computed from the input size, 476,280 for
 /// 1024 x 1024, not the printed 47,628).
@@ -131,9 +130,6 @@ pub struct UNet {
     output: Conv2d,
     pool: MaxPool2d,
 }
-
-/// The U-Net's input side must be a multiple of this (three poolings).
-pub const UNET_SIZE_MULTIPLE: usize = 8;
 
 /// Channels of the U-Net's first level in Table 4.2; the levels below double it.
 pub const UNET_WIDTH: usize = wakelab_schema::recipe::UNET_WIDTH;

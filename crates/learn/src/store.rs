@@ -22,6 +22,16 @@ pub struct Detector {
     pub segmenter: Option<UNet>,
 }
 
+/// The detector file format this wakelab writes and reads. Format 2 added the input
+/// normalisation; format 1 files are refused with a message to retrain.
+pub const FORMAT: &str = "wakelab-detector-2";
+
+/// How this wakelab makes a detector's input from an image ([`crate::data::detector_input`]),
+/// recorded in every detector file: a detector only scores inputs made the same way. Change it
+/// whenever `detector_input` changes.
+pub const INPUT_NORMALISATION: &str =
+    "robust-v1: radar sigma0 in dB, infrared brightness temperature; (v - median) / (1.4826 MAD)";
+
 /// What a saved detector is; stored as safetensors metadata under `wakelab.*` keys.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct ModelInfo {
@@ -44,7 +54,8 @@ fn default_unet_width() -> usize {
 impl ModelInfo {
     fn to_metadata(&self) -> BTreeMap<String, String> {
         BTreeMap::from([
-            ("wakelab.format".to_string(), "wakelab-detector-1".to_string()),
+            ("wakelab.format".to_string(), FORMAT.to_string()),
+            ("wakelab.normalisation".to_string(), INPUT_NORMALISATION.to_string()),
             ("wakelab.architecture".to_string(), self.architecture.name().to_string()),
             ("wakelab.bands".to_string(), band_list(&self.bands)),
             ("wakelab.input_size".to_string(), self.input_size.to_string()),
@@ -63,8 +74,20 @@ impl ModelInfo {
             meta.get(key)
                 .ok_or_else(|| err(format!("no `{key}` in the metadata: not a wakelab detector file")))
         };
-        if get("wakelab.format")? != "wakelab-detector-1" {
-            return Err(err(format!("unknown format {}", get("wakelab.format")?)));
+        match get("wakelab.format")?.as_str() {
+            FORMAT => {}
+            "wakelab-detector-1" => {
+                return Err(err(
+                    "written by an earlier wakelab (format wakelab-detector-1), which does not record how its inputs were normalised; its scores on today's inputs would be wrong without warning: retrain it (wakelab train)".into(),
+                ))
+            }
+            other => return Err(err(format!("unknown format \"{other}\" (this wakelab reads {FORMAT})"))),
+        }
+        let normalisation = get("wakelab.normalisation")?;
+        if normalisation != INPUT_NORMALISATION {
+            return Err(err(format!(
+                "its inputs were normalised as \"{normalisation}\", this wakelab's as \"{INPUT_NORMALISATION}\": retrain it (wakelab train)"
+            )));
         }
         let architecture = Architecture::parse(get("wakelab.architecture")?)
             .ok_or_else(|| err(format!("unknown architecture {}", meta["wakelab.architecture"])))?;
@@ -127,6 +150,58 @@ fn metadata_of(bytes: &[u8]) -> Result<BTreeMap<String, String>, String> {
                 .collect()
         })
         .unwrap_or_default())
+}
+
+/// The file's tensors against the network its metadata describes: a missing, extra or
+/// differently shaped tensor means the metadata and the weights disagree (an edited or damaged
+/// file), said in words rather than as burn's import report.
+fn check_weight_shapes(detector: &Detector, bytes: &[u8], info: &ModelInfo) -> Result<(), String> {
+    let not = || "not a safetensors file".to_string();
+    let len = u64::from_le_bytes(bytes.get(..8).ok_or_else(not)?.try_into().map_err(|_| not())?) as usize;
+    let header: serde_json::Value =
+        serde_json::from_slice(bytes.get(8..8usize.saturating_add(len)).ok_or_else(not)?).map_err(|_| not())?;
+    let stored: BTreeMap<String, Vec<usize>> = header
+        .as_object()
+        .ok_or_else(not)?
+        .iter()
+        .filter(|(k, _)| k.as_str() != "__metadata__")
+        .map(|(k, v)| {
+            let shape = v["shape"]
+                .as_array()
+                .map(|d| d.iter().filter_map(|x| x.as_u64()).map(|x| x as usize).collect());
+            (k.clone(), shape.unwrap_or_default())
+        })
+        .collect();
+    let what = format!(
+        "its metadata describes \"{}\" on {} at {} x {} pixels, but its weights do not fit that network",
+        info.architecture,
+        band_list(&info.bands),
+        info.input_size,
+        info.input_size
+    );
+    let expected = detector.collect(None, None, false);
+    for t in &expected {
+        let want: Vec<usize> = t.shape.iter().copied().collect();
+        match stored.get(&t.name) {
+            None => {
+                return Err(format!(
+                    "{what}: tensor `{}` is missing (an edited or damaged file?)",
+                    t.name
+                ))
+            }
+            Some(have) if *have != want => {
+                return Err(format!(
+                    "{what}: `{}` is {have:?} in the file, {want:?} in that network (an edited or damaged file?)",
+                    t.name
+                ))
+            }
+            Some(_) => {}
+        }
+    }
+    if let Some(extra) = stored.keys().find(|k| !expected.iter().any(|t| &t.name == *k)) {
+        return Err(format!("{what}: the file holds `{extra}`, which that network has not"));
+    }
+    Ok(())
 }
 
 /// JSON text of `v` with every object's keys sorted.
@@ -224,6 +299,7 @@ pub fn load_detector(
         segmenter: (info.architecture == Architecture::Unet)
             .then(|| UNet::with_width(info.image_channels(), info.unet_width, device)),
     };
+    check_weight_shapes(&detector, &bytes, &info).map_err(|m| store_error(path, m))?;
     let mut store = SafetensorsStore::from_bytes(Some(bytes));
     detector.load_from(&mut store).map_err(|e| store_error(path, e))?;
     Ok((detector, info))

@@ -16,6 +16,7 @@ use rand::{RngExt, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 use serde::{Deserialize, Serialize};
 use std::time::Instant;
+use wakelab_core::WakelabError;
 use wakelab_schema::recipe;
 use wakelab_schema::recipe::{Augmentation, Optimiser};
 
@@ -284,7 +285,8 @@ impl Trainer<UNet> {
 }
 
 /// The epochs of a recipe: batches in the seeded order with the seeded rotations, `step` on
-/// each; `units` is what accuracy counts per example (1 image, or its pixels).
+/// each; `units` is what accuracy counts per example (1 image, or its pixels). A NaN or
+/// infinite loss stops the training with an error: a diverged network must not be saved.
 fn train_epochs<M: Module>(
     trainer: &mut Trainer<M>,
     examples: &[Example],
@@ -293,7 +295,7 @@ fn train_epochs<M: Module>(
     units: f64,
     on_epoch: &mut dyn FnMut(&EpochRecord),
     step: impl Fn(&mut Trainer<M>, &[&Example], &[Pose]) -> (f64, f64),
-) {
+) -> Result<(), WakelabError> {
     for epoch in 0..recipe.epochs {
         let start = Instant::now();
         let (order, poses) = epoch_plan(examples.len(), examples[0].size(), seed, epoch, recipe.augmentation);
@@ -302,6 +304,13 @@ fn train_epochs<M: Module>(
             let batch: Vec<&Example> = chunk.iter().map(|&i| &examples[i]).collect();
             let poses: Vec<Pose> = chunk.iter().map(|&i| poses[i]).collect();
             let (loss, r) = step(trainer, &batch, &poses);
+            if !loss.is_finite() {
+                return Err(WakelabError::Training(format!(
+                    "the loss became {loss} in epoch {} (learning rate {}): the training diverged; lower the learning rate",
+                    epoch + 1,
+                    recipe.learning_rate
+                )));
+            }
             loss_sum += loss * batch.len() as f64;
             right += r;
         }
@@ -314,6 +323,7 @@ fn train_epochs<M: Module>(
             seconds,
         });
     }
+    Ok(())
 }
 
 /// Train a classifier (Table 4.1) on `examples` with its recipe (4.1: SGD); `seed` fixes the initial
@@ -325,7 +335,7 @@ pub fn train_classifier(
     seed: u64,
     device: &Device,
     on_epoch: &mut dyn FnMut(&EpochRecord),
-) -> WakeClassifier {
+) -> Result<WakeClassifier, WakelabError> {
     let (channels, size) = check_examples(examples);
     let mut trainer = ClassifierTrainer::new(channels, size, recipe, seed, device);
     train_epochs(
@@ -340,8 +350,8 @@ pub fn train_classifier(
             let images = batch_images(batch, poses, t.device());
             t.step(images, &labels)
         },
-    );
-    trainer.finish()
+    )?;
+    Ok(trainer.finish())
 }
 
 /// Train the U-Net (Tables 4.2-4.3) on the examples' masks with the Adam recipe.
@@ -351,7 +361,7 @@ pub fn train_unet(
     seed: u64,
     device: &Device,
     on_epoch: &mut dyn FnMut(&EpochRecord),
-) -> UNet {
+) -> Result<UNet, WakelabError> {
     let (channels, size) = check_examples(examples);
     let mut trainer = UNetTrainer::new(channels, recipe, seed, device);
     train_epochs(
@@ -366,8 +376,8 @@ pub fn train_unet(
             let masks = batch_masks(batch, poses, t.device());
             t.step(images, masks)
         },
-    );
-    trainer.finish()
+    )?;
+    Ok(trainer.finish())
 }
 
 /// Wake probabilities o_i of a trained classifier, in the examples' order.

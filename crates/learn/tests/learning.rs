@@ -164,7 +164,7 @@ fn every_architecture_learns_a_line_on_noise_and_not_shuffled_labels() {
     let test = examples(&line_versus_noise(40, 32, 3.0, 2));
     let labels: Vec<u8> = test.iter().map(|e| e.label).collect();
     for arch in Architecture::ALL {
-        let detector = train_detector(arch, &train, &options, 7, &device, &mut |_, _| {});
+        let detector = train_detector(arch, &train, &options, 7, &device, &mut |_, _| {}).unwrap();
         let mcc = mcc_of(&detect(&detector, arch, &test, &device), &labels);
         eprintln!("{arch}: test MCC {mcc:.3}");
         assert!(mcc > 0.9, "\"{arch}\" reached MCC {mcc} on the line-versus-noise task");
@@ -181,7 +181,7 @@ fn every_architecture_learns_a_line_on_noise_and_not_shuffled_labels() {
         shuffled[i].label = shuffled[j].label;
         shuffled[j].label = li;
     }
-    let detector = train_detector(Architecture::Base, &shuffled, &options, 7, &device, &mut |_, _| {});
+    let detector = train_detector(Architecture::Base, &shuffled, &options, 7, &device, &mut |_, _| {}).unwrap();
     let mcc = mcc_of(&detect(&detector, Architecture::Base, &test, &device), &labels);
     eprintln!("shuffled labels: test MCC {mcc:.3}");
     assert!(mcc.abs() < 0.4, "trained on shuffled labels yet MCC {mcc}");
@@ -198,7 +198,7 @@ fn same_seed_gives_the_same_weights_and_outputs_bit_for_bit() {
     let train = examples(&line_versus_noise(16, 24, 2.5, 5));
     let test = examples(&line_versus_noise(8, 24, 2.5, 6));
     let run = |seed| {
-        let d = train_detector(Architecture::Unet, &train, &options, seed, &device, &mut |_, _| {});
+        let d = train_detector(Architecture::Unet, &train, &options, seed, &device, &mut |_, _| {}).unwrap();
         let o = detect(&d, Architecture::Unet, &test, &device);
         let dir = tempfile::tempdir().unwrap();
         let info = ModelInfo {
@@ -230,7 +230,7 @@ fn saved_detector_reloads_with_the_same_outputs_and_refuses_the_wrong_architectu
     let mut options = quick_options();
     options.classifier.epochs = 1;
     let train = examples(&line_versus_noise(8, 24, 2.5, 5));
-    let detector = train_detector(Architecture::Cls, &train, &options, 1, &device, &mut |_, _| {});
+    let detector = train_detector(Architecture::Cls, &train, &options, 1, &device, &mut |_, _| {}).unwrap();
     let before = detect(&detector, Architecture::Cls, &train, &device);
     let dir = tempfile::tempdir().unwrap();
     let path = dir.path().join("cls.safetensors");
@@ -281,7 +281,7 @@ fn a_scan_of_a_large_scene_peaks_on_its_line() {
     use wakelab_learn::detect::{detect_image, ScanOptions};
     let device = Device::flex();
     let train = examples(&line_versus_noise(128, 32, 3.0, 1));
-    let detector = train_detector(Architecture::Base, &train, &quick_options(), 7, &device, &mut |_, _| {});
+    let detector = train_detector(Architecture::Base, &train, &quick_options(), 7, &device, &mut |_, _| {}).unwrap();
     // 256 x 256 of unit Gaussian noise (the training images' clutter), a 120 px line of the
     // training contrast (a wake is far longer than a window) through (140, 120) at 30 degrees
     let noise = line_versus_noise(2, 256, 0.0, 9).remove(1).image;
@@ -345,5 +345,26 @@ fn a_scan_of_a_large_scene_peaks_on_its_line() {
         "strongest detection at ({}, {}), {d:.0} px from the line's centre",
         first.row,
         first.col
+    );
+}
+
+/// A non-finite loss (here from one NaN pixel, which `Dataset::image` refuses but a library
+/// caller might pass) stops the training with an error naming the input and architecture,
+/// instead of returning a network whose every weight is NaN.
+#[test]
+fn a_non_finite_loss_stops_the_training_with_an_error() {
+    let device = Device::flex();
+    let mut train = examples(&line_versus_noise(16, 32, 3.0, 1));
+    train[3].image[[0, 5, 5]] = f32::NAN;
+    let mut options = quick_options();
+    options.classifier.epochs = 2;
+    let input: wakelab_schema::band::Input = "S".parse().unwrap();
+    let e = train_detector(Architecture::Base, &train, &options, 7, &device, &mut |_, _| {})
+        .map_err(|e| wakelab_learn::evaluate::which_training(e, &input, Architecture::Base, 0))
+        .expect_err("a NaN loss is an error")
+        .to_string();
+    assert!(
+        e.contains("training stopped") && e.contains("NaN") && e.contains("S \"base\""),
+        "{e}"
     );
 }

@@ -38,6 +38,11 @@ pub struct SceneRecord {
     /// The ship's Kelvin wake and own return, in a wake scene rendered with `kelvin.enabled`.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub kelvin: Option<KelvinRecord>,
+    /// Hash of everything the scene was rendered from (its configuration, the study's bands and
+    /// label policy): a scene in the dataset directory counts as done only under the same key,
+    /// so a changed study re-renders it instead of reusing it (empty in scenes written before).
+    #[serde(default)]
+    pub render_key: String,
 }
 
 /// What a wake scene's Kelvin wake was made with, and where its mask is.

@@ -7,6 +7,12 @@ use crate::metrics::{mean_and_spread, roc_auc, Confusion};
 use crate::split::Split;
 use serde::{Deserialize, Serialize};
 
+/// Smallest input side of the classifiers of Table 4.1: their three (conv 3x3, pool 2) stages
+/// leave one pixel.
+pub const MIN_CLASSIFIER_SIZE: usize = 22;
+/// The U-Net's input side must be a multiple of this (Table 4.2's three poolings).
+pub const UNET_SIZE_MULTIPLE: usize = 8;
+
 /// The classifier architectures of spec 4.1.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord, Serialize, Deserialize)]
 #[serde(rename_all = "lowercase")]
@@ -42,6 +48,25 @@ impl Architecture {
 
     pub fn parse(text: &str) -> Option<Self> {
         Self::ALL.into_iter().find(|a| a.name() == text)
+    }
+
+    /// Whether the architecture takes square images of side `size`: Table 4.1's three
+    /// (conv 3x3, pool 2) stages need at least [`MIN_CLASSIFIER_SIZE`] pixels, and the U-Net of
+    /// Table 4.2 (in "unet") a multiple of [`UNET_SIZE_MULTIPLE`]. The error says what is allowed.
+    pub fn accepts_input_size(self, size: usize) -> Result<(), String> {
+        let unet = self == Architecture::Unet;
+        if size >= MIN_CLASSIFIER_SIZE && (!unet || size % UNET_SIZE_MULTIPLE == 0) {
+            return Ok(());
+        }
+        Err(if unet {
+            format!(
+                "\"unet\" needs a side that is a multiple of {UNET_SIZE_MULTIPLE} and at least {MIN_CLASSIFIER_SIZE} pixels (24, 32, 40, ...): the U-Net's three poolings and the classifier's three convolution stages"
+            )
+        } else {
+            format!(
+                "\"{self}\" needs a side of at least {MIN_CLASSIFIER_SIZE} pixels (three 3 x 3 convolution and pooling stages)"
+            )
+        })
     }
 
     /// A comma-separated list of names ("base,cls,unet"); the first unknown name is the error.

@@ -120,8 +120,8 @@ pub fn write_sar(
     )
 }
 
-/// Write an IR image: radiance in the TIFF, a second TIFF of brightness temperature, and a
-/// quicklook of brightness temperature.
+/// Write an IR image: radiance in one TIFF, brightness temperature in a second, each with its
+/// sidecar and a quicklook of brightness temperature.
 pub fn write_ir(
     dir: &Path,
     config: &WakelabConfig,
@@ -143,19 +143,18 @@ pub fn write_ir(
         "W m-2 sr-1",
         &image.info,
     )?;
-    let n = grid.size();
-    let d = grid.pixel_spacing;
-    let bt_path = dir.join(format!("{stem}_brightness_temperature.tif"));
-    write_float_tiff(
-        &bt_path,
+    // the brightness-temperature image is an image like any other: TIFF, sidecar and quicklook
+    files.extend(write_image(
+        dir,
+        &format!("{stem}_brightness_temperature"),
+        config,
+        grid,
         &bt,
-        n,
-        n,
-        Placement {
-            top_left: (grid.x[0] - 0.5 * d, grid.y[0] + 0.5 * d),
-            pixel_spacing: d,
-        },
-    )?;
-    files.push(bt_path);
+        &bt,
+        "brightness_temperature_K",
+        "brightness temperature",
+        "K",
+        &image.info,
+    )?);
     Ok(files)
 }

@@ -357,10 +357,12 @@ pub fn report_page(
     let wakes = records.iter().filter(|r| r.label == 1).count();
     let _ = write!(
         s,
-        "<h1>{}</h1><p>wakelab {} · {} scenes ({} with a wake, {} without) in bands {} · {} inputs × 3 \
-         architectures × {} repetitions · seed {}</p>",
+        "<h1>{}</h1><p>wakelab {} · run {} on {} · {} scenes ({} with a wake, {} without) in bands {} · \
+         {} inputs × 3 architectures × {} repetitions · seed {}</p>",
         escape(&title),
         env!("CARGO_PKG_VERSION"),
+        escape(&run.started),
+        escape(&run.device),
         records.len(),
         wakes,
         records.len() - wakes,

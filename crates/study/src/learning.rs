@@ -6,10 +6,12 @@ use crate::output::{csv, write_evaluation};
 use crate::Result;
 use std::path::{Path, PathBuf};
 use wakelab_core::io::write_atomically;
+use wakelab_core::WakelabError;
 use wakelab_learn::data::Dataset;
 use wakelab_learn::device::Device;
 use wakelab_learn::evaluate::{
-    detect, evaluate, load_examples, train_detector, CurvePoint, EvalOptions, EvalProgress, Evaluation, Summary,
+    detect, evaluate, load_examples, train_detector, which_training, CurvePoint, EvalOptions, EvalProgress, Evaluation,
+    Summary,
 };
 use wakelab_learn::metrics::{roc_auc, Confusion};
 use wakelab_learn::models::Architecture;
@@ -91,11 +93,14 @@ pub fn train_into(
             .filter(|&i| dataset.records[i].split.as_ref() == Some(&split))
             .collect()
     };
+    options.check_dataset(dataset)?;
     let (train_idx, test_idx) = (split(Split::Train), split(Split::Test));
     if train_idx.is_empty() {
         anyhow::bail!("{}: no scenes in the training split", dataset.dir.display());
     }
     let train = load_examples(dataset, input, &train_idx)?;
+    // the test images are read before training too: a bad one refuses the run before any output
+    let test_examples = load_examples(dataset, input, &test_idx)?;
     let mut curves = Vec::new();
     let name = input.name();
     let detector = train_detector(
@@ -113,18 +118,19 @@ pub fn train_into(
                 epoch: e.clone(),
             });
         },
-    );
+    )
+    .map_err(|e| which_training(e, input, architecture, 0))?;
     let info = options.model_info(architecture, input, train[0].size());
-    std::fs::create_dir_all(dir).map_err(|e| anyhow::anyhow!("{}: {e}", dir.display()))?;
+    std::fs::create_dir_all(dir).map_err(|e| WakelabError::io(dir, e))?;
     let path = model
         .map(Path::to_path_buf)
         .unwrap_or_else(|| dir.join(format!("{name}_{architecture}.safetensors")));
     let (path, export) = save_detector(&detector, &info, &path)?;
     write_atomically(dir.join(format!("{name}_{architecture}_curve.csv")), &csv(&curves)?)?;
-    let test = if test_idx.is_empty() {
+    let test = if test_examples.is_empty() {
         None
     } else {
-        let test = load_examples(dataset, input, &test_idx)?;
+        let test = test_examples;
         let outputs = detect(&detector, architecture, &test, device);
         let labels: Vec<u8> = test.iter().map(|e| e.label).collect();
         let c = Confusion::from_outputs(&outputs, &labels, options.threshold);

@@ -149,18 +149,25 @@ pub fn run_study(study: &wakelab_data::study::Study, dir: &Path, device: &Device
     std::fs::create_dir_all(dir).map_err(|e| anyhow::anyhow!("{}: {e}", dir.display()))?;
     write_atomically(dir.join("study.toml"), toml::to_string(study)?.as_bytes())?;
     let start = Instant::now();
+    let started = chrono::Utc::now().format("%Y-%m-%d %H:%M UTC").to_string();
     let display = Display::new(quiet, 5);
     let result = stages::run_stages(study, dir, device, &display);
     display.finish();
     let mut run = result?;
+    run.started = started;
+    run.device = wakelab_learn::device::describe_device(device);
+    // the report's wall-time table holds the report's own time: it is written once to time it,
+    // then again with that time (a fraction of a second)
     let report_start = Instant::now();
-    let files = report::write_report(dir, study, &run)?;
+    report::write_report(dir, study, &run)?;
+    let seconds = report_start.elapsed().as_secs_f64();
     run.times.push(StageTime {
         stage: "report".into(),
-        seconds: report_start.elapsed().as_secs_f64(),
-        computed_seconds: report_start.elapsed().as_secs_f64(),
+        seconds,
+        computed_seconds: seconds,
         reused: false,
     });
+    let files = report::write_report(dir, study, &run)?;
     write_atomically(
         dir.join("timing.json"),
         serde_json::to_string_pretty(&run.times)?.as_bytes(),

@@ -4,6 +4,7 @@
 use crate::Result;
 use std::path::Path;
 use wakelab_core::io::write_atomically;
+use wakelab_core::WakelabError;
 use wakelab_learn::evaluate::{CurvePoint, Evaluation, Output, Summary};
 use wakelab_learn::store::save_detector;
 
@@ -14,7 +15,8 @@ pub fn csv<T: serde::Serialize>(rows: &[T]) -> Result<Vec<u8>> {
 
 /// Write an evaluation's files: outputs, metrics (CSV, JSON), curves and the detectors.
 pub fn write_evaluation(dir: &Path, evaluation: &Evaluation) -> Result<()> {
-    std::fs::create_dir_all(dir.join("models"))?;
+    let models = dir.join("models");
+    std::fs::create_dir_all(&models).map_err(|e| WakelabError::io(&models, e))?;
     write_atomically(dir.join("outputs.csv"), &csv::<Output>(&evaluation.outputs)?)?;
     write_atomically(dir.join("metrics.csv"), &csv::<Summary>(&evaluation.summaries)?)?;
     write_atomically(

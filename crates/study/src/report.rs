@@ -6,6 +6,7 @@ use crate::Result;
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 use wakelab_core::io::{csv_record, write_atomically};
+use wakelab_core::WakelabError;
 use wakelab_data::study::Study;
 use wakelab_learn::evaluate::{summarise_split, Summary};
 use wakelab_learn::models::Architecture;
@@ -334,6 +335,7 @@ fn robustness_table(run: &StudyRun) -> Table {
 }
 
 fn timing_table(run: &StudyRun) -> Table {
+    let total = |f: fn(&crate::StageTime) -> f64| format!("{:.1}", run.times.iter().map(f).sum::<f64>());
     Table {
         id: "timing".into(),
         title: "Wall time per stage".into(),
@@ -352,6 +354,12 @@ fn timing_table(run: &StudyRun) -> Table {
                     if t.reused { "yes" } else { "no" }.into(),
                 ]
             })
+            .chain(std::iter::once(vec![
+                "total".into(),
+                total(|t| t.seconds),
+                total(|t| t.computed_seconds),
+                String::new(),
+            ]))
             .collect(),
     }
 }
@@ -377,13 +385,15 @@ pub fn result_tables(run: &StudyRun) -> Vec<Table> {
 pub fn write_report(dir: &Path, study: &Study, run: &StudyRun) -> Result<Vec<PathBuf>> {
     let out = dir.join("report");
     let tables_dir = out.join("tables");
-    std::fs::create_dir_all(&tables_dir)?;
+    std::fs::create_dir_all(&tables_dir).map_err(|e| WakelabError::io(&tables_dir, e))?;
     let tables = result_tables(run);
     let timing = timing_table(run);
     let mut markdown = format!(
-        "# wakelab study \"{}\"\n\nwakelab {}; {} scenes; see report.html for pictures and plots.\n\n",
+        "# wakelab study \"{}\"\n\nwakelab {}, run {} on {}; {} scenes; see report.html for pictures and plots.\n\n",
         study.study.name,
         env!("CARGO_PKG_VERSION"),
+        run.started,
+        run.device,
         run.dataset.records.len()
     );
     for t in tables.iter().chain(std::iter::once(&timing)) {

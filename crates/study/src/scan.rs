@@ -11,7 +11,7 @@ use ndarray::Array2;
 use serde::Serialize;
 use std::path::{Path, PathBuf};
 use wakelab_core::io::atomic::{write_atomically, AtomicFile};
-use wakelab_core::io::geotiff::{quantile, write_georeferenced_tiff, Georeference, Placement};
+use wakelab_core::io::geotiff::{quantile, write_georeferenced_tiff, Georeference};
 use wakelab_learn::data::RadarScale;
 use wakelab_learn::detect::{Detection, Found, Peak};
 use wakelab_schema::band::Band;
@@ -93,13 +93,8 @@ pub fn write_scan(
     );
     let input_geo = if tiff { Georeference::read(image_path)? } else { None };
     let georeferenced = input_geo.is_some();
-    // a plain image: its pixel grid, x right and y up, one unit per pixel
-    let geo = input_geo.unwrap_or_else(|| {
-        Georeference::from_placement(Placement {
-            top_left: (0.0, 0.0),
-            pixel_spacing: 1.0,
-        })
-    });
+    // a plain image: its pixel grid, x right and y up, one unit per pixel (not metres)
+    let geo = input_geo.unwrap_or_else(Georeference::pixel_grid);
     let (rows, cols) = detection.map.dim();
     let files = ScanFiles {
         map: dir.join("probability.tif"),
@@ -128,6 +123,17 @@ pub fn write_scan(
         let (h, w) = mask.dim();
         let values: Vec<f32> = mask.iter().copied().collect();
         write_georeferenced_tiff(path, &values, h, w, &geo)?;
+        let sidecar = MapSidecar {
+            quantity: "U-Net wake mask: per-pixel wake probability, overlapping windows averaged",
+            cell: 1,
+            rows: h,
+            cols: w,
+            ..sidecar
+        };
+        write_atomically(
+            path.with_extension("json"),
+            serde_json::to_string_pretty(&sidecar)?.as_bytes(),
+        )?;
     }
     let picture = AtomicFile::new(&files.overlay)?;
     overlay(image, band, scale, detection).save_with_format(picture.temporary_path(), image::ImageFormat::Png)?;

@@ -8,6 +8,7 @@ use std::collections::BTreeMap;
 use std::path::Path;
 use std::time::Instant;
 use wakelab_core::io::write_atomically;
+use wakelab_core::WakelabError;
 use wakelab_data::learning::LearningPlan;
 use wakelab_data::study::Study;
 use wakelab_fusion::decision::{fuse_all, FusedOutput};
@@ -43,6 +44,9 @@ pub struct StudyRun {
     pub fused: Vec<FusedOutput>,
     pub fusion: Vec<(Summary, f64)>,
     pub times: Vec<StageTime>,
+    /// When the run started (UTC) and the device it trained on, for the report's header.
+    pub started: String,
+    pub device: String,
 }
 
 /// A learning stage's results as cached beside its files.
@@ -80,6 +84,15 @@ fn training_units(options: &EvalOptions, images: usize, runs: usize) -> u64 {
         })
         .sum();
     per_run * (images * runs * options.band_sets.len()) as u64
+}
+
+/// The inputs a study's learning stage trains on: every band of the dataset alone, then the
+/// plan's feature-level fusions.
+pub fn study_inputs(plan: &LearningPlan, dataset: &Dataset) -> Vec<Input> {
+    let bands = dataset.bands();
+    let mut inputs: Vec<Input> = bands.iter().map(|&b| Input::single(b)).collect();
+    inputs.extend(plan.fused_inputs(&bands));
+    inputs
 }
 
 /// The evaluation options of a study's `[learning]` table.
@@ -319,7 +332,7 @@ fn held_out_stage(
         display.advance(train_images as u64, p.describe(indices.len()))
     })?;
     let seconds = start.elapsed().as_secs_f64();
-    std::fs::create_dir_all(dir)?;
+    std::fs::create_dir_all(dir).map_err(|e| WakelabError::io(dir, e))?;
     write_atomically(dir.join("outputs.csv"), &csv(&outputs)?)?;
     let cached = CachedStage {
         key,
@@ -348,14 +361,13 @@ pub fn run_stages(
     display: &Display,
 ) -> Result<StudyRun> {
     let (dataset, dataset_time) = dataset_stage(study, &dir.join("dataset"), display)?;
-    let manifest = std::fs::read_to_string(dataset.dir.join("manifest.json"))?;
+    let manifest_path = dataset.dir.join("manifest.json");
+    let manifest = std::fs::read_to_string(&manifest_path).map_err(|e| WakelabError::io(&manifest_path, e))?;
     let manifest_hash = fnv_hex(&manifest);
     let plan = study.learning.clone();
     let options = eval_options(&plan, &dataset);
-    let bands = dataset.bands();
-    let singles: Vec<Input> = bands.iter().map(|&b| Input::single(b)).collect();
-    let mut inputs = singles.clone();
-    inputs.extend(plan.fused_inputs(&bands));
+    let inputs = study_inputs(&plan, &dataset);
+    let singles: Vec<Input> = inputs.iter().filter(|i| !i.is_fused()).cloned().collect();
     let cx = Context {
         dataset: &dataset,
         options: &options,
@@ -375,7 +387,7 @@ pub fn run_stages(
         .collect();
     let (fused, fusion) = fuse_all(&single_outputs, plan.threshold);
     let fusion_dir = dir.join("fusion");
-    std::fs::create_dir_all(&fusion_dir)?;
+    std::fs::create_dir_all(&fusion_dir).map_err(|e| WakelabError::io(&fusion_dir, e))?;
     write_atomically(fusion_dir.join("fusion_outputs.csv"), &csv(&fused)?)?;
     let fusion_time = stage_time("fusion", start, None);
     let summaries = summarise(&outputs, plan.threshold);
@@ -392,6 +404,8 @@ pub fn run_stages(
         fused,
         fusion,
         times: vec![dataset_time, learning_time, held_out_time, fusion_time],
+        started: String::new(),
+        device: String::new(),
     })
 }
 

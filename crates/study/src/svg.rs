@@ -36,6 +36,8 @@ const LEFT: f64 = 52.0;
 const RIGHT: f64 = 120.0;
 const TOP: f64 = 28.0;
 const BOTTOM: f64 = 40.0;
+/// Share of each axis range left between the data and the frame.
+const FRAME_MARGIN: f64 = 0.02;
 
 /// Text as HTML/SVG character data or a double-quoted attribute value.
 pub fn escape(text: &str) -> String {
@@ -91,10 +93,13 @@ impl LinePlot {
         }
     }
 
-    /// The plot as an `<svg>` element.
+    /// The plot as an `<svg>` element. The frame lies 2 % of each range outside the data, so
+    /// a line along an edge (a perfect ROC curve runs up x = 0 and along y = 1) is not hidden
+    /// under the frame.
     pub fn to_svg(&self) -> String {
-        let (x0, x1) = self.range(self.x_range, |p| p.0);
-        let (y0, y1) = self.range(self.y_range, |p| p.1);
+        let padded = |(lo, hi): (f64, f64)| (lo - FRAME_MARGIN * (hi - lo), hi + FRAME_MARGIN * (hi - lo));
+        let (x0, x1) = padded(self.range(self.x_range, |p| p.0));
+        let (y0, y1) = padded(self.range(self.y_range, |p| p.1));
         let (pw, ph) = (W - LEFT - RIGHT, H - TOP - BOTTOM);
         let sx = |x: f64| LEFT + (x - x0) / (x1 - x0) * pw;
         let sy = |y: f64| TOP + ph - (y - y0) / (y1 - y0) * ph;
@@ -274,5 +279,33 @@ mod tests {
         assert!(svg.starts_with("<svg") && svg.ends_with("</svg>"));
         assert_eq!(svg.matches("<polyline").count(), 2);
         assert!(svg.contains("loss &lt;base&gt;"));
+    }
+
+    /// A perfect ROC curve runs along the left and top edges of the unit square; drawn on the
+    /// frame it would vanish. Every vertex lies strictly inside the frame.
+    #[test]
+    fn a_roc_curve_on_the_edges_is_drawn_inside_the_frame() {
+        let plot = LinePlot {
+            title: "ROC".into(),
+            x_label: "FPR".into(),
+            y_label: "TPR".into(),
+            x_range: Some((0.0, 1.0)),
+            y_range: Some((0.0, 1.0)),
+            series: vec![Series {
+                name: "perfect".into(),
+                points: roc_points(&[0.9, 0.8, 0.2, 0.1], &[1, 1, 0, 0]),
+            }],
+            diagonal: true,
+            paired: false,
+        };
+        let svg = plot.to_svg();
+        let points = svg.split("points=\"").nth(1).unwrap().split('"').next().unwrap();
+        let (pw, ph) = (W - LEFT - RIGHT, H - TOP - BOTTOM);
+        for p in points.split(' ') {
+            let (x, y) = p.split_once(',').unwrap();
+            let (x, y): (f64, f64) = (x.parse().unwrap(), y.parse().unwrap());
+            assert!(x > LEFT + 1.0 && x < LEFT + pw - 1.0, "{p}");
+            assert!(y > TOP + 1.0 && y < TOP + ph - 1.0, "{p}");
+        }
     }
 }

@@ -252,6 +252,19 @@ pub struct EvalArgs {
     /// Print the metrics as JSON.
     #[arg(long)]
     pub json: bool,
+    /// Take the recipe from a study's `[learning]` table (`default`, `paper`, or a study file
+    /// such as a run's `study.toml`): repetitions, epochs, optimiser, learning rates, U-Net,
+    /// threshold, seed, augmentation, perturbations and inputs, so that `eval` on a run's
+    /// dataset reproduces the run's tables. Recipe flags cannot be combined with it.
+    #[arg(
+        long,
+        value_name = "default|paper|FILE",
+        conflicts_with_all = [
+            "epochs", "unet_epochs", "unet_batch_size", "unet_width", "batch_size", "learning_rate",
+            "optimiser", "weight_decay", "threshold", "seed", "augmentation", "repetitions",
+        ]
+    )]
+    pub study: Option<String>,
 }
 
 /// Options of `detect`.

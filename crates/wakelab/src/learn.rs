@@ -120,7 +120,19 @@ pub fn run_eval(eval: &EvalArgs) -> Result<()> {
     let (args, arch, repetitions, json) = (&eval.learn, eval.arch.as_str(), eval.repetitions, eval.json);
     let dataset = Dataset::open(&args.dataset)?;
     let device = parse_device(&args.device)?;
-    let options = args.options(&dataset, parse_architectures(arch)?, repetitions)?;
+    let options = match &eval.study {
+        None => args.options(&dataset, parse_architectures(arch)?, repetitions)?,
+        Some(name) => {
+            let study = wakelab_study::load_study(name)?;
+            let mut options = wakelab_study::stages::eval_options(&study.learning, &dataset);
+            options.architectures = parse_architectures(arch)?;
+            options.band_sets = match &args.bands {
+                Some(_) => dataset.inputs(args.bands.as_deref())?,
+                None => wakelab_study::stages::study_inputs(&study.learning, &dataset),
+            };
+            options
+        }
+    };
     options.validate()?;
     let bar = epoch_bar(args.quiet, total_epochs(&options));
     let dir = args.out_dir();

@@ -122,10 +122,15 @@ fn train_eval_and_detect_on_a_small_dataset() {
     let map = scan.join("probability.tif");
     let geo = wakelab_core::io::geotiff::Georeference::read(&map).unwrap().unwrap();
     assert_eq!(geo.model_xy(1.0, 1.0), Some((8.0, -8.0)));
-    let values = wakelab_learn::detect::read_single_band(&map).unwrap();
-    assert_eq!(values.dim(), (4, 4));
+    // read as any TIFF reader does (`detect`'s own reader refuses a constant image, which this
+    // map is)
+    let mut decoder = tiff::decoder::Decoder::new(std::fs::File::open(&map).unwrap()).unwrap();
+    assert_eq!(decoder.dimensions().unwrap(), (4, 4));
+    let tiff::decoder::DecodingResult::F32(values) = decoder.read_image().unwrap() else {
+        panic!("a float32 map")
+    };
     // one window covers the whole image, so every cell holds its probability
-    assert!(values.iter().all(|&v| (v as f64 - p).abs() < 1e-6), "{values}");
+    assert!(values.iter().all(|&v| (v as f64 - p).abs() < 1e-6), "{values:?}");
     let written: serde_json::Value =
         serde_json::from_str(&std::fs::read_to_string(scan.join("detections.json")).unwrap()).unwrap();
     assert_eq!(written["probability"].as_f64(), Some(p));
@@ -343,6 +348,36 @@ fn run_does_the_whole_study_reuses_its_stages_and_repeats_its_tables() {
     // and a fresh run in another directory computes the same tables from scratch
     run(&second);
     assert_eq!(tables(&first), tables(&second));
+
+    // `eval --study` on the run's dataset reads the study's recipe and reproduces the run's
+    // outputs for an input bit for bit; recipe flags beside it are refused
+    let eval_dir = dir.path().join("eval");
+    let o = wakelab(&[
+        "eval",
+        first.join("dataset").to_str().unwrap(),
+        "--study",
+        first.join("study.toml").to_str().unwrap(),
+        "--bands",
+        "S",
+        "--out",
+        eval_dir.to_str().unwrap(),
+        "--quiet",
+    ]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    assert_eq!(
+        std::fs::read_to_string(eval_dir.join("outputs.csv")).unwrap(),
+        std::fs::read_to_string(first.join("learn/S/outputs.csv")).unwrap()
+    );
+    let o = wakelab(&[
+        "eval",
+        first.join("dataset").to_str().unwrap(),
+        "--study",
+        "default",
+        "--epochs",
+        "3",
+    ]);
+    assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
+    assert!(stderr(&o).contains("--epochs"), "{}", stderr(&o));
 
     // bad [learning] values are refused before any work, naming the field
     let bad = dir.path().join("bad.toml");

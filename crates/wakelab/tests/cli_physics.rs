@@ -84,6 +84,33 @@ fn wake_run_writes_netcdf_pictures_and_the_configuration() {
     assert_eq!(time, vec![0.0, 60.0, 120.0]);
     let ds = r.data_set();
     assert_eq!(ds.get_var_attr_as_string("U", "units").as_deref(), Some("m s-1"));
+    // CF time ("seconds since", CF-1.8 Sec. 4.4) and standard names where CF has them
+    let time_units = ds.get_var_attr_as_string("time", "units").unwrap();
+    assert!(time_units.starts_with("seconds since "), "{time_units}");
+    assert_eq!(
+        ds.get_var_attr_as_string("W", "standard_name").as_deref(),
+        Some("upward_sea_water_velocity")
+    );
+    // every file of the run: NetCDF with CF's `source`, every image TIFF with its JSON sidecar
+    // and a grid in metres (GeoTIFF ProjLinearUnits = 9001)
+    let files: Vec<std::path::PathBuf> = std::fs::read_dir(&out).unwrap().map(|e| e.unwrap().path()).collect();
+    let with_ext = |ext: &'static str| files.iter().filter(move |p| p.extension().is_some_and(|e| e == ext));
+    assert!(with_ext("tif").count() >= 2 && with_ext("nc").count() >= 4);
+    for nc in with_ext("nc") {
+        let r = netcdf3::FileReader::open(nc).unwrap();
+        let source = r.data_set().get_global_attr_as_string("source");
+        assert!(source.is_some_and(|s| s.starts_with("wakelab ")), "{}", nc.display());
+    }
+    for tif in with_ext("tif") {
+        assert!(tif.with_extension("json").is_file(), "{} has no sidecar", tif.display());
+        let mut dec = tiff::decoder::Decoder::new(std::fs::File::open(tif).unwrap()).unwrap();
+        let keys = dec.get_tag_u16_vec(tiff::tags::Tag::Unknown(34735)).unwrap();
+        assert!(
+            keys[4..].chunks(4).any(|k| k == [3076, 0, 1, 9001]),
+            "{}: {keys:?}",
+            tif.display()
+        );
+    }
     let mut m = netcdf3::FileReader::open(out.join("surface_map.nc")).unwrap();
     let x = m.read_var_f32("x").unwrap();
     // x = x_IDP + U_ship t, every map_dx = 25 m from 71 m up to 71 + 7 m/s * 120 s = 911 m

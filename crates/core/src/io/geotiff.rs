@@ -30,6 +30,12 @@ const MODEL_TRANSFORMATION: Tag = Tag::Unknown(34264);
 const GEO_KEY_DIRECTORY: Tag = Tag::Unknown(34735);
 const GEO_DOUBLE_PARAMS: Tag = Tag::Unknown(34736);
 const GEO_ASCII_PARAMS: Tag = Tag::Unknown(34737);
+/// The GeoAsciiParams tag's number, as a key's location.
+const GEO_ASCII_PARAMS_CODE: u16 = 34737;
+/// EPSG's unit code of the metre.
+pub const LINEAR_UNIT_METRE: u16 = 9001;
+/// The citation of a simulated scene's local CRS (GeoTIFF ASCII parameters end in `|`).
+const LOCAL_CITATION: &str = "wakelab scene grid: local x east, y north, metres|";
 
 /// A raster's GeoTIFF tags, as read from a user's file or made from a [`Placement`]: the raster
 /// to model mapping (pixel scale and tiepoints, or a transformation matrix) and the CRS keys,
@@ -49,14 +55,52 @@ pub struct Georeference {
 
 impl Georeference {
     /// A simulated scene's grid: raster (0, 0) at the top-left corner `at.top_left`, square
-    /// pixels, y up, in a user-defined model (GTModelType 32767, PixelIsArea).
+    /// pixels, y up, in a local engineering CRS whose linear unit is the metre, as GDAL writes a
+    /// LOCAL_CS (GTModelType user-defined 32767, PixelIsArea, a GTCitation, and
+    /// ProjLinearUnits = 9001, EPSG's metre; GeoTIFF 1.1, OGC 19-008r4, Annex B).
     pub fn from_placement(at: Placement) -> Self {
         let d = at.pixel_spacing;
         Self {
             pixel_scale: Some(vec![d, d, 0.0]),
             tiepoints: vec![0.0, 0.0, 0.0, at.top_left.0, at.top_left.1, 0.0],
             transformation: None,
-            // version 1.1.0, two keys: GTModelType = user-defined, GTRasterType = PixelIsArea
+            // version 1.1.0, four keys in key order: GTModelType = user-defined, GTRasterType =
+            // PixelIsArea, GTCitation (the ASCII parameters), ProjLinearUnits = metre
+            geo_keys: vec![
+                1,
+                1,
+                0,
+                4,
+                1024,
+                0,
+                1,
+                32767,
+                1025,
+                0,
+                1,
+                1,
+                1026,
+                GEO_ASCII_PARAMS_CODE,
+                LOCAL_CITATION.len() as u16,
+                0,
+                3076,
+                0,
+                1,
+                LINEAR_UNIT_METRE,
+            ],
+            geo_doubles: Vec::new(),
+            geo_ascii: Some(LOCAL_CITATION.to_string()),
+        }
+    }
+
+    /// The pixel grid of an image that has no georeference: model (x, y) = (column, -row), one
+    /// unit per pixel, in a user-defined model with no linear unit (it is not metres).
+    pub fn pixel_grid() -> Self {
+        Self {
+            pixel_scale: Some(vec![1.0, 1.0, 0.0]),
+            tiepoints: vec![0.0; 6],
+            transformation: None,
+            // GTModelType = user-defined, GTRasterType = PixelIsArea
             geo_keys: vec![1, 1, 0, 2, 1024, 0, 1, 32767, 1025, 0, 1, 1],
             geo_doubles: Vec::new(),
             geo_ascii: None,
@@ -243,6 +287,17 @@ mod tests {
         }
         let scale = dec.get_tag_f64_vec(Tag::Unknown(33550)).unwrap();
         assert_eq!(scale, vec![2.5, 2.5, 0.0]);
+        // the key directory, read as a GeoTIFF reader does: user-defined model whose linear
+        // unit is EPSG 9001 (metre), its citation in the ASCII parameters
+        let keys = dec.get_tag_u16_vec(Tag::Unknown(34735)).unwrap();
+        let key = |id: u16| keys[4..].chunks(4).find(|k| k[0] == id).map(|k| k.to_vec());
+        assert_eq!(keys[3] as usize, (keys.len() - 4) / 4);
+        assert_eq!(key(1024), Some(vec![1024, 0, 1, 32767]));
+        assert_eq!(key(3076), Some(vec![3076, 0, 1, 9001]));
+        let citation = key(1026).unwrap();
+        let ascii = dec.get_tag_ascii_string(Tag::Unknown(34737)).unwrap();
+        let text = &ascii[citation[3] as usize..][..citation[2] as usize];
+        assert!(text.contains("metres") && text.ends_with('|'), "{text}");
         let tie = dec.get_tag_f64_vec(Tag::Unknown(33922)).unwrap();
         assert_eq!(&tie[3..5], &[100.0, 50.0]);
         let geo = Georeference::read(&path).unwrap().expect("georeferenced");

@@ -93,6 +93,11 @@ impl CfLayout {
         for (k, v) in &self.global {
             ds.add_global_attr_string(k, v).map_err(err)?;
         }
+        // CF's `source` (Sec. 2.6.2) on every file, whichever stage wrote it
+        if !self.global.iter().any(|(k, _)| k == "source") {
+            ds.add_global_attr_string("source", format!("wakelab {}", env!("CARGO_PKG_VERSION")))
+                .map_err(err)?;
+        }
         Ok(ds)
     }
 }
@@ -163,6 +168,7 @@ mod tests {
         assert_eq!(u, vec![1.0, 2.0, 3.0, 4.0, 5.0, 6.0]);
         let ds = r.data_set();
         assert_eq!(ds.get_global_attr_as_string("Conventions").unwrap(), "CF-1.8");
+        assert!(ds.get_global_attr_as_string("source").unwrap().starts_with("wakelab "));
         assert_eq!(ds.get_var_attr_as_string("u", "units").unwrap(), "m s-1");
     }
 }

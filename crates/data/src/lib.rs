@@ -2,7 +2,8 @@
 //! parametric study rendered into a labelled dataset on disk.
 //!
 //! [`run_study`] renders every wake/no-wake pair of a [`Study`] (in parallel, resumable: a scene
-//! is done when its `scene.json` exists, written last and atomically) and [`write_manifest`]
+//! is done when its `scene.json`, written last and atomically, holds the [`render_key`] of what
+//! the study renders now; a scene of another key is rendered again) and [`write_manifest`]
 //! gathers the finished scenes into `manifest.json`, `manifest.csv` and `splits.json`. The
 //! expensive hydro run is done once per distinct (ship, environment, grid, time) and cached on
 //! disk under `cache/`, keyed by a hash of exactly those inputs.

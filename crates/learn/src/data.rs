@@ -55,9 +55,10 @@ impl Dataset {
         })
     }
 
-    /// The side of every image of the dataset (pixels).
+    /// The side of every image of the dataset (pixels; 0 for a dataset built without scenes,
+    /// which every architecture then refuses by name).
     pub fn image_size(&self) -> usize {
-        self.records[0].parameters.image_size
+        self.records.first().map_or(0, |r| r.parameters.image_size)
     }
 
     /// The image of scene `i` in `band` as a detector's input ([`detector_input`]).

@@ -1,5 +1,6 @@
 //! Trained detectors on disk: safetensors with what the network is in its metadata (architecture,
-//! bands, channels, input size, threshold), checked before any weight is read, and an export in
+//! bands, input size, threshold, U-Net width, input normalisation), checked before any weight is
+//! read, the weights' shapes checked against that network, and an export in
 //! PyTorch's layout (`*.pytorch.safetensors`: linear weights transposed, BatchNorm's
 //! gamma/beta named weight/bias) for users on the PyTorch side.
 
@@ -133,15 +134,27 @@ fn store_error(path: &Path, e: impl std::fmt::Display) -> WakelabError {
 /// JSON object).
 pub fn read_metadata(path: &Path) -> Result<BTreeMap<String, String>, WakelabError> {
     let bytes = std::fs::read(path).map_err(|e| WakelabError::io(path, e))?;
-    metadata_of(&bytes).map_err(|m| store_error(path, m))
+    header_of(&bytes)
+        .map(|(header, _)| metadata_in(&header))
+        .map_err(|m| store_error(path, m))
 }
 
-fn metadata_of(bytes: &[u8]) -> Result<BTreeMap<String, String>, String> {
+/// The JSON header of a safetensors file (an 8-byte little-endian length, then a JSON object)
+/// and the offset where its data begin.
+fn header_of(bytes: &[u8]) -> Result<(serde_json::Value, usize), String> {
     let not = || "not a safetensors file".to_string();
     let len = u64::from_le_bytes(bytes.get(..8).ok_or_else(not)?.try_into().map_err(|_| not())?) as usize;
-    let header = bytes.get(8..8usize.checked_add(len).ok_or_else(not)?).ok_or_else(not)?;
-    let json: serde_json::Value = serde_json::from_slice(header).map_err(|_| not())?;
-    Ok(json
+    let end = 8usize.checked_add(len).filter(|&e| e <= bytes.len()).ok_or_else(not)?;
+    let header: serde_json::Value = serde_json::from_slice(&bytes[8..end]).map_err(|_| not())?;
+    if !header.is_object() {
+        return Err(not());
+    }
+    Ok((header, end))
+}
+
+/// The header's `__metadata__` as text pairs.
+fn metadata_in(header: &serde_json::Value) -> BTreeMap<String, String> {
+    header
         .get("__metadata__")
         .and_then(|m| m.as_object())
         .map(|m| {
@@ -149,21 +162,17 @@ fn metadata_of(bytes: &[u8]) -> Result<BTreeMap<String, String>, String> {
                 .filter_map(|(k, v)| v.as_str().map(|s| (k.clone(), s.to_string())))
                 .collect()
         })
-        .unwrap_or_default())
+        .unwrap_or_default()
 }
 
 /// The file's tensors against the network its metadata describes: a missing, extra or
 /// differently shaped tensor means the metadata and the weights disagree (an edited or damaged
 /// file), said in words rather than as burn's import report.
-fn check_weight_shapes(detector: &Detector, bytes: &[u8], info: &ModelInfo) -> Result<(), String> {
-    let not = || "not a safetensors file".to_string();
-    let len = u64::from_le_bytes(bytes.get(..8).ok_or_else(not)?.try_into().map_err(|_| not())?) as usize;
-    let header: serde_json::Value =
-        serde_json::from_slice(bytes.get(8..8usize.saturating_add(len)).ok_or_else(not)?).map_err(|_| not())?;
+fn check_weight_shapes(detector: &Detector, header: &serde_json::Value, info: &ModelInfo) -> Result<(), String> {
     let stored: BTreeMap<String, Vec<usize>> = header
         .as_object()
-        .ok_or_else(not)?
-        .iter()
+        .into_iter()
+        .flatten()
         .filter(|(k, _)| k.as_str() != "__metadata__")
         .map(|(k, v)| {
             let shape = v["shape"]
@@ -227,10 +236,7 @@ fn canonical_json(v: &serde_json::Value) -> String {
 /// map, whose order changes from run to run, and the same weights must give the same bytes.
 /// Data offsets count from the end of the header, so a rewritten header moves nothing.
 fn canonical_safetensors(bytes: Vec<u8>) -> Result<Vec<u8>, String> {
-    let not = || "not a safetensors file".to_string();
-    let len = u64::from_le_bytes(bytes.get(..8).ok_or_else(not)?.try_into().map_err(|_| not())?) as usize;
-    let end = 8usize.checked_add(len).filter(|&e| e <= bytes.len()).ok_or_else(not)?;
-    let header: serde_json::Value = serde_json::from_slice(&bytes[8..end]).map_err(|_| not())?;
+    let (header, end) = header_of(&bytes)?;
     let mut text = canonical_json(&header).into_bytes();
     // the format pads the header with spaces to a multiple of 8 bytes
     while text.len() % 8 != 0 {
@@ -280,7 +286,8 @@ pub fn load_detector(
     device: &Device,
 ) -> Result<(Detector, ModelInfo), WakelabError> {
     let bytes = std::fs::read(path).map_err(|e| WakelabError::io(path, e))?;
-    let meta = metadata_of(&bytes).map_err(|m| store_error(path, m))?;
+    let (header, _) = header_of(&bytes).map_err(|m| store_error(path, m))?;
+    let meta = metadata_in(&header);
     let info = ModelInfo::from_metadata(&meta, path)?;
     if let Some((architecture, size)) = expect {
         if info.architecture != architecture || info.input_size != size {
@@ -299,7 +306,7 @@ pub fn load_detector(
         segmenter: (info.architecture == Architecture::Unet)
             .then(|| UNet::with_width(info.image_channels(), info.unet_width, device)),
     };
-    check_weight_shapes(&detector, &bytes, &info).map_err(|m| store_error(path, m))?;
+    check_weight_shapes(&detector, &header, &info).map_err(|m| store_error(path, m))?;
     let mut store = SafetensorsStore::from_bytes(Some(bytes));
     detector.load_from(&mut store).map_err(|e| store_error(path, e))?;
     Ok((detector, info))

@@ -32,7 +32,7 @@ fn text(path: &Path) -> &str {
     path.to_str().unwrap()
 }
 
-/// A copy of the dataset `from` at `to` (files only, one level of scenes).
+/// A copy of the dataset directory `from` at `to`, every file of every subdirectory.
 fn copy_dataset(from: &Path, to: &Path) {
     for entry in walk(from) {
         let target = to.join(entry.strip_prefix(from).unwrap());

@@ -50,9 +50,18 @@ pub struct LearningPlan {
     pub patch_fraction: f64,
     /// Robustness: Gaussian noise added to the normalised test images (standard deviations).
     pub noise: f64,
+    /// Robustness: test images (and masks) moved by this share of the image side in a seeded
+    /// direction; 0 for none.
+    pub shift: f64,
     /// Robustness: the study axis whose values are held out of training one at a time
     /// (`wind_speed`, `swell_direction`, `stratification`, ...); empty for none.
     pub held_out: String,
+    /// Robustness: a continuous geometry axis (`heading`, `along_track`, `cross_track`,
+    /// `incidence`) whose values are binned and each bin held out of training in turn ("base"
+    /// only); empty for none.
+    pub held_out_geometry: String,
+    /// Bins of `held_out_geometry`: sectors of the circle for `heading`, equal ranges otherwise.
+    pub geometry_groups: usize,
 }
 
 impl Default for LearningPlan {
@@ -76,7 +85,10 @@ impl Default for LearningPlan {
             dropped_patches: 4,
             patch_fraction: 0.125,
             noise: 0.5,
+            shift: 0.25,
             held_out: "wind_speed".into(),
+            held_out_geometry: "heading".into(),
+            geometry_groups: 4,
         }
     }
 }
@@ -133,6 +145,24 @@ impl LearningPlan {
         }
         if !(0.0..=100.0).contains(&self.noise) {
             return err("noise", self.noise.to_string(), "in [0, 100]");
+        }
+        let geometry = wakelab_schema::axes::held_out_geometry_axes();
+        if !self.held_out_geometry.is_empty() && !geometry.contains(&self.held_out_geometry.as_str()) {
+            return err(
+                "held_out_geometry",
+                self.held_out_geometry.clone(),
+                &format!("empty, or one of {geometry:?}"),
+            );
+        }
+        if !(2..=36).contains(&self.geometry_groups) {
+            return err("geometry_groups", self.geometry_groups.to_string(), "in [2, 36]");
+        }
+        if !(0.0..=0.5).contains(&self.shift) {
+            return err(
+                "shift",
+                self.shift.to_string(),
+                "in [0, 0.5] (a share of the image side)",
+            );
         }
         if let Some(a) = self.rotations.iter().find(|a| !a.is_finite() || a.abs() > 360.0) {
             return err("rotations", a.to_string(), "angles in [-360, 360] degrees");

@@ -6,6 +6,7 @@
 use crate::data::{balanced_split, Dataset};
 pub use crate::eval_options::{EvalOptions, PAPER_TEST_FRACTION};
 pub use crate::held_out::evaluate_held_out;
+use crate::masks::{mask_iou, MaskScore};
 use crate::store::{Detector, ModelInfo};
 use crate::train::{classify, duplicated, segment, train_classifier, train_unet, with_masks, EpochRecord, Example};
 use burn::tensor::Device;
@@ -60,6 +61,8 @@ pub struct Evaluation {
     pub outputs: Vec<Output>,
     pub curves: Vec<CurvePoint>,
     pub summaries: Vec<Summary>,
+    /// The U-Net masks' IoU on every test wake scene ("unet" only).
+    pub mask_scores: Vec<MaskScore>,
     /// The detector of the last repetition of each band set and architecture.
     pub detectors: Vec<(Detector, ModelInfo)>,
 }
@@ -175,6 +178,7 @@ pub fn detect_with_masks(
 struct Job {
     outputs: Vec<Output>,
     curves: Vec<CurvePoint>,
+    mask_scores: Vec<MaskScore>,
     detector: Option<(Detector, ModelInfo)>,
 }
 
@@ -194,6 +198,7 @@ pub fn evaluate(
     let mut outputs = Vec::new();
     let mut curves = Vec::new();
     let mut detectors = Vec::new();
+    let mut mask_scores = Vec::new();
     let progress = Mutex::new(progress);
     for input in &options.band_sets {
         if let Some(b) = input.bands().iter().find(|b| !available.contains(b)) {
@@ -258,9 +263,21 @@ pub fn evaluate(
                     sets.push((Split::Perturbed(p.name()), perturbed));
                 }
                 let mut outputs = Vec::new();
+                let mut mask_scores = Vec::new();
                 for (split, examples) in &sets {
                     let idx = if *split == Split::Train { train_idx } else { test_idx };
-                    let o = detect(&detector, architecture, examples, device);
+                    let (o, masks) = detect_with_masks(&detector, architecture, examples, device);
+                    if *split == Split::Test {
+                        for ((&i, e), mask) in idx.iter().zip(examples).zip(masks.iter().flatten()) {
+                            let iou = e.mask.as_ref().filter(|_| e.label == 1).and_then(|t| mask_iou(mask, t));
+                            mask_scores.extend(iou.map(|iou| MaskScore {
+                                bands: input.clone(),
+                                repetition,
+                                scene: dataset.records[i].id.clone(),
+                                iou,
+                            }));
+                        }
+                    }
                     outputs.extend(idx.iter().zip(examples.iter()).zip(o).map(|((&i, e), output)| Output {
                         bands: input.clone(),
                         architecture,
@@ -276,6 +293,7 @@ pub fn evaluate(
                 Ok(Job {
                     outputs,
                     curves,
+                    mask_scores,
                     detector,
                 })
             })
@@ -283,6 +301,7 @@ pub fn evaluate(
         for job in done {
             outputs.extend(job.outputs);
             curves.extend(job.curves);
+            mask_scores.extend(job.mask_scores);
             detectors.extend(job.detector);
         }
     }
@@ -291,6 +310,7 @@ pub fn evaluate(
         outputs,
         curves,
         summaries,
+        mask_scores,
         detectors,
     })
 }

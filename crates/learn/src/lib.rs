@@ -13,6 +13,7 @@ pub mod device;
 pub mod eval_options;
 pub mod evaluate;
 pub mod held_out;
+pub mod masks;
 pub mod models;
 pub mod robustness;
 pub mod store;

@@ -24,6 +24,9 @@ pub enum Perturbation {
     DropPatches { patches: usize, fraction: f64 },
     /// Independent Gaussian noise of this standard deviation added to every pixel.
     Noise { sigma: f64 },
+    /// The image (and its mask) moved by `fraction` x its side in a seeded direction, whole
+    /// pixels; pixels from outside take the mean (0): the wake elsewhere in the window.
+    Shift { fraction: f64 },
 }
 
 impl Perturbation {
@@ -33,6 +36,7 @@ impl Perturbation {
             Self::Rotate { degrees } => format!("rotate_{degrees}"),
             Self::DropPatches { patches, fraction } => format!("drop_{patches}x{}%", fraction * 100.0),
             Self::Noise { sigma } => format!("noise_{sigma}"),
+            Self::Shift { fraction } => format!("shift_{}%", fraction * 100.0),
         }
     }
 
@@ -43,6 +47,14 @@ impl Perturbation {
             .enumerate()
             .map(|(i, e)| {
                 let mut rng = ChaCha8Rng::seed_from_u64(seed.wrapping_mul(0x9E37_79B9).wrapping_add(i as u64));
+                if let Self::Shift { fraction } = *self {
+                    let pose = shift_pose(fraction, e.image.dim().1, &mut rng);
+                    return Example {
+                        image: each_channel(&e.image, |plane| pose.apply(plane, true)),
+                        label: e.label,
+                        mask: e.mask.as_ref().map(|m| pose.apply(m, true)),
+                    };
+                }
                 Example {
                     image: self.perturb(&e.image, &mut rng),
                     label: e.label,
@@ -56,16 +68,9 @@ impl Perturbation {
     }
 
     fn perturb(&self, image: &Array3<f32>, rng: &mut ChaCha8Rng) -> Array3<f32> {
-        let (channels, h, w) = image.dim();
+        let (_, h, w) = image.dim();
         match *self {
-            Self::Rotate { degrees } => {
-                let mut out = Array3::zeros((channels, h, w));
-                for c in 0..channels {
-                    let plane = image.index_axis(ndarray::Axis(0), c).to_owned();
-                    out.index_axis_mut(ndarray::Axis(0), c).assign(&rotate(&plane, degrees));
-                }
-                out
-            }
+            Self::Rotate { degrees } => each_channel(image, |plane| rotate(plane, degrees)),
             Self::DropPatches { patches, fraction } => {
                 let mut out = image.clone();
                 let side = ((fraction * h.min(w) as f64).round() as usize).clamp(1, h.min(w));
@@ -79,8 +84,29 @@ impl Perturbation {
                 let normal = Normal::new(0.0, sigma as f32).expect("sigma validated finite, >= 0");
                 image.mapv(|v| v + normal.sample(rng))
             }
+            Self::Shift { .. } => unreachable!("a shift moves image and mask together in apply"),
         }
     }
+}
+
+/// A move by `fraction` x `side` pixels (rounded) in a direction drawn uniformly from the circle.
+fn shift_pose(fraction: f64, side: usize, rng: &mut ChaCha8Rng) -> Pose {
+    let reach = fraction * side as f64;
+    let (sin, cos) = rng.random_range(0.0..std::f64::consts::TAU).sin_cos();
+    Pose {
+        shift: ((reach * sin).round() as i32, (reach * cos).round() as i32),
+        ..Pose::IDENTITY
+    }
+}
+
+/// `image` with `plane_map` applied to every channel.
+fn each_channel(image: &Array3<f32>, plane_map: impl Fn(&Array2<f32>) -> Array2<f32>) -> Array3<f32> {
+    let mut out = Array3::zeros(image.dim());
+    for c in 0..image.dim().0 {
+        let plane = image.index_axis(ndarray::Axis(0), c).to_owned();
+        out.index_axis_mut(ndarray::Axis(0), c).assign(&plane_map(&plane));
+    }
+    out
 }
 
 /// Rotate a plane about its centre by `degrees` (counter-clockwise), bilinear; 0 outside: the
@@ -117,6 +143,55 @@ mod tests {
         let turned = rotate(&plane, 45.0);
         assert!((turned[[16, 16]] - 2.0).abs() < 1e-6);
         assert_eq!(turned[[0, 0]], 0.0);
+    }
+
+    /// A shift moves every pixel of image and mask by the same whole offset of the stated
+    /// length, fills the uncovered band with the mean (0) and is seeded.
+    #[test]
+    fn a_shift_moves_image_and_mask_together_by_the_stated_distance() {
+        let image = Array3::from_shape_fn((2, 32, 32), |(c, r, k)| 1.0 + (c * 1000 + r * 32 + k) as f32);
+        let mask = Array2::from_shape_fn((32, 32), |(r, k)| (r * 32 + k) as f32);
+        let e = Example {
+            image,
+            label: 1,
+            mask: Some(mask),
+        };
+        let shift = Perturbation::Shift { fraction: 0.25 };
+        assert_eq!(shift.name(), "shift_25%");
+        let a = shift.apply(std::slice::from_ref(&e), 5);
+        assert_eq!(a[0].image, shift.apply(std::slice::from_ref(&e), 5)[0].image);
+        // recover the offset from one moved pixel, then check every pixel against it
+        let (mut dr, mut dc) = (0i64, 0i64);
+        'find: for r in 0..32 {
+            for k in 0..32 {
+                let v = a[0].image[[0, r, k]];
+                if v != 0.0 {
+                    let source = (v - 1.0) as i64;
+                    (dr, dc) = (r as i64 - source / 32, k as i64 - source % 32);
+                    break 'find;
+                }
+            }
+        }
+        let length = ((dr * dr + dc * dc) as f64).sqrt();
+        assert!((length - 8.0).abs() <= 0.75, "moved by ({dr}, {dc})");
+        for c in 0..2 {
+            for r in 0..32i64 {
+                for k in 0..32i64 {
+                    let (sr, sk) = (r - dr, k - dc);
+                    let inside = (0..32).contains(&sr) && (0..32).contains(&sk);
+                    let want = if inside {
+                        e.image[[c, sr as usize, sk as usize]]
+                    } else {
+                        0.0
+                    };
+                    assert_eq!(a[0].image[[c, r as usize, k as usize]], want);
+                    if c == 0 && inside {
+                        let m = a[0].mask.as_ref().unwrap();
+                        assert_eq!(m[[r as usize, k as usize]], (sr * 32 + sk) as f32);
+                    }
+                }
+            }
+        }
     }
 
     #[test]

@@ -254,6 +254,15 @@ pub fn held_out_axes() -> Vec<&'static str> {
     AXES.iter().filter(|a| a.can_hold_out()).map(|a| a.name).collect()
 }
 
+/// Names of the geometry axes a held-out geometry test can bin (continuous ones: the ship's
+/// heading, the wake's age behind the stern, its offset, the incidence).
+pub fn held_out_geometry_axes() -> Vec<&'static str> {
+    AXES.iter()
+        .filter(|a| a.kind == AxisKind::Geometry)
+        .map(|a| a.name)
+        .collect()
+}
+
 impl Combination {
     /// The value of axis `name` as the manifest's CSV writes it: numbers as Rust prints them,
     /// enumerations by their names in the study file.

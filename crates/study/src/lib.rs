@@ -11,17 +11,23 @@
 //! 4. `fusion/`: decision-level fusion (Bayes, Dempster-Shafer) of the single-band outputs;
 //! 5. `report/`: HTML, Markdown and CSV.
 //!
+//! `wakelab run --stage learning --input NAME` and `--stage held-out` run one learning stage on a
+//! finished dataset, as the jobs of `wakelab run --emit-slurm` ([`slurm`]) do side by side.
+//!
 //! A learning stage is reused when its key (a hash of the manifest, the `[learning]` table, the
 //! input and wakelab's version) matches the one stored beside its outputs; the dataset stage
 //! skips every finished scene. Fusion and the report are cheap and always rebuilt.
 
+mod held_out;
 mod html;
 pub mod learning;
+pub mod mask_quality;
 pub mod output;
 mod radar;
 pub mod report;
 pub mod scan;
 pub mod scene;
+pub mod slurm;
 pub mod stability;
 pub mod stages;
 mod svg;
@@ -177,4 +183,18 @@ pub fn run_study(study: &wakelab_data::study::Study, dir: &Path, device: &Device
         files,
         seconds: start.elapsed().as_secs_f64(),
     })
+}
+
+/// `wakelab run --stage ...`: one learning stage of `study` in `dir`, on its finished dataset.
+pub fn run_one_stage(
+    study: &wakelab_data::study::Study,
+    dir: &Path,
+    stage: &stages::OneStage,
+    device: &Device,
+    quiet: bool,
+) -> Result<StageTime> {
+    let display = Display::new(quiet, 5);
+    let result = stages::run_one_stage(study, dir, stage, device, &display);
+    display.finish();
+    result
 }

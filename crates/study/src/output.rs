@@ -6,6 +6,7 @@ use std::path::Path;
 use wakelab_core::io::write_atomically;
 use wakelab_core::WakelabError;
 use wakelab_learn::evaluate::{CurvePoint, Evaluation, Output, Summary};
+use wakelab_learn::masks::MaskScore;
 use wakelab_learn::store::save_detector;
 
 /// Rows as CSV (RFC 4180), one column per field of the first row.
@@ -13,7 +14,8 @@ pub fn csv<T: serde::Serialize>(rows: &[T]) -> Result<Vec<u8>> {
     Ok(wakelab_core::io::csv_of_rows(rows)?.into_bytes())
 }
 
-/// Write an evaluation's files: outputs, metrics (CSV, JSON), curves and the detectors.
+/// Write an evaluation's files: outputs, metrics (CSV, JSON), curves, the U-Net masks' IoU and
+/// the detectors.
 pub fn write_evaluation(dir: &Path, evaluation: &Evaluation) -> Result<()> {
     let models = dir.join("models");
     std::fs::create_dir_all(&models).map_err(|e| WakelabError::io(&models, e))?;
@@ -24,6 +26,9 @@ pub fn write_evaluation(dir: &Path, evaluation: &Evaluation) -> Result<()> {
         serde_json::to_string_pretty(&evaluation.summaries)?.as_bytes(),
     )?;
     write_atomically(dir.join("curves.csv"), &csv::<CurvePoint>(&evaluation.curves)?)?;
+    if !evaluation.mask_scores.is_empty() {
+        write_atomically(dir.join("mask_iou.csv"), &csv::<MaskScore>(&evaluation.mask_scores)?)?;
+    }
     for (detector, info) in &evaluation.detectors {
         let name = format!("{}_{}.safetensors", info.bands, info.architecture);
         save_detector(detector, info, &dir.join("models").join(name))?;

@@ -8,11 +8,10 @@ use std::path::{Path, PathBuf};
 use wakelab_core::io::{csv_record, write_atomically};
 use wakelab_core::WakelabError;
 use wakelab_data::study::Study;
-use wakelab_learn::evaluate::{summarise_split, Summary};
+use wakelab_learn::evaluate::Summary;
 use wakelab_learn::models::Architecture;
 use wakelab_schema::band::{Band, Input};
 use wakelab_schema::fusion_row::{Method, Source};
-use wakelab_schema::split::Split;
 
 /// A table of the report.
 pub struct Table {
@@ -70,7 +69,7 @@ pub fn paper_value(architecture: Architecture, row: &str) -> Option<(f64, f64)> 
     })
 }
 
-fn plus_minus(mean: f64, spread: f64, percent: bool) -> String {
+pub(crate) fn plus_minus(mean: f64, spread: f64, percent: bool) -> String {
     if percent {
         format!("{:.1}% ± {:.1}", 100.0 * mean, 100.0 * spread)
     } else {
@@ -282,58 +281,6 @@ fn confusion_table(run: &StudyRun) -> Table {
     }
 }
 
-fn robustness_table(run: &StudyRun) -> Table {
-    let threshold = run.plan.threshold;
-    let perturbed: Vec<(String, Vec<Summary>)> = run
-        .perturbations
-        .iter()
-        .map(|p| {
-            let name = p.name();
-            let s = summarise_split(&run.outputs, &Split::Perturbed(name.clone()), threshold);
-            (name, s)
-        })
-        .collect();
-    let held_out = summarise_split(&run.held_out, &Split::HeldOut, threshold);
-    let mut header = vec!["architecture".to_string(), "input".into(), "clean test".into()];
-    header.extend(perturbed.iter().map(|(n, _)| n.clone()));
-    header.push("held-out environment".into());
-    let mut rows = Vec::new();
-    for a in Architecture::ALL {
-        for input in &run.inputs {
-            let find = |list: &[Summary]| {
-                list.iter()
-                    .find(|s| s.bands == *input && s.architecture == a)
-                    .map(|s| plus_minus(s.mcc, s.mcc_spread, false))
-                    .unwrap_or_else(|| "-".into())
-            };
-            let mut row = vec![a.to_string(), input.to_string(), find(&run.summaries)];
-            row.extend(perturbed.iter().map(|(_, s)| find(s)));
-            row.push(find(&held_out));
-            rows.push(row);
-        }
-    }
-    Table {
-        id: "robustness".into(),
-        title: "Robustness".into(),
-        caption: format!(
-            "Test MCC (mean ± spread over repetitions) of the same detectors on perturbed test images \
-             (spec 6.2): rotate_A = rotated by A degrees (training saw only quarter turns; corners \
-             filled with the image mean), drop_NxF = N patches of side F of the image set to the mean, \
-             noise_S = Gaussian noise of S standard deviations of the image. Held-out environment: \
-             trained with all scenes of one value of `{}` removed and tested on them ({}; mean ± \
-             spread over those groups; \"base\" and \"cls\" only, single bands).",
-            run.plan.held_out,
-            if run.held_out_groups.is_empty() {
-                "not run".to_string()
-            } else {
-                run.held_out_groups.join("; ")
-            }
-        ),
-        header,
-        rows,
-    }
-}
-
 fn timing_table(run: &StudyRun) -> Table {
     let total = |f: fn(&crate::StageTime) -> f64| format!("{:.1}", run.times.iter().map(f).sum::<f64>());
     Table {
@@ -370,8 +317,9 @@ pub fn result_tables(run: &StudyRun) -> Vec<Table> {
     tables.extend(Architecture::ALL.iter().map(|&a| fusion_table(run, a)));
     tables.push(sar_ir_table(run));
     tables.push(confusion_table(run));
-    tables.push(robustness_table(run));
+    tables.push(crate::stability::robustness_table(run));
     tables.push(crate::stability::score_change_table(run));
+    tables.push(crate::mask_quality::mask_iou_table(run));
     let bands: Vec<Band> = run.inputs.iter().filter_map(|i| i.as_single()).collect();
     tables.push(crate::visibility::visibility_table(
         &run.dataset.records,

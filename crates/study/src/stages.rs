@@ -1,10 +1,10 @@
 //! The stages of `wakelab run`, each reused when its inputs have not changed.
 
+use crate::held_out::held_out_stages;
 use crate::output::{csv, write_evaluation};
 use crate::Result;
 use crate::{Display, StageTime};
 use serde::{Deserialize, Serialize};
-use std::collections::BTreeMap;
 use std::path::Path;
 use std::time::Instant;
 use wakelab_core::io::write_atomically;
@@ -13,17 +13,13 @@ use wakelab_data::learning::LearningPlan;
 use wakelab_data::study::Study;
 use wakelab_fusion::decision::{fuse_all, FusedOutput};
 use wakelab_learn::data::Dataset;
-use wakelab_learn::evaluate::{evaluate, evaluate_held_out, summarise, CurvePoint, EvalOptions, Output, Summary};
+use wakelab_learn::evaluate::{evaluate, summarise, CurvePoint, EvalOptions, Output, Summary};
+use wakelab_learn::masks::MaskScore;
 use wakelab_learn::models::Architecture;
 use wakelab_learn::robustness::Perturbation;
 use wakelab_learn::train::Recipe;
-use wakelab_schema::axes::Combination;
 use wakelab_schema::band::Input;
 use wakelab_schema::split::{Network, Split};
-
-/// Architectures trained with an environment held out: the two plain classifiers (the U-Net's
-/// "unet" would double the stage's time; its robustness shows in the perturbed test images).
-pub const HELD_OUT_ARCHITECTURES: [Architecture; 2] = [Architecture::Base, Architecture::Cls];
 
 /// Everything a study run produced, for the report.
 pub struct StudyRun {
@@ -34,12 +30,17 @@ pub struct StudyRun {
     /// Kept outputs of every input: train, test and perturbed test splits.
     pub outputs: Vec<Output>,
     pub curves: Vec<CurvePoint>,
+    /// The U-Net masks' IoU on the test wake scenes of every input.
+    pub mask_scores: Vec<MaskScore>,
     /// Test metrics per input and architecture (Tables 4.4-4.6, 5.1's feature-level rows).
     pub summaries: Vec<Summary>,
     pub perturbations: Vec<Perturbation>,
     /// The held-out axis's values, one per group, and the held-out outputs.
     pub held_out_groups: Vec<String>,
     pub held_out: Vec<Output>,
+    /// The held-out geometry bins ("heading in [0, 90)") and their outputs.
+    pub held_out_geometry_groups: Vec<String>,
+    pub held_out_geometry: Vec<Output>,
     /// Decision-level fusion: fused outputs and their metrics with the mean conflict.
     pub fused: Vec<FusedOutput>,
     pub fusion: Vec<(Summary, f64)>,
@@ -51,14 +52,16 @@ pub struct StudyRun {
 
 /// A learning stage's results as cached beside its files.
 #[derive(Serialize, Deserialize)]
-struct CachedStage {
-    key: String,
-    seconds: f64,
-    outputs: Vec<Output>,
-    curves: Vec<CurvePoint>,
+pub(crate) struct CachedStage {
+    pub key: String,
+    pub seconds: f64,
+    pub outputs: Vec<Output>,
+    pub curves: Vec<CurvePoint>,
+    #[serde(default)]
+    pub mask_scores: Vec<MaskScore>,
 }
 
-fn read_cache(path: &Path, key: &str) -> Option<CachedStage> {
+pub(crate) fn read_cache(path: &Path, key: &str) -> Option<CachedStage> {
     let text = std::fs::read_to_string(path).ok()?;
     let cached: CachedStage = serde_json::from_str(&text).ok()?;
     (cached.key == key).then_some(cached)
@@ -71,7 +74,7 @@ fn unet_cost(width: usize) -> u64 {
 }
 
 /// Work units of training `options` on `images` training images (for the progress display).
-fn training_units(options: &EvalOptions, images: usize, runs: usize) -> u64 {
+pub(crate) fn training_units(options: &EvalOptions, images: usize, runs: usize) -> u64 {
     let per_run: u64 = options
         .architectures
         .iter()
@@ -111,6 +114,9 @@ pub fn eval_options(plan: &LearningPlan, dataset: &Dataset) -> EvalOptions {
     if plan.noise > 0.0 {
         perturbations.push(Perturbation::Noise { sigma: plan.noise });
     }
+    if plan.shift > 0.0 {
+        perturbations.push(Perturbation::Shift { fraction: plan.shift });
+    }
     EvalOptions {
         architectures: Architecture::ALL.to_vec(),
         band_sets: Vec::new(),
@@ -139,7 +145,7 @@ pub fn eval_options(plan: &LearningPlan, dataset: &Dataset) -> EvalOptions {
     }
 }
 
-fn stage_time(stage: &str, start: Instant, computed: Option<f64>) -> StageTime {
+pub(crate) fn stage_time(stage: &str, start: Instant, computed: Option<f64>) -> StageTime {
     let seconds = start.elapsed().as_secs_f64();
     StageTime {
         stage: stage.to_string(),
@@ -186,8 +192,8 @@ fn dataset_stage(study: &Study, dir: &Path, display: &Display) -> Result<(Datase
 }
 
 /// What the learning stages share.
-struct Context<'a> {
-    dataset: &'a Dataset,
+pub(crate) struct Context<'a> {
+    pub dataset: &'a Dataset,
     options: &'a EvalOptions,
     /// Hash of the dataset's manifest (part of every stage key).
     manifest_hash: &'a str,
@@ -204,7 +210,23 @@ type ContextParts<'a> = (
 );
 
 impl<'a> Context<'a> {
-    fn parts(&self) -> ContextParts<'a> {
+    fn new(
+        dataset: &'a Dataset,
+        options: &'a EvalOptions,
+        manifest_hash: &'a str,
+        device: &'a wakelab_learn::device::Device,
+        display: &'a Display,
+    ) -> Self {
+        Self {
+            dataset,
+            options,
+            manifest_hash,
+            device,
+            display,
+        }
+    }
+
+    pub(crate) fn parts(&self) -> ContextParts<'a> {
         (
             self.dataset,
             self.options,
@@ -215,15 +237,18 @@ impl<'a> Context<'a> {
     }
 }
 
+/// What the learning stage gives the report: outputs, curves and mask scores of every input.
+type Learned = (Vec<Output>, Vec<CurvePoint>, Vec<MaskScore>);
+
 /// Stage 2: Algorithm 2 on every input, each input cached on its own.
-fn learning_stage(cx: &Context, inputs: &[Input], dir: &Path) -> Result<(Vec<Output>, Vec<CurvePoint>, StageTime)> {
+fn learning_stage(cx: &Context, inputs: &[Input], dir: &Path) -> Result<(Learned, StageTime)> {
     let (dataset, options, manifest_hash, device, display) = cx.parts();
     let start = Instant::now();
     let train_images = ((1.0 - options.test_fraction) * dataset.records.len() as f64).round() as usize;
     let mut all = options.clone();
     all.band_sets = inputs.to_vec();
     display.stage(2, "learning", training_units(&all, train_images, options.repetitions));
-    let (mut outputs, mut curves) = (Vec::new(), Vec::new());
+    let (mut outputs, mut curves, mut mask_scores) = (Vec::new(), Vec::new(), Vec::new());
     let mut computed_seconds = 0.0;
     let mut all_reused = true;
     for input in inputs {
@@ -239,6 +264,7 @@ fn learning_stage(cx: &Context, inputs: &[Input], dir: &Path) -> Result<(Vec<Out
             computed_seconds += c.seconds;
             outputs.extend(c.outputs);
             curves.extend(c.curves);
+            mask_scores.extend(c.mask_scores);
             continue;
         }
         all_reused = false;
@@ -256,101 +282,100 @@ fn learning_stage(cx: &Context, inputs: &[Input], dir: &Path) -> Result<(Vec<Out
             seconds,
             outputs: evaluation.outputs,
             curves: evaluation.curves,
+            mask_scores: evaluation.mask_scores,
         };
         write_atomically(&cache, serde_json::to_string(&cached)?.as_bytes())?;
         display.println(format!("learning: {name} done in {seconds:.1} s"));
         outputs.extend(cached.outputs);
         curves.extend(cached.curves);
+        mask_scores.extend(cached.mask_scores);
     }
     let time = stage_time("learning", start, all_reused.then_some(computed_seconds));
-    Ok((outputs, curves, time))
+    Ok(((outputs, curves, mask_scores), time))
 }
 
-/// The scenes grouped by their value on the held-out axis, each value written as the manifest
-/// writes it ([`Combination::value_text`]: "5", not "5.0"), numbers in numeric order.
-fn held_out_groups(dataset: &Dataset, axis: &str) -> Vec<(String, Vec<usize>)> {
-    group_by_value(dataset.records.iter().map(|r| &r.parameters), axis)
-}
-
-fn group_by_value<'a>(parameters: impl Iterator<Item = &'a Combination>, axis: &str) -> Vec<(String, Vec<usize>)> {
-    let mut groups: BTreeMap<String, Vec<usize>> = BTreeMap::new();
-    for (i, p) in parameters.enumerate() {
-        groups
-            .entry(p.value_text(axis).unwrap_or_default())
-            .or_default()
-            .push(i);
-    }
-    let mut groups: Vec<(String, Vec<usize>)> = groups.into_iter().collect();
-    // numbers by value (text order would put "10" before "5"), names as written
-    groups.sort_by(|(a, _), (b, _)| match (a.parse::<f64>(), b.parse::<f64>()) {
-        (Ok(x), Ok(y)) => x.total_cmp(&y),
-        _ => a.cmp(b),
-    });
-    groups
-}
-
-/// Stage 3: the classifiers trained with one environment held out at a time.
-fn held_out_stage(
-    cx: &Context,
-    plan: &LearningPlan,
-    singles: &[Input],
-    dir: &Path,
-) -> Result<(Vec<String>, Vec<Output>, StageTime)> {
-    let (dataset, options, manifest_hash, device, display) = cx.parts();
-    let start = Instant::now();
-    let groups = if plan.held_out.is_empty() {
-        Vec::new()
-    } else {
-        held_out_groups(dataset, &plan.held_out)
-    };
-    let mut o = options.clone();
-    o.architectures = HELD_OUT_ARCHITECTURES.to_vec();
-    o.band_sets = singles.to_vec();
-    o.perturbations = Vec::new();
-    let names: Vec<String> = groups.iter().map(|(v, _)| format!("{} = {v}", plan.held_out)).collect();
-    if groups.len() < 2 {
-        display.println(format!(
-            "held-out environments: skipped ({} has {} value(s) in this study)",
-            plan.held_out,
-            groups.len()
-        ));
-        return Ok((names, Vec::new(), stage_time("held-out environments", start, None)));
-    }
-    let train_images = dataset.records.len() * (groups.len() - 1) / groups.len();
-    display.stage(3, "held-out", training_units(&o, train_images, groups.len()));
-    let key = stage_key(manifest_hash, &o) + &fnv_hex(&format!("{names:?}"));
-    let cache = dir.join("evaluation.json");
-    if let Some(c) = read_cache(&cache, &key) {
-        return Ok((
-            names,
-            c.outputs,
-            stage_time("held-out environments", start, Some(c.seconds)),
-        ));
-    }
-    let indices: Vec<Vec<usize>> = groups.into_iter().map(|(_, idx)| idx).collect();
-    let outputs = evaluate_held_out(dataset, &o, &indices, device, &mut |p| {
-        display.advance(train_images as u64, p.describe(indices.len()))
-    })?;
-    let seconds = start.elapsed().as_secs_f64();
-    std::fs::create_dir_all(dir).map_err(|e| WakelabError::io(dir, e))?;
-    write_atomically(dir.join("outputs.csv"), &csv(&outputs)?)?;
-    let cached = CachedStage {
-        key,
-        seconds,
-        outputs,
-        curves: Vec::new(),
-    };
-    write_atomically(&cache, serde_json::to_string(&cached)?.as_bytes())?;
-    Ok((names, cached.outputs, stage_time("held-out environments", start, None)))
-}
-
-fn fnv_hex(text: &str) -> String {
+pub(crate) fn fnv_hex(text: &str) -> String {
     format!("{:016x}", wakelab_data::fnv(text))
 }
 
 /// What a learning stage's results depend on: the dataset's manifest, the options and wakelab.
-fn stage_key(manifest_hash: &str, options: &EvalOptions) -> String {
+pub(crate) fn stage_key(manifest_hash: &str, options: &EvalOptions) -> String {
     fnv_hex(&format!("{manifest_hash} {options:?} {}", env!("CARGO_PKG_VERSION")))
+}
+
+/// What the learning stages of `plan` on `dataset` need: the evaluation options, the inputs and
+/// the manifest's hash.
+fn learning_setup(plan: &LearningPlan, dataset: &Dataset) -> Result<(EvalOptions, Vec<Input>, String)> {
+    Ok((
+        eval_options(plan, dataset),
+        study_inputs(plan, dataset),
+        manifest_hash(dataset)?,
+    ))
+}
+
+/// The hash of a dataset's manifest, part of every learning stage's key.
+fn manifest_hash(dataset: &Dataset) -> Result<String> {
+    let manifest_path = dataset.dir.join("manifest.json");
+    let manifest = std::fs::read_to_string(&manifest_path).map_err(|e| WakelabError::io(&manifest_path, e))?;
+    Ok(fnv_hex(&manifest))
+}
+
+/// One learning stage of a study run on its own, on a dataset already rendered and merged (what
+/// the jobs of `wakelab run --emit-slurm` run side by side); a plain `wakelab run` afterwards
+/// reuses its results.
+#[derive(Debug, Clone, PartialEq)]
+pub enum OneStage {
+    /// Algorithm 2 on one input (stage 2).
+    Learning(Input),
+    /// The held-out environment and geometry tests (stage 3).
+    HeldOut,
+}
+
+/// Run `stage` of `study` in the run directory `dir` and cache its results there.
+pub fn run_one_stage(
+    study: &Study,
+    dir: &Path,
+    stage: &OneStage,
+    device: &wakelab_learn::device::Device,
+    display: &Display,
+) -> Result<StageTime> {
+    let dataset_dir = dir.join("dataset");
+    if !dataset_dir.join("manifest.json").exists() {
+        anyhow::bail!(
+            "{}: no manifest.json; render and merge the dataset first (`wakelab dataset --study ... --out {} \
+             [--shard K/N] [--merge]`)",
+            dataset_dir.display(),
+            dataset_dir.display()
+        );
+    }
+    let dataset = Dataset::open(&dataset_dir)?;
+    let plan = &study.learning;
+    let (options, inputs, manifest_hash) = learning_setup(plan, &dataset)?;
+    let cx = Context::new(&dataset, &options, &manifest_hash, device, display);
+    Ok(match stage {
+        OneStage::Learning(input) => {
+            if !inputs.contains(input) {
+                let names: Vec<String> = inputs.iter().map(Input::name).collect();
+                anyhow::bail!(
+                    "--input {}: not an input of study \"{}\"; its inputs are {}",
+                    input.name(),
+                    study.study.name,
+                    names.join(", ")
+                );
+            }
+            learning_stage(&cx, std::slice::from_ref(input), &dir.join("learn"))?.1
+        }
+        OneStage::HeldOut => {
+            let singles: Vec<Input> = inputs.into_iter().filter(|i| !i.is_fused()).collect();
+            let [environment, geometry] = held_out_stages(&cx, plan, &singles, &dir.join("learn"))?.2;
+            StageTime {
+                stage: "held-out".into(),
+                seconds: environment.seconds + geometry.seconds,
+                computed_seconds: environment.computed_seconds + geometry.computed_seconds,
+                reused: environment.reused && geometry.reused,
+            }
+        }
+    })
 }
 
 /// Run stages 1-4.
@@ -361,23 +386,13 @@ pub fn run_stages(
     display: &Display,
 ) -> Result<StudyRun> {
     let (dataset, dataset_time) = dataset_stage(study, &dir.join("dataset"), display)?;
-    let manifest_path = dataset.dir.join("manifest.json");
-    let manifest = std::fs::read_to_string(&manifest_path).map_err(|e| WakelabError::io(&manifest_path, e))?;
-    let manifest_hash = fnv_hex(&manifest);
     let plan = study.learning.clone();
-    let options = eval_options(&plan, &dataset);
-    let inputs = study_inputs(&plan, &dataset);
+    let (options, inputs, manifest_hash) = learning_setup(&plan, &dataset)?;
     let singles: Vec<Input> = inputs.iter().filter(|i| !i.is_fused()).cloned().collect();
-    let cx = Context {
-        dataset: &dataset,
-        options: &options,
-        manifest_hash: &manifest_hash,
-        device,
-        display,
-    };
-    let (outputs, curves, learning_time) = learning_stage(&cx, &inputs, &dir.join("learn"))?;
-    let (held_out_groups, held_out, held_out_time) =
-        held_out_stage(&cx, &plan, &singles, &dir.join("learn").join("held_out"))?;
+    let cx = Context::new(&dataset, &options, &manifest_hash, device, display);
+    let ((outputs, curves, mask_scores), learning_time) = learning_stage(&cx, &inputs, &dir.join("learn"))?;
+    let ((held_out_groups, held_out), (held_out_geometry_groups, held_out_geometry), [held_out_time, geometry_time]) =
+        held_out_stages(&cx, &plan, &singles, &dir.join("learn"))?;
     let start = Instant::now();
     display.stage(4, "fusion", 1);
     let single_outputs: Vec<Output> = outputs
@@ -397,34 +412,17 @@ pub fn run_stages(
         inputs,
         outputs,
         curves,
+        mask_scores,
         summaries,
         perturbations: options.perturbations,
         held_out_groups,
         held_out,
+        held_out_geometry_groups,
+        held_out_geometry,
         fused,
         fusion,
-        times: vec![dataset_time, learning_time, held_out_time, fusion_time],
+        times: vec![dataset_time, learning_time, held_out_time, geometry_time, fusion_time],
         started: String::new(),
         device: String::new(),
     })
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-    use wakelab_core::WakelabConfig;
-
-    /// Held-out groups are named as the manifest writes the values, in numeric order.
-    #[test]
-    fn held_out_groups_are_named_and_ordered_by_value() {
-        let base = Combination::from_config(&WakelabConfig::default());
-        let combos: Vec<Combination> = [3.0, 10.0, 5.0, 5.0, 7.5]
-            .iter()
-            .map(|&w| base.with_value("wind_speed", w).expect("a continuous axis"))
-            .collect();
-        let groups = group_by_value(combos.iter(), "wind_speed");
-        let names: Vec<&str> = groups.iter().map(|(v, _)| v.as_str()).collect();
-        assert_eq!(names, ["3", "5", "7.5", "10"]);
-        assert_eq!(groups[1].1, [2, 3]);
-    }
 }

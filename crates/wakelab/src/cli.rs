@@ -84,9 +84,34 @@ pub struct StudyArgs {
     /// `--features wgpu`, else the CPU), cpu, wgpu or cuda.
     #[arg(long, default_value = "auto")]
     pub device: String,
+    /// Write a Slurm script, DIR/wakelab_run.slurm, that runs the study as jobs chained by
+    /// `afterok` (dataset shards, then one job per input of the learning stage and one for the
+    /// held-out environments, then fusion and the report) instead of running it here.
+    #[arg(long, conflicts_with = "stage")]
+    pub emit_slurm: bool,
+    /// Array tasks of the Slurm script's dataset stage (with --emit-slurm).
+    #[arg(long, value_name = "N")]
+    pub tasks: Option<usize>,
+    /// Cores per Slurm job (with --emit-slurm).
+    #[arg(long, value_name = "N")]
+    pub cpus: Option<usize>,
+    /// Run one learning stage only, on the run directory's finished dataset (what the Slurm
+    /// jobs run): `learning` (one input, --input) or `held-out`; `wakelab run` reuses it.
+    #[arg(long, value_name = "learning|held-out")]
+    pub stage: Option<StageName>,
+    /// The input of `--stage learning`: a band (S, C, X, MWIR, LWIR) or bands as channels (S+X).
+    #[arg(long, value_name = "NAME")]
+    pub input: Option<String>,
     /// No progress bar.
     #[arg(long)]
     pub quiet: bool,
+}
+
+/// A learning stage that `wakelab run --stage` runs on its own.
+#[derive(clap::ValueEnum, Debug, Clone, Copy, PartialEq, Eq)]
+pub enum StageName {
+    Learning,
+    HeldOut,
 }
 
 #[derive(Subcommand, Debug)]

@@ -47,28 +47,13 @@ fn the_slurm_script_reproduces_a_single_machine_run() {
     let study = dir.path().join("study.toml");
     let axes = "wind_speed = [5.0, 8.0, 11.0]\nimage_size = [32]\npixel_spacing = [10.0]\nalong_track = [2000.0]";
     std::fs::write(&study, study_text("s", 1, 0.5, "[\"X\", \"MWIR\"]", axes)).unwrap();
-    let bin = dir.path().join("bin");
-    std::fs::create_dir_all(&bin).unwrap();
-    let sbatch = bin.join("sbatch");
-    std::fs::write(
-        &sbatch,
-        "#!/bin/bash\narray=\"\"; wrap=\"\"\nfor a in \"$@\"; do case \"$a\" in --array=*) array=\"${a#--array=}\";; --wrap=*) wrap=\"${a#--wrap=}\";; esac; done\n\
-         if [ -n \"$array\" ]; then for i in $(seq ${array%-*} ${array#*-}); do SLURM_ARRAY_TASK_ID=$i bash -c \"$wrap\" || exit 1; done; echo 42; else bash -c \"$wrap\"; fi\n",
-    )
-    .unwrap();
-    use std::os::unix::fs::PermissionsExt;
-    std::fs::set_permissions(&sbatch, std::fs::Permissions::from_mode(0o755)).unwrap();
+    let bin = stand_in_sbatch(dir.path());
     let (single, array) = (dir.path().join("single"), dir.path().join("array"));
     let o = dataset(&study, &single, &["--quiet"]);
     assert!(o.status.success(), "{}", stderr(&o));
     let o = dataset(&study, &array, &["--emit-slurm", "--tasks", "2"]);
     assert!(o.status.success(), "{}", stderr(&o));
-    let path = format!("{}:{}", bin.display(), std::env::var("PATH").unwrap_or_default());
-    let run = Command::new("bash")
-        .arg(array.join("wakelab_dataset.slurm"))
-        .env("PATH", path)
-        .output()
-        .unwrap();
+    let run = submit_with_stand_in(&array.join("wakelab_dataset.slurm"), &bin);
     assert!(run.status.success(), "{}", String::from_utf8_lossy(&run.stderr));
     for f in [
         "manifest.json",

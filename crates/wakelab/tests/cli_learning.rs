@@ -209,7 +209,7 @@ fn npy_f32_2x2() -> Vec<u8> {
 const TINY_STUDY: &str = "[study]\nname = \"tiny\"\ncombine = \"product\"\nseeds = 3\ntest_fraction = 0.34\n\
     grouped_split = false\nmin_visibility = 0.0\nmixed_layer_depth = 20.0\nbands = [\"S\", \"X\", \"LWIR\"]\n\
     [axes]\nwind_speed = [5.0, 8.0]\nimage_size = [32]\npixel_spacing = [20.0]\nalong_track = [2000.0]\n\
-    [base]\npreset = \"quick\"\n[base.time]\nduration = 600.0\n\
+    [draws]\nheading = [0.0, 360.0]\n[base]\npreset = \"quick\"\n[base.time]\nduration = 600.0\n\
     [learning]\nrepetitions = 2\nepochs = 2\nlearning_rate = 1e-2\nunet_epochs = 1\nunet_learning_rate = 1e-3\n\
     unet_width = 4\nrotations = [30.0]\nheld_out = \"wind_speed\"\n";
 
@@ -285,6 +285,7 @@ fn run_does_the_whole_study_reuses_its_stages_and_repeats_its_tables() {
         "sar_ir_fusion",
         "confusion",
         "robustness",
+        "mask_iou",
         "timing",
     ] {
         assert!(report.join("tables").join(format!("{t}.csv")).exists(), "{t}.csv");
@@ -294,8 +295,8 @@ fn run_does_the_whole_study_reuses_its_stages_and_repeats_its_tables() {
     let row = robustness.lines().find(|l| l.starts_with("base,S,")).unwrap();
     assert_eq!(
         row.split(',').filter(|c| c.contains('±')).count(),
-        1 + 3 + 1,
-        "{robustness}"
+        1 + 4 + 2,
+        "clean, rotate_30, drop, noise, shift, held-out environment and heading: {robustness}"
     );
     let timing: serde_json::Value =
         serde_json::from_str(&std::fs::read_to_string(first.join("timing.json")).unwrap()).unwrap();
@@ -307,7 +308,14 @@ fn run_does_the_whole_study_reuses_its_stages_and_repeats_its_tables() {
         .collect();
     assert_eq!(
         stages,
-        ["dataset", "learning", "held-out environments", "fusion", "report"]
+        [
+            "dataset",
+            "learning",
+            "held-out environments",
+            "held-out geometry",
+            "fusion",
+            "report"
+        ]
     );
     let markdown = std::fs::read_to_string(report.join("report.md")).unwrap();
     assert!(markdown.contains("| input | MCC | accuracy | AUC | paper MCC | paper accuracy |"));
@@ -345,9 +353,61 @@ fn run_does_the_whole_study_reuses_its_stages_and_repeats_its_tables() {
         "{err}"
     );
     assert_eq!(before, tables(&first));
-    // and a fresh run in another directory computes the same tables from scratch
-    run(&second);
+    // and a fresh run in another directory, as the Slurm jobs of `run --emit-slurm` (dataset
+    // shards, merge, one job per input, held-out, report), computes the same outputs and tables
+    let o = wakelab(&[
+        "run",
+        "--study",
+        study.to_str().unwrap(),
+        "--out",
+        second.to_str().unwrap(),
+        "--emit-slurm",
+        "--tasks",
+        "3",
+        "--device",
+        "cpu",
+    ]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    assert!(!second.join("dataset").exists(), "--emit-slurm only writes the script");
+    let script = second.join("wakelab_run.slurm");
+    let text = std::fs::read_to_string(&script).unwrap();
+    assert!(text.contains("for input in S X LWIR S+X; do"), "{text}");
+    let jobs = submit_with_stand_in(&script, &stand_in_sbatch(dir.path()));
+    assert!(jobs.status.success(), "{}", stderr(&jobs));
+    let err = stderr(&jobs);
+    for input in ["S", "X", "LWIR", "S+X"] {
+        assert!(err.contains(&format!("learning: {input} done in")), "{err}");
+        assert_eq!(
+            std::fs::read(first.join("learn").join(input).join("outputs.csv")).unwrap(),
+            std::fs::read(second.join("learn").join(input).join("outputs.csv")).unwrap(),
+            "{input}"
+        );
+    }
+    assert!(stdout(&jobs).contains("submitted: dataset array"), "{}", stdout(&jobs));
     assert_eq!(tables(&first), tables(&second));
+    // the stage flags: an input not in the study, and --input without its stage
+    let o = wakelab(&[
+        "run",
+        "--study",
+        study.to_str().unwrap(),
+        "--out",
+        second.to_str().unwrap(),
+        "--stage",
+        "learning",
+        "--input",
+        "C",
+    ]);
+    assert!(
+        !o.status.success() && stderr(&o).contains("--input C: not an input"),
+        "{}",
+        stderr(&o)
+    );
+    let o = wakelab(&["run", "--study", study.to_str().unwrap(), "--input", "S"]);
+    assert!(
+        !o.status.success() && stderr(&o).contains("--stage learning"),
+        "{}",
+        stderr(&o)
+    );
 
     // `eval --study` on the run's dataset reads the study's recipe and reproduces the run's
     // outputs for an input bit for bit; recipe flags beside it are refused

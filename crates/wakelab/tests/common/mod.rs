@@ -72,3 +72,29 @@ along_track = 500.0
 [sea]
 window = 32
 "#;
+
+/// A stand-in `sbatch` in `dir/bin` (prepend it to PATH): it runs each job's `--wrap` command at
+/// once, an array's tasks one after the other with SLURM_ARRAY_TASK_ID set, fails as the job
+/// fails, and prints a job id as `sbatch --parsable` does on a cluster ("id;cluster"). Jobs run in
+/// the order they are submitted, which every script's dependencies allow.
+pub fn stand_in_sbatch(dir: &Path) -> std::path::PathBuf {
+    let bin = dir.join("bin");
+    std::fs::create_dir_all(&bin).unwrap();
+    let sbatch = bin.join("sbatch");
+    std::fs::write(
+        &sbatch,
+        "#!/bin/bash\narray=\"\"; wrap=\"\"\nfor a in \"$@\"; do case \"$a\" in --array=*) array=\"${a#--array=}\";; --wrap=*) wrap=\"${a#--wrap=}\";; esac; done\n\
+         if [ -n \"$array\" ]; then for i in $(seq ${array%-*} ${array#*-}); do SLURM_ARRAY_TASK_ID=$i bash -c \"$wrap\" >&2 || exit 1; done;\n\
+         else bash -c \"$wrap\" >&2 || exit 1; fi\necho \"$RANDOM;cluster\"\n",
+    )
+    .unwrap();
+    use std::os::unix::fs::PermissionsExt;
+    std::fs::set_permissions(&sbatch, std::fs::Permissions::from_mode(0o755)).unwrap();
+    bin
+}
+
+/// `bash SCRIPT` with the stand-in `sbatch` of [`stand_in_sbatch`] first on PATH.
+pub fn submit_with_stand_in(script: &Path, bin: &Path) -> Output {
+    let path = format!("{}:{}", bin.display(), std::env::var("PATH").unwrap_or_default());
+    Command::new("bash").arg(script).env("PATH", path).output().unwrap()
+}

@@ -1,0 +1,42 @@
+//! The report's table of the U-Net's wake masks against the physics masks (issue 14): how much
+//! of each test wake the "unet" detector's mask covers, per input.
+
+use crate::report::Table;
+use crate::stages::StudyRun;
+use wakelab_learn::masks::{summarise_masks, MASK_LEVEL};
+
+/// Mean IoU (± half-range over repetitions), the share of masks reaching IoU 0.5 and the number
+/// of test wake scenes, per input.
+pub fn mask_iou_table(run: &StudyRun) -> Table {
+    let rows = run
+        .inputs
+        .iter()
+        .map(|input| {
+            let mut row = vec![input.to_string()];
+            match summarise_masks(&run.mask_scores, input) {
+                Some((mean, spread, share, scenes)) => row.extend([
+                    format!("{mean:.2} ± {spread:.2}"),
+                    format!("{:.0}%", 100.0 * share),
+                    scenes.to_string(),
+                ]),
+                None => row.extend(["-".to_string(), "-".into(), "0".into()]),
+            }
+            row
+        })
+        .collect();
+    Table {
+        id: "mask_iou".into(),
+        title: "U-Net wake masks against the physics masks".into(),
+        caption: format!(
+            "Intersection over union of the \"unet\" detector's U-Net mask and the scene's physics \
+             wake mask (both above {MASK_LEVEL}), over the test wake scenes of every repetition: \
+             mean ± spread of the repetitions' means, and the share of scenes whose mask reaches \
+             IoU 0.5. A fused input's truth is its first band's mask. Not in the spec, which judges \
+             the U-Net only through its classifier."
+        ),
+        header: ["input", "mean IoU", "IoU ≥ 0.5", "test wake scenes"]
+            .map(String::from)
+            .to_vec(),
+        rows,
+    }
+}

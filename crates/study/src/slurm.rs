@@ -70,6 +70,7 @@ pub fn slurm_script(study: &Study, run: &SlurmRun) -> Result<String> {
     } else {
         format!(
             "id=$(submit --job-name=wakelab-held-out --dependency=afterok:$merge --cpus-per-task={cpus} \\\n  \
+             --output={logs}/held-out-%j.log \\\n  \
              --wrap=\"{w} run --study {s} --out {o} --stage held-out --device {device} --quiet\")\n\
              learning=\"$learning:$id\"\n"
         )
@@ -79,7 +80,8 @@ pub fn slurm_script(study: &Study, run: &SlurmRun) -> Result<String> {
 # wakelab run of study "{name}" as Slurm jobs: submit with `bash THIS_FILE` (it calls sbatch).
 # 1. {tasks} array tasks render the wake/no-wake pairs whose index modulo {tasks} is k, then one
 #    job merges the manifest;
-# 2. one job per input ({list}){held_out_note} trains and evaluates, each once the merge succeeded;
+# 2. one job per input of the learning stage ({list}){held_out_note}, each
+#    started once the merge succeeded;
 # 3. a last job runs `wakelab run`: it reuses the dataset and every learning stage, fuses and
 #    writes the report ({out}/report/report.html).
 # Every job skips finished work, so a failed job (or the whole script) can simply be resubmitted.
@@ -112,7 +114,7 @@ echo "submitted: dataset array $shards ({tasks} tasks), merge $merge, learning${
         held_out_note = if held_out.is_empty() {
             ""
         } else {
-            " and one for the held-out environments"
+            " and one for the held-out tests"
         },
     ))
 }
@@ -163,7 +165,7 @@ mod tests {
             "inputs and held-out"
         );
         assert!(script.contains("--dependency=afterok$learning"));
-        assert!(script.contains("--stage held-out"));
+        assert!(script.contains("--stage held-out") && script.contains("held-out-%j.log"));
         assert!(script.contains("--out '/scratch/run'/dataset"));
     }
 

@@ -4,6 +4,7 @@
 use ndarray::Array2;
 use serde::{Deserialize, Serialize};
 use wakelab_schema::band::Input;
+use wakelab_schema::metrics::mean_and_spread;
 
 /// The level at which a mask's pixel counts as wake, for the U-Net's sigmoid output and the
 /// physics mask alike.
@@ -36,8 +37,9 @@ pub fn mask_iou(predicted: &Array2<f32>, truth: &Array2<f32>) -> Option<f64> {
     (wake > 0).then(|| both as f64 / either as f64)
 }
 
-/// Mean IoU of each repetition, then their mean and half-range, and the share of scenes (all
-/// repetitions) whose mask reaches IoU 0.5: `(mean, spread, share, scenes)` of one input.
+/// Mean IoU of each repetition, then their mean and sample standard deviation (the spread the
+/// report gives every metric, [`mean_and_spread`]), and the share of scenes (all repetitions)
+/// whose mask reaches IoU 0.5: `(mean, spread, share, scenes)` of one input.
 pub fn summarise_masks(scores: &[MaskScore], input: &Input) -> Option<(f64, f64, f64, usize)> {
     let mine: Vec<&MaskScore> = scores.iter().filter(|s| &s.bands == input).collect();
     if mine.is_empty() {
@@ -50,12 +52,9 @@ pub fn summarise_masks(scores: &[MaskScore], input: &Input) -> Option<(f64, f64,
             (!v.is_empty()).then(|| v.iter().sum::<f64>() / v.len() as f64)
         })
         .collect();
-    let mean = means.iter().sum::<f64>() / means.len() as f64;
-    let (low, high) = means
-        .iter()
-        .fold((f64::INFINITY, f64::NEG_INFINITY), |(l, h), &m| (l.min(m), h.max(m)));
+    let (mean, spread) = mean_and_spread(&means);
     let share = mine.iter().filter(|s| s.iou >= 0.5).count() as f64 / mine.len() as f64;
-    Some((mean, (high - low) / 2.0, share, mine.len()))
+    Some((mean, spread, share, mine.len()))
 }
 
 #[cfg(test)]
@@ -86,7 +85,8 @@ mod tests {
         };
         let scores = [s(0, 0.2), s(0, 0.6), s(1, 0.8)];
         let (mean, spread, share, n) = summarise_masks(&scores, &scores[0].bands).unwrap();
-        assert!((mean - 0.6).abs() < 1e-12 && (spread - 0.2).abs() < 1e-12);
+        // repetition means 0.4 and 0.8: sample standard deviation sqrt(2 x 0.2^2 / 1)
+        assert!((mean - 0.6).abs() < 1e-12 && (spread - 0.08f64.sqrt()).abs() < 1e-12);
         assert!((share - 2.0 / 3.0).abs() < 1e-12 && n == 3);
         assert!(summarise_masks(&scores, &Input::single(wakelab_schema::band::Band::S)).is_none());
     }

@@ -5,7 +5,7 @@ use crate::report::Table;
 use crate::stages::StudyRun;
 use wakelab_learn::masks::{summarise_masks, MASK_LEVEL};
 
-/// Mean IoU (± half-range over repetitions), the share of masks reaching IoU 0.5 and the number
+/// Mean IoU (± sample standard deviation over repetitions), the share of masks reaching IoU 0.5 and the number
 /// of test wake scenes, per input.
 pub fn mask_iou_table(run: &StudyRun) -> Table {
     let rows = run
@@ -30,7 +30,7 @@ pub fn mask_iou_table(run: &StudyRun) -> Table {
         caption: format!(
             "Intersection over union of the \"unet\" detector's U-Net mask and the scene's physics \
              wake mask (both above {MASK_LEVEL}), over the test wake scenes of every repetition: \
-             mean ± spread of the repetitions' means, and the share of scenes whose mask reaches \
+             mean ± standard deviation of the repetitions' means, and the share of scenes whose mask reaches \
              IoU 0.5. A fused input's truth is its first band's mask. Not in the spec, which judges \
              the U-Net only through its classifier."
         ),

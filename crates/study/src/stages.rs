@@ -57,7 +57,8 @@ pub(crate) struct CachedStage {
     pub seconds: f64,
     pub outputs: Vec<Output>,
     pub curves: Vec<CurvePoint>,
-    #[serde(default)]
+    /// Required: the key does not hash wakelab's code, so a cache written before mask scores
+    /// existed must fail to read (and be recomputed) rather than give an empty IoU table.
     pub mask_scores: Vec<MaskScore>,
 }
 

@@ -26,13 +26,6 @@ fn one_stage(args: &StudyArgs) -> Result<Option<OneStage>> {
 
 /// `wakelab run --emit-slurm`: the script, with absolute paths so that jobs may start anywhere.
 fn emit_slurm(args: &StudyArgs, name: &str, study: &wakelab_data::study::Study, dir: &std::path::Path) -> Result<()> {
-    let absolute = |p: &std::path::Path| -> Result<PathBuf> {
-        Ok(if p.is_absolute() {
-            p.to_path_buf()
-        } else {
-            std::env::current_dir()?.join(p)
-        })
-    };
     let pairs = study.pairs()?.len();
     let tasks = args.tasks.unwrap_or(16);
     let cpus = args.cpus.unwrap_or(2);
@@ -45,11 +38,11 @@ fn emit_slurm(args: &StudyArgs, name: &str, study: &wakelab_data::study::Study, 
     let path = std::path::Path::new(name);
     let run = SlurmRun {
         study: if path.exists() {
-            absolute(path)?.display().to_string()
+            std::path::absolute(path)?.display().to_string()
         } else {
             name.to_string()
         },
-        out: absolute(dir)?,
+        out: std::path::absolute(dir)?,
         wakelab: std::env::current_exe()?,
         device: args.device.clone(),
         tasks: tasks.min(pairs),
@@ -77,14 +70,18 @@ pub fn run_study_command(args: &StudyArgs) -> Result<()> {
         .out
         .clone()
         .unwrap_or_else(|| PathBuf::from("runs").join(&study.study.name));
+    let stage = one_stage(args)?;
     if args.emit_slurm {
+        if stage.is_some() || args.input.is_some() {
+            anyhow::bail!("--emit-slurm writes the script of every stage: leave out --stage and --input");
+        }
         return emit_slurm(args, &name, &study, &dir);
     }
     if args.tasks.is_some() || args.cpus.is_some() {
         anyhow::bail!("--tasks and --cpus shape the Slurm script: use them with --emit-slurm");
     }
     let device = wakelab_learn::device::parse_device(&args.device)?;
-    if let Some(stage) = one_stage(args)? {
+    if let Some(stage) = stage {
         let time = wakelab_study::run_one_stage(&study, &dir, &stage, &device, args.quiet)?;
         eprintln!("  {time}");
         return Ok(());

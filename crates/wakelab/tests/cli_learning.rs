@@ -219,14 +219,7 @@ fn run_does_the_whole_study_reuses_its_stages_and_repeats_its_tables() {
     let study = dir.path().join("tiny.toml");
     std::fs::write(&study, TINY_STUDY).unwrap();
     let run = |out: &Path| {
-        let o = wakelab(&[
-            "run",
-            "--study",
-            study.to_str().unwrap(),
-            "--out",
-            out.to_str().unwrap(),
-            "--quiet",
-        ]);
+        let o = run_study(&study, out, &["--quiet"]);
         assert!(o.status.success(), "{}", stderr(&o));
         o
     };
@@ -355,18 +348,7 @@ fn run_does_the_whole_study_reuses_its_stages_and_repeats_its_tables() {
     assert_eq!(before, tables(&first));
     // and a fresh run in another directory, as the Slurm jobs of `run --emit-slurm` (dataset
     // shards, merge, one job per input, held-out, report), computes the same outputs and tables
-    let o = wakelab(&[
-        "run",
-        "--study",
-        study.to_str().unwrap(),
-        "--out",
-        second.to_str().unwrap(),
-        "--emit-slurm",
-        "--tasks",
-        "3",
-        "--device",
-        "cpu",
-    ]);
+    let o = run_study(&study, &second, &["--emit-slurm", "--tasks", "3", "--device", "cpu"]);
     assert!(o.status.success(), "{}", stderr(&o));
     assert!(!second.join("dataset").exists(), "--emit-slurm only writes the script");
     let script = second.join("wakelab_run.slurm");
@@ -386,22 +368,14 @@ fn run_does_the_whole_study_reuses_its_stages_and_repeats_its_tables() {
     assert!(stdout(&jobs).contains("submitted: dataset array"), "{}", stdout(&jobs));
     assert_eq!(tables(&first), tables(&second));
     // the stage flags: an input not in the study, and --input without its stage
-    let o = wakelab(&[
-        "run",
-        "--study",
-        study.to_str().unwrap(),
-        "--out",
-        second.to_str().unwrap(),
-        "--stage",
-        "learning",
-        "--input",
-        "C",
-    ]);
+    let o = run_study(&study, &second, &["--stage", "learning", "--input", "C"]);
     assert!(
         !o.status.success() && stderr(&o).contains("--input C: not an input"),
         "{}",
         stderr(&o)
     );
+    let o = run_study(&study, &second, &["--emit-slurm", "--stage", "held-out"]);
+    assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
     let o = wakelab(&["run", "--study", study.to_str().unwrap(), "--input", "S"]);
     assert!(
         !o.status.success() && stderr(&o).contains("--stage learning"),
@@ -443,14 +417,7 @@ fn run_does_the_whole_study_reuses_its_stages_and_repeats_its_tables() {
     let bad = dir.path().join("bad.toml");
     std::fs::write(&bad, TINY_STUDY.replace("unet_width = 4", "unet_width = 1000")).unwrap();
     let out = dir.path().join("c");
-    let o = wakelab(&[
-        "run",
-        "--study",
-        bad.to_str().unwrap(),
-        "--out",
-        out.to_str().unwrap(),
-        "--quiet",
-    ]);
+    let o = run_study(&bad, &out, &["--quiet"]);
     assert!(!o.status.success());
     assert!(
         stderr(&o).contains("learning.unet_width") && stderr(&o).contains("[4, 256]"),

@@ -39,6 +39,11 @@ pub fn dataset(study: &Path, out: &Path, more: &[&str]) -> Output {
     with_input_and_out(&["dataset", "--study"], study, out, more)
 }
 
+/// `wakelab run --study STUDY --out OUT` and any further arguments.
+pub fn run_study(study: &Path, out: &Path, more: &[&str]) -> Output {
+    with_input_and_out(&["run", "--study"], study, out, more)
+}
+
 fn with_input_and_out(command: &[&str], input: &Path, out: &Path, more: &[&str]) -> Output {
     let mut args = command.to_vec();
     args.extend([input.to_str().unwrap(), "--out", out.to_str().unwrap()]);

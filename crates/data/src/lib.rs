@@ -106,7 +106,7 @@ pub fn hydro_key(config: &WakelabConfig) -> String {
 }
 
 /// The surface map of a hydro case, from the cache or simulated (and cached).
-fn hydro_map(dir: &Path, config: &WakelabConfig) -> Result<SurfaceMap, WakelabError> {
+pub fn hydro_map(dir: &Path, config: &WakelabConfig) -> Result<SurfaceMap, WakelabError> {
     let case = dir.join("cache").join(format!("hydro-{}", hydro_key(config)));
     let file = case.join("surface_map.nc");
     if file.exists() {

@@ -3,11 +3,11 @@
 //!
 //! Mask rule (reproducible, unlike the spec's hand-drawn masks): a pixel belongs to the wake in
 //! a SAR band where the wake changes that band's Bragg spectral density by more than
-//! [`MASK_MODULATION`] (|N/N0 - 1| > 5 %), and in an IR band where the wake changes the surface
-//! temperature by more than [`MASK_TEMPERATURE`] (0.02 K, a good thermal imager's NETD).
-//! Visibility is the contrast-to-clutter ratio |mean(wake) - mean(sea)| / sd(sea) of the image
-//! over that mask; for the no-wake scene the pair's mask is applied to it, which measures how
-//! much "wake" chance alone shows.
+//! [`MASK_MODULATION`] against the paired no-wake scene (|N_wake/N_no_wake - 1| > 5 %), and in
+//! an IR band where the wake changes the surface temperature by more than [`MASK_TEMPERATURE`]
+//! (0.02 K, a good thermal imager's NETD). Visibility is the contrast-to-clutter ratio
+//! |mean(wake) - mean(sea)| / sd(sea) of the image over that mask; for the no-wake scene the
+//! pair's mask is applied to it, which measures how much "wake" chance alone shows.
 
 use crate::study::ScenePair;
 use ndarray::Array2;
@@ -18,7 +18,7 @@ use wakelab_schema::band::Band;
 use wakelab_sensors::{IrBand, IrScene, SarScene};
 use wakelab_surface::{simulate_surface, SurfaceScene};
 
-/// Threshold of |N/N0 - 1| for the SAR wake masks.
+/// Threshold of |N_wake/N_no_wake - 1| for the SAR wake masks.
 pub const MASK_MODULATION: f64 = 0.05;
 /// Threshold of |dT| (K) for the IR wake masks.
 pub const MASK_TEMPERATURE: f64 = 0.02;
@@ -88,6 +88,21 @@ pub fn visibility(image: &Array2<f32>, mask: &Array2<u8>) -> f64 {
     (mw - ms).abs() / var.sqrt()
 }
 
+/// The SAR wake mask of band `b`: where the wake changes the Bragg spectral density by more
+/// than [`MASK_MODULATION`] against the paired no-wake scene, N_wake / N_no_wake. The ratio, not
+/// N_wake / N0: natural slicks and low-wind patches lie in both scenes of a pair and are not the
+/// wake (measured against N0 they filled up to a fifth of a mask).
+fn radar_wake_mask(with: &SurfaceScene, without: &SurfaceScene, b: RadarBand) -> Array2<u8> {
+    let (w, n) = (bragg_modulation(with, b), bragg_modulation(without, b));
+    ndarray::Zip::from(w)
+        .and(n)
+        .map_collect(|&w, &n| u8::from((w / n - 1.0).abs() > MASK_MODULATION))
+}
+
+fn bragg_modulation(scene: &SurfaceScene, b: RadarBand) -> &Array2<f64> {
+    &scene.bragg.iter().find(|x| x.band == b).expect("every band").modulation
+}
+
 /// A rendered pair: every band, and the Kelvin-arm mask of the wake scene when it has Kelvin waves.
 pub struct RenderedPair {
     pub bands: Vec<BandPair>,
@@ -110,8 +125,7 @@ pub fn render_pair(pair: &ScenePair, map: &SurfaceMap, bands: &[Band]) -> (Rende
         .par_iter()
         .map(|&band| match sensor(band) {
             Sensor::Radar(b) => {
-                let m = &with.bragg.iter().find(|x| x.band == b).expect("every band").modulation;
-                let mask = m.mapv(|v| u8::from((v - 1.0).abs() > MASK_MODULATION));
+                let mask = radar_wake_mask(&with, &without, b);
                 let wake = radar_with.render(b).sigma0.mapv(|v| v as f32);
                 let no_wake = radar_without.render(b).sigma0.mapv(|v| v as f32);
                 finish(band, wake, no_wake, mask, "sigma0 (linear)")

@@ -171,6 +171,34 @@ fn wake_and_no_wake_scenes_differ_only_where_the_wake_is() {
     assert!(wake.label_by_band.values().all(|&l| l == 0));
 }
 
+/// Natural slicks lie in both scenes of a pair, so they are no part of the wake's mask: with the
+/// track 3 km to the side of a 640 m scene under slicks over a third of the sea, both scenes'
+/// masks are empty in every band, though the slicks darken the radar images by several dB.
+#[test]
+fn natural_slicks_are_not_the_wake() {
+    let s = study("cross_track = [3000.0]\nslick_coverage = [0.3]", 1);
+    let dir = tempfile::tempdir().unwrap();
+    run_study(&s, dir.path(), None, None, &quiet).unwrap();
+    for band in ["C", "LWIR"] {
+        let mask: ndarray::Array2<u8> =
+            ndarray_npy::read_npy(dir.path().join(format!("scenes/000000-w/mask_{band}.npy"))).unwrap();
+        assert_eq!(
+            mask.iter().filter(|&&m| m > 0).count(),
+            0,
+            "{band}: slicks in the wake mask"
+        );
+    }
+    // the slicks are there: the darkest tenth of the no-wake C image lies well below the median
+    let image: ndarray::Array2<f32> = ndarray_npy::read_npy(dir.path().join("scenes/000000-n/C.npy")).unwrap();
+    let mut v: Vec<f32> = image.iter().copied().collect();
+    v.sort_by(f32::total_cmp);
+    let (dark, median) = (v[v.len() / 10], v[v.len() / 2]);
+    assert!(
+        10.0 * (median / dark).log10() > 3.0,
+        "no slick: {dark} vs median {median}"
+    );
+}
+
 /// The spec's Fig. 3.2 shows the persistent wake 16 km behind the ship in following seas and
 /// none in calm seas. With the bounded action balance the physics decides: the swell's vortex
 /// force must change what the radar sees of the old wake (here: a following swell lowers the
@@ -295,7 +323,7 @@ fn bad_study_files_are_refused_before_any_work() {
 #[test]
 fn the_embedded_studies_are_valid_and_realistic() {
     use wakelab_data::study::{DEFAULT_STUDY, PAPER_STUDY};
-    for (name, text, pairs) in [("default", DEFAULT_STUDY, 48), ("paper", PAPER_STUDY, 180)] {
+    for (name, text, pairs) in [("default", DEFAULT_STUDY, 192), ("paper", PAPER_STUDY, 180)] {
         let study = Study::from_toml_str(text, name).unwrap();
         let all = study.pairs().unwrap();
         assert_eq!(all.len(), pairs, "{name}");
@@ -311,5 +339,23 @@ fn the_embedded_studies_are_valid_and_realistic() {
             .filter(|q| headings.iter().any(|h| (*h / 90.0).floor() as i32 == *q))
             .count();
         assert_eq!(quadrants, 4, "{name}: headings over the full circle: {headings:?}");
+        // spaceborne SARs' swaths and winds from every side of the look
+        let incidences: Vec<f64> = all.iter().map(|p| p.config.platform.incidence).collect();
+        assert!(
+            incidences.iter().all(|i| (20.0..=45.0).contains(i)),
+            "{name}: {incidences:?}"
+        );
+        assert!(
+            incidences.iter().any(|&i| i < 25.0) && incidences.iter().any(|&i| i > 40.0),
+            "{name}"
+        );
+        let wind_to_look: Vec<f64> = all
+            .iter()
+            .map(|p| (p.config.environment.wind.direction - p.config.platform.look_direction).rem_euclid(360.0))
+            .collect();
+        let sides = (0..4)
+            .filter(|q| wind_to_look.iter().any(|w| (*w / 90.0).floor() as i32 == *q))
+            .count();
+        assert_eq!(sides, 4, "{name}: wind from every side of the look: {wind_to_look:?}");
     }
 }

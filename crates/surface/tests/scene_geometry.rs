@@ -22,7 +22,8 @@ fn map() -> &'static SurfaceMap {
     })
 }
 
-/// The C-band wake mask of a scene, as the dataset draws it (|N/N0 - 1| > 5 %).
+/// The C-band wake mask of a scene, as the dataset draws it (|N/N0 - 1| > 5 %: without slicks or
+/// wind variation the no-wake scene's N is N0).
 fn wake_mask(c: &WakelabConfig) -> ndarray::Array2<bool> {
     let scene = simulate_surface(c, Some(map()));
     let m = &scene.bragg.iter().find(|b| b.band == RadarBand::C).unwrap().modulation;

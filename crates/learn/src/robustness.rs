@@ -16,8 +16,9 @@ use serde::{Deserialize, Serialize};
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 #[serde(tag = "kind", rename_all = "snake_case")]
 pub enum Perturbation {
-    /// Rotation about the centre by this angle (degrees, counter-clockwise), bilinear; pixels
-    /// from outside the image take the mean (0).
+    /// Rotation about the centre by this angle (degrees, counter-clockwise), each pixel the
+    /// nearest source pixel (the texture kept; see [`crate::augment`]); pixels from outside the
+    /// image take the mean (0).
     Rotate { degrees: f64 },
     /// `patches` squares of side `fraction` x the image side, at seeded positions, set to the
     /// mean (0) in every channel.
@@ -50,9 +51,9 @@ impl Perturbation {
                 if let Self::Shift { fraction } = *self {
                     let pose = shift_pose(fraction, e.image.dim().1, &mut rng);
                     return Example {
-                        image: each_channel(&e.image, |plane| pose.apply(plane, true)),
+                        image: each_channel(&e.image, |plane| pose.apply(plane)),
                         label: e.label,
-                        mask: e.mask.as_ref().map(|m| pose.apply(m, true)),
+                        mask: e.mask.as_ref().map(|m| pose.apply(m)),
                     };
                 }
                 Example {
@@ -109,14 +110,14 @@ fn each_channel(image: &Array3<f32>, plane_map: impl Fn(&Array2<f32>) -> Array2<
     out
 }
 
-/// Rotate a plane about its centre by `degrees` (counter-clockwise), bilinear; 0 outside: the
-/// training augmentation's resampling ([`crate::augment::Pose`]).
+/// Rotate a plane about its centre by `degrees` (counter-clockwise), by nearest pixel; 0
+/// outside: the training augmentation's resampling ([`crate::augment::Pose`]).
 pub fn rotate(plane: &Array2<f32>, degrees: f64) -> Array2<f32> {
     Pose {
         degrees,
         ..Pose::IDENTITY
     }
-    .apply(plane, false)
+    .apply(plane)
 }
 
 #[cfg(test)]

@@ -368,3 +368,24 @@ fn a_non_finite_loss_stops_the_training_with_an_error() {
         "{e}"
     );
 }
+
+/// The U-Net's class-balanced BCE against its closed form: one wake pixel among four with
+/// logits z gives 0.5 ln(1 + e^-z1) + 0.5 mean(ln(1 + e^z)) over the three background ones; a
+/// batch of background only gives the plain mean BCE.
+#[test]
+fn the_balanced_bce_weighs_each_class_half() {
+    use wakelab_learn::train::balanced_bce_with_logits;
+    let device = Device::flex();
+    let z = [2.0f32, -1.0, 0.5, -3.0];
+    let logits = Tensor::<1>::from_data(TensorData::new(z.to_vec(), [4]), &device);
+    let value = |t: Tensor<1>| t.into_data().try_to_vec::<f32>().unwrap()[0] as f64;
+    let softplus = |x: f32| (1.0 + (x as f64).exp()).ln();
+    let one_wake = Tensor::<1, Int>::from_data(TensorData::new(vec![1i64, 0, 0, 0], [4]), &device);
+    let want = 0.5 * softplus(-z[0]) + 0.5 * (softplus(z[1]) + softplus(z[2]) + softplus(z[3])) / 3.0;
+    let got = value(balanced_bce_with_logits(logits.clone(), one_wake));
+    assert!((got - want).abs() < 1e-5, "{got} vs {want}");
+    let none = Tensor::<1, Int>::from_data(TensorData::new(vec![0i64; 4], [4]), &device);
+    let want = z.iter().map(|&x| softplus(x)).sum::<f64>() / 4.0;
+    let got = value(balanced_bce_with_logits(logits, none));
+    assert!((got - want).abs() < 1e-5, "{got} vs {want}");
+}

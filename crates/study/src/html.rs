@@ -1,15 +1,14 @@
 //! The report page: one self-contained HTML file (styles inline, pictures as base64 PNG, plots
 //! as inline SVG), so it opens in a browser with no network and can be mailed as one file.
 
+use crate::pictures::{display_values, field_png, stretch};
 use crate::report::{confusion_rows, Table};
 use crate::stages::StudyRun;
 use crate::svg::{escape, roc_points, LinePlot, Series};
 use crate::Result;
-use base64::Engine as _;
 use ndarray::Array2;
 use std::collections::BTreeMap;
 use std::fmt::Write as _;
-use wakelab_core::io::picture::{Colormap, FieldPicture};
 use wakelab_data::learning::LearningPlan;
 use wakelab_data::study::Study;
 use wakelab_learn::models::Architecture;
@@ -46,27 +45,6 @@ fn table_html(t: &Table) -> String {
     s
 }
 
-fn png_data_uri(picture: &FieldPicture, range: (f64, f64)) -> Result<String> {
-    let img = picture.render_in(range);
-    let mut bytes = std::io::Cursor::new(Vec::new());
-    img.write_to(&mut bytes, image::ImageFormat::Png)?;
-    Ok(format!(
-        "data:image/png;base64,{}",
-        base64::engine::general_purpose::STANDARD.encode(bytes.get_ref())
-    ))
-}
-
-/// Percentile range of values (2nd to 98th), as the dataset's quicklooks use.
-fn stretch(values: &[f32]) -> (f64, f64) {
-    let lo = wakelab_core::io::geotiff::quantile(values, 0.02);
-    let hi = wakelab_core::io::geotiff::quantile(values, 0.98);
-    if hi > lo {
-        (lo, hi)
-    } else {
-        (lo, lo + 1.0)
-    }
-}
-
 /// Example scenes: one wake/no-wake pair in every band, on a shared colour range per band, and
 /// the wake mask.
 fn example_scenes(run: &StudyRun) -> Result<String> {
@@ -87,36 +65,18 @@ fn example_scenes(run: &StudyRun) -> Result<String> {
     for band in dataset.bands() {
         let radar = band.is_radar();
         let read = |rel: &str| -> Result<Array2<f32>> { Ok(ndarray_npy::read_npy(dataset.dir.join(rel))?) };
-        let to_display = |a: &Array2<f32>| -> Vec<f32> {
-            if radar {
-                a.iter().map(|&v| 10.0 * v.max(1e-30).log10()).collect()
-            } else {
-                a.iter().copied().collect()
-            }
-        };
         let w = read(&wake.images[&band])?;
         let n = read(&no_wake.images[&band])?;
         let mask: Array2<u8> = ndarray_npy::read_npy(dataset.dir.join(&wake.masks[&band]))?;
         let (rows, cols) = w.dim();
-        let (wv, nv) = (to_display(&w), to_display(&n));
+        let (wv, nv) = (display_values(&w, radar), display_values(&n, radar));
         let mv: Vec<f32> = mask.iter().map(|&m| m as f32).collect();
         let range = stretch(&wv);
         let units = if radar { "dB" } else { "K" };
         let spacing = wake.parameters.pixel_spacing;
         let caption = format!("{cols} x {rows} px of {spacing} m");
-        let picture = |values: &[f32], title: String| {
-            let p = FieldPicture {
-                values,
-                rows,
-                cols,
-                title,
-                units: units.to_string(),
-                colormap: Colormap::Sequential,
-                size: (192, 192),
-                caption: caption.clone(),
-            };
-            png_data_uri(&p, range)
-        };
+        let picture =
+            |values: &[f32], title: String| field_png(values, (rows, cols), title, units, (192, &caption), range);
         let _ = write!(s, "<h4>{band}</h4><div class=\"grid\">");
         for (values, title) in [(&wv, format!("{band} wake")), (&nv, format!("{band} no wake"))] {
             let _ = write!(
@@ -125,21 +85,15 @@ fn example_scenes(run: &StudyRun) -> Result<String> {
                 picture(values, title.clone())?
             );
         }
-        let mask_picture = FieldPicture {
-            values: &mv,
-            rows,
-            cols,
-            title: format!("{band} wake mask"),
-            units: "1 = wake".into(),
-            colormap: Colormap::Sequential,
-            size: (192, 192),
-            caption: caption.clone(),
-        };
-        let _ = write!(
-            s,
-            "<figure><img alt=\"{band} mask\" src=\"{}\"></figure></div>",
-            png_data_uri(&mask_picture, (0.0, 1.0))?
-        );
+        let mask = field_png(
+            &mv,
+            (rows, cols),
+            format!("{band} wake mask"),
+            "1 = wake",
+            (192, &caption),
+            (0.0, 1.0),
+        )?;
+        let _ = write!(s, "<figure><img alt=\"{band} mask\" src=\"{mask}\"></figure></div>");
     }
     Ok(s)
 }
@@ -345,6 +299,7 @@ pub fn report_page(
     tables: &[Table],
     timing: &Table,
     radar_figures: &[String],
+    whole_scene: &str,
 ) -> Result<String> {
     let mut s = String::new();
     let title = format!("wakelab study \"{}\"", study.study.name);
@@ -378,6 +333,10 @@ pub fn report_page(
     );
     s.push_str(&recipe_note(&run.plan));
     s.push_str(
+        "<p class=\"note\">In every recipe the U-Net's BCE is class-balanced (Xie &amp; Tu 2015: wake and \
+         background pixels weigh half each), not erratum 9's plain BCE, under which no mask pixel reached 0.5.</p>",
+    );
+    s.push_str(
         "<h2>Contents</h2><ul><li><a href=\"#scenes\">Example scenes</a></li>\
          <li><a href=\"#radar\">Radar physics</a></li>",
     );
@@ -385,7 +344,9 @@ pub fn report_page(
         let _ = write!(s, "<li><a href=\"#{}\">{}</a></li>", t.id, escape(&t.title));
     }
     s.push_str(
-        "<li><a href=\"#matrices\">Confusion matrices</a></li><li><a href=\"#roc\">ROC curves</a></li>\
+        "<li><a href=\"#test-scenes\">Test scenes</a></li>\
+         <li><a href=\"#whole-scene\">Detection on a whole scene</a></li>\
+         <li><a href=\"#matrices\">Confusion matrices</a></li><li><a href=\"#roc\">ROC curves</a></li>\
          <li><a href=\"#training\">Training curves</a></li><li><a href=\"#timing\">Wall time</a></li>\
          <li><a href=\"#config\">Configuration</a></li></ul>",
     );
@@ -406,6 +367,18 @@ pub fn report_page(
     for t in tables {
         s.push_str(&table_html(t));
     }
+    s.push_str(
+        "<h2 id=\"test-scenes\">Test scenes</h2><p>Per band and wind speed, the first repetition's test scenes \
+         \"base\" scored highest and lowest, with and without a wake, and every detector's verdict (SAR in \
+         dB, IR in K, each image stretched over its 2nd-98th percentile).</p>",
+    );
+    s.push_str(&crate::test_scenes::test_scene_grid(run)?);
+    s.push_str(
+        "<h2 id=\"whole-scene\">Detection on a whole scene</h2><p>Each band's \"base\" detector scanned over one \
+         scene eight chips wide, as <code>wakelab detect</code> does (table \"Detection on a whole scene\"): the \
+         image, the map of window probabilities, and the band's physics mask of the wake.</p>",
+    );
+    s.push_str(whole_scene);
     s.push_str("<h2 id=\"matrices\">Confusion matrices</h2><p>Test images summed over the repetitions.</p>");
     s.push_str(&confusion_matrices(run));
     s.push_str(

@@ -23,6 +23,7 @@ mod html;
 pub mod learning;
 pub mod mask_quality;
 pub mod output;
+mod pictures;
 mod radar;
 pub mod report;
 pub mod scan;
@@ -31,7 +32,9 @@ pub mod slurm;
 pub mod stability;
 pub mod stages;
 mod svg;
+mod test_scenes;
 pub mod visibility;
+mod whole_scene;
 
 use indicatif::{ProgressBar, ProgressStyle};
 use serde::{Deserialize, Serialize};

@@ -320,6 +320,7 @@ pub fn result_tables(run: &StudyRun) -> Vec<Table> {
     tables.push(crate::stability::robustness_table(run));
     tables.push(crate::stability::score_change_table(run));
     tables.push(crate::mask_quality::mask_iou_table(run));
+    tables.push(crate::test_scenes::test_scene_table(run));
     let bands: Vec<Band> = run.inputs.iter().filter_map(|i| i.as_single()).collect();
     tables.push(crate::visibility::visibility_table(
         &run.dataset.records,
@@ -334,7 +335,10 @@ pub fn write_report(dir: &Path, study: &Study, run: &StudyRun) -> Result<Vec<Pat
     let out = dir.join("report");
     let tables_dir = out.join("tables");
     std::fs::create_dir_all(&tables_dir).map_err(|e| WakelabError::io(&tables_dir, e))?;
-    let tables = result_tables(run);
+    let mut tables = result_tables(run);
+    let scans = crate::whole_scene::scan_whole_scene(dir, study, run)?;
+    tables.push(crate::whole_scene::whole_scene_table(&scans));
+    let whole_scene_html = crate::whole_scene::whole_scene_html(&scans)?;
     let timing = timing_table(run);
     let mut markdown = format!(
         "# wakelab study \"{}\"\n\nwakelab {}, run {} on {}; {} scenes; see report.html for pictures and plots.\n\n",
@@ -361,7 +365,7 @@ pub fn write_report(dir: &Path, study: &Study, run: &StudyRun) -> Result<Vec<Pat
     for (name, svg) in names.iter().zip(&svgs) {
         write_atomically(out.join(format!("{name}.svg")), svg.as_bytes())?;
     }
-    let page = crate::html::report_page(study, run, &tables, &timing, &svgs)?;
+    let page = crate::html::report_page(study, run, &tables, &timing, &svgs, &whole_scene_html)?;
     let html = write_atomically(out.join("report.html"), page.as_bytes())?;
     Ok(vec![html, md, tables_dir])
 }

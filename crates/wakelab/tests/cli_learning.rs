@@ -247,10 +247,42 @@ fn run_does_the_whole_study_reuses_its_stages_and_repeats_its_tables() {
         "only SVG namespaces, no links"
     );
     assert!(!html.contains("https://") && !html.contains("<script"));
+    // the grid of test scenes: per band and wind, base's highest and lowest wake and no-wake
+    // test scene, each with every architecture's verdict; as a table and as thumbnails
+    let grid = std::fs::read_to_string(report.join("tables/test_scenes.csv")).unwrap();
+    let cells: Vec<Vec<&str>> = grid.lines().skip(1).map(|l| l.split(',').collect()).collect();
+    assert!(!cells.is_empty(), "{grid}");
+    let score = |c: &Vec<&str>| c[7].split(' ').next().unwrap().parse::<f64>().unwrap();
+    for c in &cells {
+        assert_eq!(c.len(), 10, "{c:?}");
+        assert_eq!(c[3].ends_with("-w"), c[2].starts_with("wake"), "{c:?}");
+        assert!(
+            c[7..].iter().all(|v| v.ends_with(" right") || v.ends_with(" wrong")),
+            "{c:?}"
+        );
+    }
+    for pair in cells.windows(2) {
+        let (a, b) = (&pair[0], &pair[1]);
+        if a[..2] == b[..2] && a[2].contains("highest") && b[2].contains("lowest") && a[2][..4] == b[2][..4] {
+            assert!(score(a) >= score(b), "{a:?} {b:?}");
+        }
+    }
+    // the whole-scene scan: a row per single band (S, X, LWIR), three pictures each
+    let whole = std::fs::read_to_string(report.join("tables/whole_scene.csv")).unwrap();
+    let scanned: Vec<Vec<&str>> = whole.lines().skip(1).map(|l| l.split(',').collect()).collect();
+    assert_eq!(
+        scanned.iter().map(|r| r[0]).collect::<Vec<_>>(),
+        ["S", "X", "LWIR"],
+        "{whole}"
+    );
+    for r in &scanned {
+        let p: f64 = r[1].parse().unwrap();
+        assert!((0.0..=1.0).contains(&p) && ["yes", "no"].contains(&r[2]), "{r:?}");
+    }
     assert_eq!(
         html.matches("src=\"data:image/png;base64,").count(),
-        3 * 3,
-        "wake, no wake, mask per band"
+        3 * 3 + cells.len() + 3 * scanned.len(),
+        "wake, no wake, mask per band, the test scenes, and the whole scene per band"
     );
     assert_eq!(
         html.matches("<svg").count(),
@@ -279,6 +311,8 @@ fn run_does_the_whole_study_reuses_its_stages_and_repeats_its_tables() {
         "confusion",
         "robustness",
         "mask_iou",
+        "test_scenes",
+        "whole_scene",
         "timing",
     ] {
         assert!(report.join("tables").join(format!("{t}.csv")).exists(), "{t}.csv");

@@ -431,6 +431,44 @@ pub struct SceneConfig {
     /// The ship's course in the image, degrees clockwise from up (a compass heading on a
     /// north-up image); 270 runs the ship to the left with its wake trailing to the right.
     pub heading: f64,
+    /// Further wakes in the scene (`[[scene.other_wakes]]`): the same ship's wake placed again,
+    /// as if other ships of its kind had passed; the scene's own placement above is the first.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub other_wakes: Vec<WakePlacement>,
+}
+
+/// Where a wake lies in the scene: the scene centre's distance behind that ship's stern (m), its
+/// offset to port of that ship's track (m) and the ship's course in the image (degrees clockwise
+/// from up), as in [`SceneConfig`].
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct WakePlacement {
+    pub along_track: f64,
+    pub cross_track: f64,
+    pub heading: f64,
+}
+
+impl SceneConfig {
+    /// The placement of every wake in the scene, the scene's own first.
+    pub fn wake_placements(&self) -> Vec<WakePlacement> {
+        let own = WakePlacement {
+            along_track: self.along_track,
+            cross_track: self.cross_track,
+            heading: self.heading,
+        };
+        std::iter::once(own).chain(self.other_wakes.iter().cloned()).collect()
+    }
+
+    /// This scene with its own wake placed at `placement` and no other.
+    pub fn with_wake_at(&self, placement: &WakePlacement) -> SceneConfig {
+        SceneConfig {
+            along_track: placement.along_track,
+            cross_track: placement.cross_track,
+            heading: placement.heading,
+            other_wakes: Vec::new(),
+            ..self.clone()
+        }
+    }
 }
 
 /// Viewing geometry of the imaging platform.

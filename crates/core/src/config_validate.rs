@@ -199,25 +199,32 @@ impl WakelabConfig {
                 format!("at most scene.size = {} pixels", sc.size),
             ));
         }
-        range("scene.heading", sc.heading, -360.0, 360.0, "degrees")?;
-        let half = 0.5 * sc.size as f64 * sc.pixel_spacing;
-        // how far astern of its centre the scene reaches along the track, at its heading
-        let (sin, cos) = sc.heading.to_radians().sin_cos();
-        let reach = half * (sin.abs() + cos.abs());
         let wake_end = 0.5 * s.length + s.speed * t.duration;
-        if sc.along_track < 0.0 || sc.along_track + reach > wake_end {
-            return Err(ConfigError::new(
-                "scene.along_track",
-                sc.along_track,
-                format!(
-                    "the scene (reaching {reach:.0} m astern of its centre at heading {}) must end within the \
-                     simulated wake, 0..{wake_end:.0} m behind the stern: centre in [0, {:.0}] m",
-                    sc.heading,
-                    wake_end - reach
-                ),
-            ));
+        for (i, w) in sc.wake_placements().iter().enumerate() {
+            // the scene's own wake is named by its fields, the others by their index
+            let field = |name: &str| match i {
+                0 => format!("scene.{name}"),
+                _ => format!("scene.other_wakes[{}].{name}", i - 1),
+            };
+            range(&field("heading"), w.heading, -360.0, 360.0, "degrees")?;
+            let half = 0.5 * sc.size as f64 * sc.pixel_spacing;
+            // how far astern of its centre the scene reaches along the track, at its heading
+            let (sin, cos) = w.heading.to_radians().sin_cos();
+            let reach = half * (sin.abs() + cos.abs());
+            if w.along_track < 0.0 || w.along_track + reach > wake_end {
+                return Err(ConfigError::new(
+                    field("along_track"),
+                    w.along_track,
+                    format!(
+                        "the scene (reaching {reach:.0} m astern of its centre at heading {}) must end within the \
+                         simulated wake, 0..{wake_end:.0} m behind the stern: centre in [0, {:.0}] m",
+                        w.heading,
+                        wake_end - reach
+                    ),
+                ));
+            }
+            range(&field("cross_track"), w.cross_track, -20_000.0, 20_000.0, "m")?;
         }
-        range("scene.cross_track", sc.cross_track, -20_000.0, 20_000.0, "m")?;
 
         let sl = &self.slicks;
         range("slicks.coverage", sl.coverage, 0.0, 0.9, "(fraction of the scene)")?;

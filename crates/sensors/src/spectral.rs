@@ -66,6 +66,7 @@ mod tests {
             along_track: 0.0,
             cross_track: 0.0,
             heading: 270.0,
+            other_wakes: Vec::new(),
         })
     }
 

@@ -81,6 +81,7 @@ pub fn across_wake_contrast(run: &StudyRun) -> Result<Option<LinePlot>> {
         along_track: p.along_track,
         cross_track: p.cross_track,
         heading: p.heading,
+        other_wakes: Vec::new(),
     });
     // each pixel's bin across the track, none ahead of the stern
     let n = p.image_size;

@@ -3,13 +3,13 @@
 //!
 //! The scene is the study's first pair made large: its sea, wind and sensors, 8 x the chip's
 //! side (fewer where the study's wake is too short), natural slicks over a fifth of the sea and
-//! the wake 4 km behind the stern crossing it at 30 degrees. Each single band's saved "base" detector (`learn/<band>/models/`, the last
+//! three wakes of the study's ship (`scene.other_wakes`): its own 4 km behind the stern crossing
+//! the centre at 30 degrees, one 6 km behind at 300 degrees and one 2.4 km behind at 160 degrees,
+//! each passing 0.4 of the half-side off the centre. Each single band's saved "base" detector (`learn/<band>/models/`, the last
 //! repetition's) scans it with windows of its input size at half that stride
 //! ([`wakelab_learn::detect::detect_image`]). Against the physics mask of that band the report
 //! gives whether the map's peak lies on the wake, the map's mean on and off the wake, and the
-//! share of off-wake cells above the threshold (false alarms, slicks among them). One wake only:
-//! a scene of several ships' wakes needs several wakes in the surface stage, which wakelab does
-//! not simulate yet.
+//! share of off-wake cells above the threshold (false alarms, slicks among them).
 
 use crate::report::Table;
 use crate::stages::StudyRun;
@@ -17,6 +17,7 @@ use crate::Result;
 use ndarray::{s, Array2};
 use std::fmt::Write as _;
 use std::path::Path;
+use wakelab_core::config::WakePlacement;
 use wakelab_data::render::render_pair;
 use wakelab_data::study::{ScenePair, Study};
 use wakelab_learn::data::RadarScale;
@@ -41,7 +42,7 @@ pub struct WholeScene {
     side: usize,
     pixel_spacing: f64,
     chips: usize,
-    along_track: f64,
+    wakes: Vec<WakePlacement>,
     mask: Array2<u8>,
     /// Mean window probability per stride cell.
     map: Array2<f32>,
@@ -55,10 +56,16 @@ pub struct WholeScene {
     pub false_alarm_cells: f64,
 }
 
-/// The scene's configuration: the first pair's, made large, with slicks and a crossing wake;
-/// `(pair, chips)`. A study whose simulated wake is too short for a scene [`CHIPS`] chips wide
-/// at [`ALONG_TRACK`] gets the widest of 8, 4 or 2 chips that fits, centred at 4 km or halfway
-/// along the wake; None if none fits.
+/// The other wakes' courses in the image (degrees) and their ages as multiples of the first
+/// wake's distance behind the stern.
+const OTHER_WAKES: [(f64, f64); 2] = [(300.0, 1.5), (160.0, 0.6)];
+
+/// The scene's configuration: the first pair's, made large, with slicks, its own wake at
+/// [`HEADING`] through the centre and two more ([`OTHER_WAKES`]) passing 0.4 of the half-side to
+/// either side of it; `(pair, chips)`. A study whose simulated wake is too short for a scene
+/// [`CHIPS`] chips wide at [`ALONG_TRACK`] gets the widest of 8, 4 or 2 chips that fits, centred
+/// at 4 km or halfway along the wake, with its own wake alone if the others do not fit; None if
+/// nothing fits.
 fn scene_pair(study: &Study) -> Result<Option<(ScenePair, usize)>> {
     let Some(first) = study.pairs()?.into_iter().next() else {
         return Ok(None);
@@ -67,15 +74,31 @@ fn scene_pair(study: &Study) -> Result<Option<(ScenePair, usize)>> {
     let halfway = 0.5 * (0.5 * ship.length + ship.speed * time.duration);
     for chips in [CHIPS, CHIPS / 2, CHIPS / 4] {
         for along_track in [ALONG_TRACK, halfway] {
-            let mut pair = first.clone();
-            let c = &mut pair.config;
-            c.scene.size *= chips;
-            c.scene.along_track = along_track;
-            c.scene.cross_track = 0.0;
-            c.scene.heading = HEADING;
-            c.slicks.coverage = SLICKS;
-            if c.validate().is_ok() {
-                return Ok(Some((pair, chips)));
+            for others in [true, false] {
+                let mut pair = first.clone();
+                let c = &mut pair.config;
+                c.scene.size *= chips;
+                c.scene.along_track = along_track;
+                c.scene.cross_track = 0.0;
+                c.scene.heading = HEADING;
+                let half = 0.5 * c.scene.size as f64 * c.scene.pixel_spacing;
+                c.scene.other_wakes = if others {
+                    OTHER_WAKES
+                        .iter()
+                        .zip([0.4, -0.4])
+                        .map(|(&(heading, age), side)| WakePlacement {
+                            along_track: age * along_track,
+                            cross_track: side * half,
+                            heading,
+                        })
+                        .collect()
+                } else {
+                    Vec::new()
+                };
+                c.slicks.coverage = SLICKS;
+                if c.validate().is_ok() {
+                    return Ok(Some((pair, chips)));
+                }
             }
         }
     }
@@ -149,7 +172,7 @@ pub fn scan_whole_scene(dir: &Path, study: &Study, run: &StudyRun) -> Result<Vec
             side: band_pair.wake.nrows(),
             pixel_spacing: pair.config.scene.pixel_spacing,
             chips,
-            along_track: pair.config.scene.along_track,
+            wakes: pair.config.scene.wake_placements(),
             peak_on_wake: on_wake(peak.0, peak.1),
             mean_on_wake: mean(&on),
             mean_off_wake: mean(&off),
@@ -192,15 +215,26 @@ pub fn whole_scene_table(scans: &[WholeScene]) -> Table {
         title: "Detection on a whole scene".into(),
         caption: format!(
             "The study's first pair's sea made {chips} chips wide ({side} x {side} px of {dx} m), natural slicks \
-             over {slicks:.0}% of it, the wake {km:.1} km behind the stern crossing at {HEADING:.0} degrees, scanned by \
-             each band's \"base\" detector (its last repetition) with windows of its input at half that stride. \
-             Cells on the wake hold a pixel of the band's physics mask; a false-alarm cell is an off-wake cell at \
+             over {slicks:.0}% of it and {count} wake(s) of the study's ship ({wakes}), scanned by each band's \
+             \"base\" detector (its last repetition) with windows of its input at half that stride. Cells on the \
+             wake hold a pixel of the band's physics mask (all wakes); a false-alarm cell is an off-wake cell at \
              or above the threshold ({threshold}).",
             chips = first.chips,
             side = first.side,
             dx = first.pixel_spacing,
             slicks = 100.0 * SLICKS,
-            km = first.along_track / 1000.0,
+            count = first.wakes.len(),
+            wakes = first
+                .wakes
+                .iter()
+                .map(|w| format!(
+                    "{:.1} km behind the stern, course {:.0} degrees, {:.0} m off the centre",
+                    w.along_track / 1000.0,
+                    w.heading,
+                    w.cross_track.abs()
+                ))
+                .collect::<Vec<_>>()
+                .join("; "),
             threshold = first.threshold,
         ),
         header: [

@@ -98,17 +98,25 @@ pub fn bragg_vectors(config: &WakelabConfig, band: RadarBand) -> (WaveVector, Wa
     (towards, away)
 }
 
-/// Map fields needed on the scene, resampled with their ambient values.
-fn to_scene(grid: &SceneGrid, map: &SurfaceMap, values: &[f64], ambient: f64) -> Array2<f64> {
-    resample(
-        grid,
-        &MapField {
-            x: &map.x,
-            y: &map.y,
-            values,
-        },
-        ambient,
-    )
+/// A map field on the scene, resampled with its ambient value, once per wake (`wakes`: the
+/// scene's grid as each wake's ship sees it) and combined as independent modulations: a ratio
+/// field (ambient 1: N/N0, Gamma) as the product of the wakes' ratios, an anomaly (ambient 0: dT)
+/// as their sum. Exact where the wakes do not overlap; where they cross, a first-order guess.
+fn to_scene(wakes: &[SceneGrid], map: &SurfaceMap, values: &[f64], ambient: f64) -> Array2<f64> {
+    let field = MapField {
+        x: &map.x,
+        y: &map.y,
+        values,
+    };
+    let mut each = wakes.iter().map(|grid| resample(grid, &field, ambient));
+    let first = each.next().expect("the scene's own wake");
+    each.fold(first, |total, next| {
+        if ambient == 0.0 {
+            total + next
+        } else {
+            total * next / ambient
+        }
+    })
 }
 
 /// N/N0 of one wave vector on the scene: the wake's, and where a slick lies its film's damping
@@ -134,6 +142,13 @@ fn with_slicks(wake: Array2<f64>, slick_damping: Option<&Array2<f64>>, mu: f64) 
 /// natural slicks and the wind's variation (see [`natural`]) in both.
 pub fn simulate_surface(config: &WakelabConfig, map: Option<&SurfaceMap>) -> SurfaceScene {
     let grid = SceneGrid::new(&config.scene);
+    // the scene as each wake's ship sees it: its own placement first, then the others'
+    let wakes: Vec<SceneGrid> = config
+        .scene
+        .wake_placements()
+        .iter()
+        .map(|w| SceneGrid::new(&config.scene.with_wake_at(w)))
+        .collect();
     let n = grid.size();
     let spectrum = background_spectrum(config);
     let short_waves = ShortWaves::new(&spectrum);
@@ -200,7 +215,8 @@ pub fn simulate_surface(config: &WakelabConfig, map: Option<&SurfaceMap>) -> Sur
             })
         })
     };
-    let map = map.map(|m| crop_rows(m, grid.farthest_astern() + grid.pixel_spacing));
+    let farthest = wakes.iter().map(SceneGrid::farthest_astern).fold(f64::MIN, f64::max);
+    let map = map.map(|m| crop_rows(m, farthest + grid.pixel_spacing));
     let gamma: Option<SurfactantField> = map.as_ref().map(|m| redistribute_surfactant(m, speed));
     let ones = || Array2::from_elem((n, n), 1.0);
     let bragg = RadarBand::ALL
@@ -219,7 +235,8 @@ pub fn simulate_surface(config: &WakelabConfig, map: Option<&SurfaceMap>) -> Sur
             let (at_bragg, at_breaking) =
                 rayon::join(|| damping(towards.magnitude()), || damping(breakers.magnitude()));
             let wake = |rel: &Relaxation, damping: &Option<(&SurfaceMap, Vec<f64>)>| match damping {
-                Some((map, d)) => to_scene(&grid, map, &relax_short_waves(map, d, rel, speed), 1.0),
+                Some((map, d)) => to_scene(&wakes, map, &relax_short_waves(map, d, rel, speed), 1.0)
+                    .mapv_into(|r| r.min(1.0 / action::SATURATION)),
                 None => ones(),
             };
             let ((r_t, r_a), r_b) = rayon::join(
@@ -256,7 +273,10 @@ pub fn simulate_surface(config: &WakelabConfig, map: Option<&SurfaceMap>) -> Sur
                 .iter()
                 .map(|&v| v as f64)
                 .collect();
-            (to_scene(&grid, map, &gamma.gamma, 1.0), to_scene(&grid, map, &dt, 0.0))
+            (
+                to_scene(&wakes, map, &gamma.gamma, 1.0),
+                to_scene(&wakes, map, &dt, 0.0),
+            )
         }
         _ => (ones(), Array2::zeros((n, n))),
     };

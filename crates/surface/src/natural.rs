@@ -150,6 +150,7 @@ mod tests {
             along_track: 5000.0,
             cross_track: 0.0,
             heading,
+            other_wakes: Vec::new(),
         })
     }
 

@@ -223,6 +223,7 @@ mod tests {
             along_track: along,
             cross_track: cross,
             heading,
+            other_wakes: Vec::new(),
         })
     }
 

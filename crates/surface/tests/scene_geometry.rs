@@ -158,3 +158,55 @@ fn a_film_free_patch_is_rougher_and_bounded() {
         );
     }
 }
+
+/// Other wakes are the same wake placed again (`[[scene.other_wakes]]`): a scene whose own wake
+/// lies 8 km off it and whose other wake has a one-wake scene's placement holds that scene's
+/// wake, field for field; a scene of two wakes on different courses marks both lines, the union
+/// of the single wakes' masks (but where they cross); a misplaced other wake is refused by name.
+#[test]
+fn other_wakes_are_the_same_wake_placed_again() {
+    let scene = "[scene]\nsize = 128\npixel_spacing = 10.0\n";
+    let placed = |along: f64, cross: f64, heading: f64| {
+        format!("along_track = {along}\ncross_track = {cross}\nheading = {heading}\n")
+    };
+    let other =
+        |along: f64, cross: f64, heading: f64| format!("[[scene.other_wakes]]\n{}", placed(along, cross, heading));
+    let one = config(&format!("{scene}{}", placed(2500.0, 0.0, 33.0)));
+    let moved = config(&format!(
+        "{scene}{}{}",
+        placed(2500.0, 8000.0, 33.0),
+        other(2500.0, 0.0, 33.0)
+    ));
+    let (a, b) = (
+        simulate_surface(&one, Some(map())),
+        simulate_surface(&moved, Some(map())),
+    );
+    assert_eq!(a.temperature_anomaly, b.temperature_anomaly);
+    assert_eq!(a.surfactant, b.surfactant);
+    for (x, y) in a.bragg.iter().zip(&b.bragg) {
+        assert_eq!(x.modulation, y.modulation, "{:?}", x.band);
+        assert_eq!(x.breaking, y.breaking, "{:?}", x.band);
+    }
+
+    let crossing = config(&format!("{scene}{}", placed(2500.0, 0.0, 120.0)));
+    let both = config(&format!(
+        "{scene}{}{}",
+        placed(2500.0, 0.0, 33.0),
+        other(2500.0, 0.0, 120.0)
+    ));
+    let (m1, m2, m12) = (wake_mask(&one), wake_mask(&crossing), wake_mask(&both));
+    assert!(m1.iter().any(|&m| m) && m2.iter().any(|&m| m));
+    let agree = ndarray::Zip::from(&m1)
+        .and(&m2)
+        .and(&m12)
+        .fold(0usize, |n, &a, &b, &ab| n + usize::from((a || b) == ab));
+    assert!(
+        agree as f64 >= 0.98 * m12.len() as f64,
+        "{agree} of {} pixels",
+        m12.len()
+    );
+
+    let misplaced = format!("{BASE}{scene}{}{}", placed(2500.0, 0.0, 33.0), other(1.0e6, 0.0, 33.0));
+    let err = WakelabConfig::from_toml_str(&misplaced, "test").unwrap_err();
+    assert!(err.to_string().contains("scene.other_wakes[0].along_track"), "{err}");
+}

@@ -2,11 +2,12 @@
 //! chips wide, in every band, by the study's own "base" detectors.
 //!
 //! The scene is the study's first pair made large: its sea, wind and sensors, 8 x the chip's
-//! side (fewer where the study's wake is too short), natural slicks over a fifth of the sea and
-//! three wakes of the study's ship (`scene.other_wakes`): its own 4 km behind the stern crossing
-//! the centre at 30 degrees, one 6 km behind at 300 degrees and one 2.4 km behind at 160 degrees,
-//! each passing 0.4 of the half-side off the centre. Each single band's saved "base" detector (`learn/<band>/models/`, the last
-//! repetition's) scans it with windows of its input size at half that stride
+//! side (fewer where the study's wake is too short or the scene would pass [`MAX_SIDE`] pixels),
+//! natural slicks over a fifth of the sea and three wakes of the study's ship
+//! (`scene.other_wakes`): its own 4 km behind the stern crossing the centre at 30 degrees, one
+//! 6 km behind at 300 degrees and one 2.4 km behind at 160 degrees, each passing 0.4 of the
+//! half-side off the centre. Each single band's saved "base" detector (`learn/<band>/models/`,
+//! the last repetition's) scans it with windows of its input size at half that stride
 //! ([`wakelab_learn::detect::detect_image`]). Against the physics mask of that band the report
 //! gives whether the map's peak lies on the wake, the map's mean on and off the wake, and the
 //! share of off-wake cells above the threshold (false alarms, slicks among them).
@@ -24,10 +25,13 @@ use wakelab_learn::data::RadarScale;
 use wakelab_learn::detect::{detect_image, ScanOptions};
 use wakelab_learn::models::Architecture;
 use wakelab_learn::store::load_detector;
-use wakelab_schema::band::Band;
+use wakelab_schema::band::{Band, Input};
 
 /// The scene's side in chips.
 const CHIPS: usize = 8;
+/// Largest side of the scene (pixels): the paper study's 1024-pixel chips get a scene of two,
+/// whose surface and images take a few hundred MB, not the tens of GB of eight.
+const MAX_SIDE: usize = 2048;
 /// Distance of the scene centre behind the stern (m) and the ship's heading in it (degrees).
 const ALONG_TRACK: f64 = 4000.0;
 const HEADING: f64 = 30.0;
@@ -63,7 +67,7 @@ const OTHER_WAKES: [(f64, f64); 2] = [(300.0, 1.5), (160.0, 0.6)];
 /// The scene's configuration: the first pair's, made large, with slicks, its own wake at
 /// [`HEADING`] through the centre and two more ([`OTHER_WAKES`]) passing 0.4 of the half-side to
 /// either side of it; `(pair, chips)`. A study whose simulated wake is too short for a scene
-/// [`CHIPS`] chips wide at [`ALONG_TRACK`] gets the widest of 8, 4 or 2 chips that fits, centred
+/// [`CHIPS`] chips wide at [`ALONG_TRACK`] (or [`MAX_SIDE`] pixels) gets the widest of 8, 4 or 2 chips that fits, centred
 /// at 4 km or halfway along the wake, with its own wake alone if the others do not fit; None if
 /// nothing fits.
 fn scene_pair(study: &Study) -> Result<Option<(ScenePair, usize)>> {
@@ -72,7 +76,11 @@ fn scene_pair(study: &Study) -> Result<Option<(ScenePair, usize)>> {
     };
     let (ship, time) = (&first.config.ship, &first.config.time);
     let halfway = 0.5 * (0.5 * ship.length + ship.speed * time.duration);
-    for chips in [CHIPS, CHIPS / 2, CHIPS / 4] {
+    let chip = first.config.scene.size;
+    for chips in [CHIPS, CHIPS / 2, CHIPS / 4]
+        .into_iter()
+        .filter(|k| k * chip <= MAX_SIDE)
+    {
         for along_track in [ALONG_TRACK, halfway] {
             for others in [true, false] {
                 let mut pair = first.clone();
@@ -110,10 +118,8 @@ fn scene_pair(study: &Study) -> Result<Option<(ScenePair, usize)>> {
 pub fn scan_whole_scene(dir: &Path, study: &Study, run: &StudyRun) -> Result<Vec<WholeScene>> {
     let bands: Vec<Band> = run.inputs.iter().filter_map(|i| i.as_single()).collect();
     let model = |band: Band| {
-        dir.join("learn")
-            .join(band.name())
-            .join("models")
-            .join(format!("{band}_{}.safetensors", Architecture::Base))
+        let input = Input::single(band);
+        crate::output::detector_path(&dir.join("learn").join(input.name()), &input, Architecture::Base)
     };
     let bands: Vec<Band> = bands.into_iter().filter(|&b| model(b).exists()).collect();
     if bands.is_empty() {
@@ -273,4 +279,23 @@ pub fn whole_scene_html(scans: &[WholeScene]) -> Result<String> {
         s.push_str("</div>");
     }
     Ok(s)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use wakelab_data::study::{DEFAULT_STUDY, PAPER_STUDY};
+
+    /// The default study's scene is eight 32-pixel chips with its three wakes; the paper study's
+    /// 1024-pixel chips are capped at two (2048 pixels), and both configurations are valid.
+    #[test]
+    fn the_scene_fits_the_study_and_stays_bounded() {
+        for (text, name, side, wakes) in [(DEFAULT_STUDY, "default", 256, 3), (PAPER_STUDY, "paper", 2048, 3)] {
+            let study = Study::from_toml_str(text, name).unwrap();
+            let (pair, _) = scene_pair(&study).unwrap().expect("a scene fits");
+            assert_eq!(pair.config.scene.size, side, "{name}");
+            assert_eq!(pair.config.scene.wake_placements().len(), wakes, "{name}");
+            pair.config.validate().unwrap();
+        }
+    }
 }

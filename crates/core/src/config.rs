@@ -490,6 +490,18 @@ pub enum Polarisation {
     Hh,
 }
 
+/// `vv` or `hh`, in either case.
+impl std::str::FromStr for Polarisation {
+    type Err = String;
+    fn from_str(s: &str) -> Result<Self, Self::Err> {
+        match s.to_ascii_lowercase().as_str() {
+            "vv" => Ok(Self::Vv),
+            "hh" => Ok(Self::Hh),
+            _ => Err(format!("{s}: must be vv or hh")),
+        }
+    }
+}
+
 /// The SAR sensor (spec 3.1). With `looks = 0`, `noise_floor = false` and
 /// `velocity_bunching = false` it is the spec's perfect SAR.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]

@@ -50,6 +50,17 @@ impl RadarBand {
     }
 }
 
+/// A band by its name, in either case: `S`, `C` or `X`.
+impl std::str::FromStr for RadarBand {
+    type Err = String;
+    fn from_str(s: &str) -> Result<Self, Self::Err> {
+        Self::ALL
+            .into_iter()
+            .find(|b| b.name().eq_ignore_ascii_case(s))
+            .ok_or_else(|| format!("{s}: must be S, C or X"))
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -60,5 +71,12 @@ mod tests {
         let lambda = SPEED_OF_LIGHT / 5.3e9;
         let kb = RadarBand::C.bragg_wavenumber(30.0);
         assert!((2.0 * std::f64::consts::PI / kb - lambda).abs() < 1e-12);
+    }
+
+    #[test]
+    fn bands_parse_by_name_in_either_case() {
+        assert_eq!("c".parse::<RadarBand>(), Ok(RadarBand::C));
+        assert_eq!("X".parse::<RadarBand>(), Ok(RadarBand::X));
+        assert!("L".parse::<RadarBand>().unwrap_err().contains("S, C or X"));
     }
 }

@@ -262,11 +262,7 @@ pub fn write_surface_pictures(dir: &Path, map: &SurfaceMap) -> Result<Vec<PathBu
             cols: rows,
             title: format!("surface {name}"),
             units: units.into(),
-            colormap: if diverging {
-                Colormap::Diverging
-            } else {
-                Colormap::Sequential
-            },
+            colormap: Colormap::for_field(diverging),
             size: (1200, 300),
             caption: format!(
                 "{long}; x {:.0}..{:.0} m behind the stern (left to right); y {y_lo:.0}..{y_hi:.0} m (port at top)",
@@ -310,11 +306,7 @@ pub fn write_section_pictures(dir: &Path, grid: &CrossGrid, s: &CrossSection) ->
             cols: cols.len(),
             title: format!("{name} at t = {:.0} s", s.time),
             units: units.into(),
-            colormap: if diverging {
-                Colormap::Diverging
-            } else {
-                Colormap::Sequential
-            },
+            colormap: Colormap::for_field(diverging),
             size: (1000, 300),
             caption: format!("{long}; y {y0:.0}..{y1:.0} m (starboard to port), depth 0..{depth:.0} m"),
         };
@@ -381,11 +373,7 @@ pub fn write_idp_fields(dir: &Path, config: &WakelabConfig) -> Result<Vec<PathBu
             cols: ys.len(),
             title: format!("initial data plane {n}"),
             units: u.into(),
-            colormap: if diverging {
-                Colormap::Diverging
-            } else {
-                Colormap::Sequential
-            },
+            colormap: Colormap::for_field(diverging),
             size: (800, 400),
             caption: format!("{l}; y -30..30 m (starboard to port), depth 0..15 m"),
         };

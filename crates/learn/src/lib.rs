@@ -13,6 +13,8 @@ pub mod device;
 pub mod eval_options;
 pub mod evaluate;
 pub mod held_out;
+pub mod image_file;
+pub mod loss;
 pub mod masks;
 pub mod models;
 pub mod robustness;

@@ -77,6 +77,14 @@ impl Architecture {
     }
 }
 
+/// A name: `base`, `cls` or `unet`.
+impl std::str::FromStr for Architecture {
+    type Err = String;
+    fn from_str(s: &str) -> Result<Self, Self::Err> {
+        Self::parse(s.trim()).ok_or_else(|| format!("{s}: must be base, cls or unet"))
+    }
+}
+
 impl std::fmt::Display for Architecture {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
         f.pad(self.name())

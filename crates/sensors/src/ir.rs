@@ -13,14 +13,12 @@
 //! - Atmospheric transmission and path radiance (the other terms of Eq. (3.4)) are 1 and 0, as in
 //!   the spec; [`RadianceTerms`] keeps them apart so they can be added.
 
-use crate::image_formation::{form_ir_image, IrFormation};
+pub use crate::ir_image::{render_ir, IrImage, IrInfo, IrScene};
 use crate::optics::{reflectance_and_emissivity, seawater_index};
-use crate::planck::{band_radiance, brightness_temperature};
-use ndarray::Array2;
+use crate::planck::band_radiance;
 use serde::Serialize;
 use std::f64::consts::PI;
 use wakelab_core::WakelabConfig;
-use wakelab_surface::SurfaceScene;
 
 /// Radius of the sun and mean Sun-Earth distance (m).
 pub const SUN_RADIUS: f64 = 6.957e8;
@@ -224,7 +222,7 @@ impl IrView {
     /// The reflectance over the cosine of the local incidence and the sky's band radiance over
     /// the cosine of its zenith angle, tabulated at 4096 points in [0, 1] (values beyond an end
     /// are the end's).
-    fn tables(&self) -> (SmoothTable, SmoothTable) {
+    pub(crate) fn tables(&self) -> (SmoothTable, SmoothTable) {
         let (lo, hi) = self.band.range();
         (
             SmoothTable::new(0.0, 1.0, 4096, |c| reflectance_and_emissivity(self.index, c.acos()).0),
@@ -238,7 +236,7 @@ impl IrView {
 }
 
 /// A smooth function on [lo, hi] tabulated at `n` points, linear in between.
-struct SmoothTable {
+pub(crate) struct SmoothTable {
     lo: f64,
     per_step: f64,
     values: Vec<f64>,
@@ -253,7 +251,7 @@ impl SmoothTable {
         }
     }
 
-    fn at(&self, x: f64) -> f64 {
+    pub(crate) fn at(&self, x: f64) -> f64 {
         let last = (self.values.len() - 1) as f64;
         let x = ((x - self.lo) * self.per_step).clamp(0.0, last);
         let i = (x as usize).min(self.values.len() - 2);
@@ -263,7 +261,7 @@ impl SmoothTable {
 
     /// The x at which an increasing table takes the value y (linear in between), if y is
     /// inside the table: the brightness temperature of a radiance.
-    fn inverse(&self, y: f64) -> Option<f64> {
+    pub(crate) fn inverse(&self, y: f64) -> Option<f64> {
         let v = &self.values;
         if !(v[0]..=v[v.len() - 1]).contains(&y) {
             return None;
@@ -274,139 +272,19 @@ impl SmoothTable {
     }
 }
 
-/// One band's IR image: radiance and brightness temperature.
-#[derive(Debug, Clone)]
-pub struct IrImage {
-    pub band: IrBand,
-    /// Band radiance at the sensor (W m^-2 sr^-1), (rows, cols).
-    pub radiance: Array2<f64>,
-    /// Brightness temperature of that radiance (K), as the imager records it: with its noise
-    /// and point-spread function when `ir.noise` or `ir.resolution` ask (the radiance is the
-    /// scene's own).
-    pub brightness_temperature: Array2<f64>,
-    pub info: IrInfo,
-}
-
-/// Scalars of an IR image, for its metadata.
-#[derive(Debug, Clone, Serialize)]
-pub struct IrInfo {
-    pub band: &'static str,
-    pub wavelength_range_um: (f64, f64),
-    pub incidence_deg: f64,
-    pub look_direction_deg: f64,
-    pub sun_elevation_deg: f64,
-    pub sun_azimuth_deg: f64,
-    pub refractive_index: (f64, f64),
-    pub sea_surface_temperature_k: f64,
-    /// The flat, undisturbed sea's terms.
-    pub flat_sea: RadianceTerms,
-    /// The imager's NETD when its noise is on.
-    pub netd_k: Option<f64>,
-}
-
 /// Band radiance over temperature in [t0, t1] (K), tabulated in 0.01 K steps, linear in
 /// between.
-fn radiance_table(band: IrBand, t0: f64, t1: f64) -> SmoothTable {
+pub(crate) fn radiance_table(band: IrBand, t0: f64, t1: f64) -> SmoothTable {
     let step = 0.01;
     let (lo, hi) = band.range();
     let n = ((t1 - t0) / step).ceil() as usize + 2;
     SmoothTable::new(t0, t0 + (n - 1) as f64 * step, n, |t| band_radiance(lo, hi, t))
 }
 
-/// Render one IR band of `scene` (Algorithm 1; for both bands, [`IrScene`] shares their work).
-pub fn render_ir(config: &WakelabConfig, scene: &SurfaceScene, band: IrBand) -> IrImage {
-    IrScene::new(config, scene).render(band)
-}
-
-/// A scene as the infrared imager sees it in every band: the bands share every facet's
-/// band-free geometry (see [`IrView::geometry`]).
-pub type IrScene<'a> = crate::SensorScene<'a, Array2<FacetGeometry>>;
-
-impl IrScene<'_> {
-    /// One band's image.
-    pub fn render(&self, band: IrBand) -> IrImage {
-        let (config, scene) = (self.config, self.scene);
-        let view = IrView::new(config, band);
-        let geometry = self.shared.get_or_init(|| {
-            let surface = &scene.surface;
-            ndarray::Zip::from(&surface.slope_x)
-                .and(&surface.slope_y)
-                .par_map_collect(|&sx, &sy| {
-                    // the image's (east, north) gradient in the heading frame of the view
-                    let (gx, gy) = scene.grid.heading_frame(sx, sy);
-                    view.geometry(gx, gy)
-                })
-        });
-        let t_surface = config.environment.temperature.at_depth(0.0) + 273.15;
-        let (dmin, dmax) = scene
-            .temperature_anomaly
-            .iter()
-            .fold((0.0f64, 0.0f64), |(a, b), &v| (a.min(v), b.max(v)));
-        let table = radiance_table(band, t_surface + dmin - 1.0, t_surface + dmax + 1.0);
-        let (lo, hi) = band.range();
-        // reflectance and sky radiance tabulated finely in the cosines of their angles (within
-        // 1e-6 of the radiance: `tabulated_facets_match_the_exact_ones`); the sea's radiance from
-        // the temperature table
-        let (reflectance, sky) = view.tables();
-        let mut radiance = ndarray::Zip::from(geometry)
-            .and(&scene.temperature_anomaly)
-            .par_map_collect(|g, &dt| {
-                view.terms(g, table.at(t_surface + dt), |c| reflectance.at(c), |c| sky.at(c))
-                    .total()
-            });
-        if let Some(cover) = scene.kelvin.as_ref().and_then(|k| k.hull_cover.as_ref()) {
-            // the hull's sides: a grey body at its own temperature reflecting the horizon's sky
-            let k = &config.kelvin;
-            let hull = k.hull_emissivity * band_radiance(lo, hi, t_surface + k.hull_temperature_excess)
-                + (1.0 - k.hull_emissivity) * band_radiance(lo, hi, config.ir.sky_horizon_temperature);
-            radiance.zip_mut_with(cover, |r, &c| *r = (1.0 - c) * *r + c * hull);
-        }
-        // the inverse on a table over the image's own span of temperatures (a short search)
-        let (r_min, r_max) = radiance
-            .iter()
-            .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), &r| (a.min(r), b.max(r)));
-        let kelvin = |r: f64| brightness_temperature(lo, hi, r).clamp(150.0, 400.0);
-        let bt_table = radiance_table(
-            band,
-            (kelvin(r_min) - 0.05).max(150.0),
-            (kelvin(r_max) + 0.05).min(400.0),
-        );
-        let mut brightness = ndarray::Zip::from(&radiance)
-            .par_map_collect(|&r| bt_table.inverse(r).unwrap_or_else(|| brightness_temperature(lo, hi, r)));
-        let ir = &config.ir;
-        let resolution_pixels = ir.resolution / scene.grid.pixel_spacing;
-        if ir.noise || resolution_pixels > 1.0 {
-            let formation = IrFormation {
-                resolution_pixels,
-                netd: if ir.noise { ir.netd } else { 0.0 },
-            };
-            let seed = config.seed ^ (0x1A1A_0000 + band as u64);
-            brightness = form_ir_image(&brightness, formation, seed);
-        }
-        let flat = view.facet(0.0, 0.0, t_surface);
-        IrImage {
-            band,
-            radiance,
-            brightness_temperature: brightness,
-            info: IrInfo {
-                band: band.name(),
-                wavelength_range_um: band.range(),
-                incidence_deg: config.platform.incidence,
-                look_direction_deg: config.platform.look_direction,
-                sun_elevation_deg: config.ir.sun_elevation,
-                sun_azimuth_deg: config.ir.sun_azimuth,
-                refractive_index: (view.index.re, -view.index.im),
-                sea_surface_temperature_k: t_surface,
-                flat_sea: flat,
-                netd_k: ir.noise.then_some(ir.netd),
-            },
-        }
-    }
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::planck::brightness_temperature;
 
     /// The radiance table read backwards gives the brightness temperature that inverting the
     /// Planck band integral by bisection gives, within 1e-5 K, and nothing outside its span.

@@ -7,6 +7,7 @@ pub mod breaking;
 pub mod gmf;
 pub mod image_formation;
 pub mod ir;
+pub mod ir_image;
 pub mod optics;
 pub mod optics_report;
 pub mod output;

@@ -38,6 +38,26 @@ pub struct Sigma0Report {
     pub cmod5n_db: Option<f64>,
 }
 
+/// The [`Sigma0Report`] of a configuration's sea (its wind, swell, water and pixel spacing) in
+/// `band`, looking `look_from_wind_deg` degrees from the wind direction (0: down-wind), with the
+/// configured polarisation and incidence: what `wakelab sar sigma0` prints.
+pub fn sigma0_of_config(
+    cfg: &wakelab_core::WakelabConfig,
+    band: wakelab_core::units::RadarBand,
+    look_from_wind_deg: f64,
+) -> Sigma0Report {
+    let env = &cfg.environment;
+    sigma0_of_sea(
+        &wakelab_surface::background_spectrum(cfg),
+        band,
+        crate::sar_image::surface_permittivity(cfg, band),
+        cfg.sar.polarisation,
+        (env.wind.direction - look_from_wind_deg).to_radians(),
+        cfg.platform.incidence,
+        cfg.scene.pixel_spacing,
+    )
+}
+
 /// Compute the [`Sigma0Report`] of the undisturbed sea.
 pub fn sigma0_of_sea(
     spectrum: &SeaSpectrum,

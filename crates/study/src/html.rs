@@ -230,54 +230,25 @@ fn training_plots(run: &StudyRun) -> String {
 /// How the study's recipe departs from the spec's (4.1-4.2).
 fn recipe_note(plan: &LearningPlan) -> String {
     let spec = LearningPlan::default();
-    let mut changes = Vec::new();
-    let mut differ = |name: &str, ours: String, theirs: String| {
-        if ours != theirs {
-            changes.push(format!("{name} {ours} (spec: {theirs})"));
-        }
+    // (name, the study's value, the spec's value) of each setting of the recipe
+    let settings = |p: &LearningPlan| -> [(&'static str, String); 10] {
+        [
+            ("repetitions", p.repetitions.to_string()),
+            ("classifier epochs", p.epochs.to_string()),
+            ("augmentation", p.augmentation.name().to_string()),
+            ("classifier optimiser", p.optimiser.name().to_string()),
+            ("classifier learning rate", p.learning_rate.to_string()),
+            ("classifier weight decay", p.weight_decay.to_string()),
+            ("U-Net epochs", p.unet_epochs.to_string()),
+            ("U-Net Adam learning rate", p.unet_learning_rate.to_string()),
+            ("U-Net batch size", p.unet_batch_size.to_string()),
+            ("U-Net width", p.unet_width.to_string()),
+        ]
     };
-    differ(
-        "repetitions",
-        plan.repetitions.to_string(),
-        spec.repetitions.to_string(),
-    );
-    differ("classifier epochs", plan.epochs.to_string(), spec.epochs.to_string());
-    differ(
-        "augmentation",
-        plan.augmentation.name().to_string(),
-        spec.augmentation.name().to_string(),
-    );
-    differ(
-        "classifier optimiser",
-        plan.optimiser.name().to_string(),
-        spec.optimiser.name().to_string(),
-    );
-    differ(
-        "classifier learning rate",
-        plan.learning_rate.to_string(),
-        spec.learning_rate.to_string(),
-    );
-    differ(
-        "classifier weight decay",
-        plan.weight_decay.to_string(),
-        spec.weight_decay.to_string(),
-    );
-    differ(
-        "U-Net epochs",
-        plan.unet_epochs.to_string(),
-        spec.unet_epochs.to_string(),
-    );
-    differ(
-        "U-Net Adam learning rate",
-        plan.unet_learning_rate.to_string(),
-        spec.unet_learning_rate.to_string(),
-    );
-    differ(
-        "U-Net batch size",
-        plan.unet_batch_size.to_string(),
-        spec.unet_batch_size.to_string(),
-    );
-    differ("U-Net width", plan.unet_width.to_string(), spec.unet_width.to_string());
+    let changes: Vec<String> = (settings(plan).into_iter().zip(settings(&spec)))
+        .filter(|((_, ours), (_, theirs))| ours != theirs)
+        .map(|((name, ours), (_, theirs))| format!("{name} {ours} (spec: {theirs})"))
+        .collect();
     if changes.is_empty() {
         "<p>Training follows the spec's recipe (4.1): SGD lr 1e-3 with L2 0.1 for 60 epochs; the U-Net by \
          Adam lr 1e-4 for 60 epochs; 5 repetitions.</p>"

@@ -18,6 +18,7 @@
 //! input and wakelab's version) matches the one stored beside its outputs; the dataset stage
 //! skips every finished scene. Fusion and the report are cheap and always rebuilt.
 
+pub mod dataset;
 mod held_out;
 mod html;
 pub mod learning;
@@ -150,6 +151,16 @@ pub struct StudyOutcome {
     pub files: Vec<PathBuf>,
     /// Wall time of the whole run (s).
     pub seconds: f64,
+}
+
+impl StudyOutcome {
+    /// Each stage's time, the run's and the files written, a line each.
+    pub fn describe(&self, study_name: &str) -> String {
+        let mut lines: Vec<String> = self.run.times.iter().map(|t| format!("  {t}")).collect();
+        lines.push(format!("study \"{study_name}\" finished in {:.1} s", self.seconds));
+        lines.extend(self.files.iter().map(|f| format!("wrote {}", f.display())));
+        lines.join("\n")
+    }
 }
 
 /// `wakelab run`: every stage of `study` in `dir` (reusing what is finished), then the report.

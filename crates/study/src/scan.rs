@@ -71,6 +71,33 @@ pub struct ScanFiles {
     pub mask: Option<PathBuf>,
 }
 
+/// Where `wakelab detect` writes the scan of `image` unless told: `detect-<image name>` in the
+/// current directory.
+pub fn default_scan_dir(image: &Path) -> PathBuf {
+    let stem = image.file_stem().map(|s| s.to_string_lossy().into_owned());
+    PathBuf::from(format!("detect-{}", stem.unwrap_or_else(|| "image".into())))
+}
+
+/// `detect --mask PATH`: the U-Net's stitched mask of `detection` as a PNG at `path`; a note
+/// when the detector (of `architecture`, read from `model`) draws no mask.
+pub fn write_asked_mask(
+    path: &Path,
+    detection: &Detection,
+    model: &Path,
+    architecture: &str,
+) -> Result<Option<String>> {
+    Ok(match &detection.mask {
+        Some(m) => {
+            crate::learning::write_mask_png(path, m)?;
+            None
+        }
+        None => Some(format!(
+            "note: --mask needs a \"unet\" detector; {} is \"{architecture}\"",
+            model.display()
+        )),
+    })
+}
+
 /// The scan of `image` (read from `image_path`, band `band`, radar pixels in `scale`) by
 /// `model`, written into `dir`.
 pub fn write_scan(

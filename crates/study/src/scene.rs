@@ -16,6 +16,17 @@ pub struct RenderedScene {
     pub sensor_seconds: f64,
 }
 
+impl RenderedScene {
+    /// What was rendered and how long it took, a line a stage.
+    pub fn describe(&self, cfg: &WakelabConfig) -> String {
+        let (n, dx) = (cfg.scene.size, cfg.scene.pixel_spacing);
+        format!(
+            "sea surface: {n} x {n} scene at {dx:.1} m, {:.1} s\nSAR (S, C, X) and IR (MWIR, LWIR) images: {:.1} s",
+            self.surface_seconds, self.sensor_seconds
+        )
+    }
+}
+
 /// The surface stage on the wake's surface map, then every band's image, written into `dir`.
 pub fn render_scene(cfg: &WakelabConfig, map: &wakelab_hydro::SurfaceMap, dir: &Path) -> Result<RenderedScene> {
     let start = Instant::now();
@@ -45,6 +56,18 @@ pub struct SimulatedWake {
     pub map: wakelab_hydro::SurfaceMap,
     pub files: Vec<PathBuf>,
     pub steps: usize,
+}
+
+impl SimulatedWake {
+    /// How much wake was simulated, in how many steps and `seconds` of wall time.
+    pub fn describe(&self, cfg: &WakelabConfig, seconds: f64) -> String {
+        let duration = cfg.time.duration;
+        let km = cfg.ship.speed * duration / 1000.0;
+        format!(
+            "wake simulated: {duration:.0} s of wake ({km:.1} km) in {} steps, {seconds:.1} s wall",
+            self.steps
+        )
+    }
 }
 
 /// The hydro stage (spec 2.1) in `dir` with the configuration beside its files, showing the

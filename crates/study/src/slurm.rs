@@ -30,6 +30,47 @@ pub struct SlurmRun {
     pub cpus: usize,
 }
 
+impl SlurmRun {
+    /// The run of `study` (named `name` by the user) into `dir` from this executable, with
+    /// absolute paths so that jobs may start anywhere: `tasks` dataset tasks (default 16, at
+    /// most one a pair) of `cpus` cores (default 2).
+    pub fn new(
+        name: &str,
+        study: &Study,
+        dir: &Path,
+        device: &str,
+        tasks: Option<usize>,
+        cpus: Option<usize>,
+    ) -> Result<Self> {
+        let (tasks, cpus) = (tasks.unwrap_or(16), cpus.unwrap_or(2));
+        if !(1..=100_000).contains(&tasks) {
+            anyhow::bail!("--tasks {tasks}: must be in [1, 100000]");
+        }
+        if !(1..=1024).contains(&cpus) {
+            anyhow::bail!("--cpus {cpus}: must be in [1, 1024]");
+        }
+        let path = Path::new(name);
+        Ok(Self {
+            study: if path.exists() {
+                std::path::absolute(path)?.display().to_string()
+            } else {
+                name.to_string()
+            },
+            out: std::path::absolute(dir)?,
+            wakelab: std::env::current_exe()?,
+            device: device.to_string(),
+            tasks: tasks.min(study.pairs()?.len()),
+            cpus,
+        })
+    }
+
+    /// How many jobs the script chains after the dataset's: one per input, one for the
+    /// held-out environments.
+    pub fn learning_jobs(study: &Study) -> usize {
+        slurm_inputs(study).len() + usize::from(!study.learning.held_out.is_empty())
+    }
+}
+
 /// Characters that would end the double-quoted `--wrap` command or the single quotes around a path.
 const UNQUOTABLE: [char; 5] = ['\'', '"', '$', '`', '\\'];
 

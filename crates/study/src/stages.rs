@@ -99,6 +99,24 @@ pub fn study_inputs(plan: &LearningPlan, dataset: &Dataset) -> Vec<Input> {
     inputs
 }
 
+/// What `wakelab eval --study NAME` runs: the recipe of study `name`'s `[learning]` table, for
+/// `architectures` and for `bands` (comma-separated inputs) or else the study's own inputs.
+pub fn study_eval_options(
+    name: &str,
+    dataset: &Dataset,
+    architectures: &[wakelab_schema::results::Architecture],
+    bands: Option<&str>,
+) -> Result<EvalOptions> {
+    let study = crate::load_study(name)?;
+    let mut options = eval_options(&study.learning, dataset);
+    options.architectures = architectures.to_vec();
+    options.band_sets = match bands {
+        Some(_) => dataset.inputs(bands)?,
+        None => study_inputs(&study.learning, dataset),
+    };
+    Ok(options)
+}
+
 /// The evaluation options of a study's `[learning]` table.
 pub fn eval_options(plan: &LearningPlan, dataset: &Dataset) -> EvalOptions {
     let mut perturbations: Vec<Perturbation> = plan
@@ -330,6 +348,23 @@ pub enum OneStage {
     Learning(Input),
     /// The held-out environment and geometry tests (stage 3).
     HeldOut,
+}
+
+impl OneStage {
+    /// The stage that `wakelab run --stage learning|held-out [--input NAME]` names (`held_out`
+    /// false: learning), or none without `--stage`; an error for a missing or misplaced input.
+    pub fn from_flags(stage: Option<bool>, input: Option<&str>) -> Result<Option<Self>> {
+        Ok(match (stage, input) {
+            (None, None) => None,
+            (None, Some(_)) => anyhow::bail!("--input names the input of `--stage learning`"),
+            (Some(false), None) => anyhow::bail!("--stage learning needs --input NAME (e.g. S or S+X)"),
+            (Some(false), Some(text)) => Some(OneStage::Learning(text.parse().map_err(|e| {
+                anyhow::anyhow!("--input {text}: {e}; a band (S, C, X, MWIR, LWIR) or bands joined by +")
+            })?)),
+            (Some(true), None) => Some(OneStage::HeldOut),
+            (Some(true), Some(_)) => anyhow::bail!("--input belongs to `--stage learning`, not held-out"),
+        })
+    }
 }
 
 /// Run `stage` of `study` in the run directory `dir` and cache its results there.

@@ -43,12 +43,8 @@ impl ConfigArgs {
     /// The configuration with the command line's --wind and --incidence applied, validated.
     pub fn load_with(&self, wind: Option<f64>, incidence: Option<f64>) -> Result<WakelabConfig> {
         let mut cfg = self.load()?;
-        if let Some(w) = wind {
-            cfg.environment.wind.speed = w;
-        }
-        if let Some(i) = incidence {
-            cfg.platform.incidence = i;
-        }
+        cfg.environment.wind.speed = wind.unwrap_or(cfg.environment.wind.speed);
+        cfg.platform.incidence = incidence.unwrap_or(cfg.platform.incidence);
         cfg.validate()?;
         Ok(cfg)
     }
@@ -257,7 +253,7 @@ pub struct TrainArgs {
     pub learn: LearnArgs,
     /// Architecture: base, cls or unet (Table 4.1).
     #[arg(long, default_value = "base")]
-    pub arch: String,
+    pub arch: wakelab_schema::results::Architecture,
     /// Model file (default: OUT/BANDS_ARCH.safetensors).
     #[arg(long, value_name = "FILE")]
     pub model: Option<PathBuf>,
@@ -269,8 +265,8 @@ pub struct EvalArgs {
     #[command(flatten)]
     pub learn: LearnArgs,
     /// Architectures, comma-separated.
-    #[arg(long, default_value = "base,cls,unet")]
-    pub arch: String,
+    #[arg(long, default_value = "base,cls,unet", value_delimiter = ',')]
+    pub arch: Vec<wakelab_schema::results::Architecture>,
     /// Repetitions of Algorithm 2 (spec: 5).
     #[arg(long, default_value_t = wakelab_schema::recipe::REPETITIONS)]
     pub repetitions: usize,
@@ -340,10 +336,10 @@ pub struct Sigma0Args {
     pub wind: Option<f64>,
     /// Band: S, C or X.
     #[arg(long, default_value = "C")]
-    pub band: String,
+    pub band: wakelab_core::units::RadarBand,
     /// Polarisation: vv or hh; default: sar.polarisation.
     #[arg(long)]
-    pub polarisation: Option<String>,
+    pub polarisation: Option<wakelab_core::config::Polarisation>,
     /// Incidence angle (degrees); default: platform.incidence.
     #[arg(long, value_name = "DEG")]
     pub incidence: Option<f64>,

@@ -13,8 +13,8 @@ use wakelab_learn::models::Architecture;
 use wakelab_learn::store::load_detector;
 use wakelab_learn::train::Recipe;
 use wakelab_schema::recipe;
-use wakelab_study::learning::{evaluate_into, summary_table, total_epochs, train_into, write_mask_png};
-use wakelab_study::scan::write_scan;
+use wakelab_study::learning::{evaluate_into, summary_table, total_epochs, train_into};
+use wakelab_study::scan::{write_asked_mask, write_scan};
 
 /// Options shared by `train` and `eval`.
 #[derive(clap::Args, Debug, Clone)]
@@ -71,11 +71,6 @@ pub struct LearnArgs {
     pub quiet: bool,
 }
 
-fn parse_architectures(text: &str) -> Result<Vec<Architecture>> {
-    Architecture::parse_list(text)
-        .map_err(|a| anyhow::anyhow!("--arch {a}: must be base, cls or unet (comma-separated)"))
-}
-
 impl LearnArgs {
     fn options(&self, dataset: &Dataset, architectures: Vec<Architecture>, repetitions: usize) -> Result<EvalOptions> {
         Ok(EvalOptions {
@@ -117,21 +112,12 @@ fn epoch_bar(quiet: bool, total: u64) -> ProgressBar {
 
 /// `wakelab eval`: Algorithm 2 on a dataset.
 pub fn run_eval(eval: &EvalArgs) -> Result<()> {
-    let (args, arch, repetitions, json) = (&eval.learn, eval.arch.as_str(), eval.repetitions, eval.json);
+    let (args, json) = (&eval.learn, eval.json);
     let dataset = Dataset::open(&args.dataset)?;
     let device = parse_device(&args.device)?;
     let options = match &eval.study {
-        None => args.options(&dataset, parse_architectures(arch)?, repetitions)?,
-        Some(name) => {
-            let study = wakelab_study::load_study(name)?;
-            let mut options = wakelab_study::stages::eval_options(&study.learning, &dataset);
-            options.architectures = parse_architectures(arch)?;
-            options.band_sets = match &args.bands {
-                Some(_) => dataset.inputs(args.bands.as_deref())?,
-                None => wakelab_study::stages::study_inputs(&study.learning, &dataset),
-            };
-            options
-        }
+        None => args.options(&dataset, eval.arch.clone(), eval.repetitions)?,
+        Some(name) => wakelab_study::stages::study_eval_options(name, &dataset, &eval.arch, args.bands.as_deref())?,
     };
     options.validate()?;
     let bar = epoch_bar(args.quiet, total_epochs(&options));
@@ -162,13 +148,9 @@ pub fn run_eval(eval: &EvalArgs) -> Result<()> {
 
 /// `wakelab train`: one detector on the dataset's training split, tested on its test split.
 pub fn run_train(train: &TrainArgs) -> Result<()> {
-    let (args, arch, model) = (&train.learn, train.arch.as_str(), train.model.as_deref());
+    let (args, architecture, model) = (&train.learn, train.arch, train.model.as_deref());
     let dataset = Dataset::open(&args.dataset)?;
     let device = parse_device(&args.device)?;
-    let architecture = parse_architectures(arch)?;
-    let [architecture] = architecture[..] else {
-        anyhow::bail!("--arch {arch}: `train` trains one architecture (base, cls or unet)");
-    };
     let options = args.options(&dataset, vec![architecture], 1)?;
     options.validate()?;
     let [bands] = &options.band_sets[..] else {
@@ -185,14 +167,7 @@ pub fn run_train(train: &TrainArgs) -> Result<()> {
         &device,
         &mut |network, e| {
             bar.inc(1);
-            bar.set_message(format!(
-                "{} {network} epoch {} loss {:.3} acc {:.0}% {:.1} img/s",
-                bands,
-                e.epoch,
-                e.loss,
-                100.0 * e.accuracy,
-                e.images_per_second
-            ));
+            bar.set_message(format!("{bands} {network} {}", e.describe()));
         },
     )?;
     bar.finish_and_clear();
@@ -227,19 +202,13 @@ pub fn run_detect(args: &DetectArgs) -> Result<()> {
     })?;
     bar.finish_and_clear();
     let band = info.bands.as_single().expect("detect_image checked a single band");
-    let dir = args.out.clone().unwrap_or_else(|| {
-        let stem = args.image.file_stem().map(|s| s.to_string_lossy().into_owned());
-        PathBuf::from(format!("detect-{}", stem.unwrap_or_else(|| "image".into())))
-    });
+    let dir = (args.out.clone()).unwrap_or_else(|| wakelab_study::scan::default_scan_dir(&args.image));
     let files = write_scan(&dir, &args.image, &args.model, &pixels, band, args.scale, &detection)?;
-    match (&args.mask, &detection.mask) {
-        (Some(path), Some(m)) => write_mask_png(path, m)?,
-        (Some(_), None) => eprintln!(
-            "note: --mask needs a \"unet\" detector; {} is \"{}\"",
-            args.model.display(),
-            info.architecture
-        ),
-        _ => {}
+    if let Some(path) = &args.mask {
+        let architecture = info.architecture.to_string();
+        if let Some(note) = write_asked_mask(path, &detection, &args.model, &architecture)? {
+            eprintln!("{note}");
+        }
     }
     if args.json {
         println!("{}", serde_json::to_string_pretty(&detection)?);

@@ -13,18 +13,8 @@ pub fn run_pipeline(args: &RunArgs) -> Result<()> {
     let start = Instant::now();
     let map = run_wake(&cfg, &dir, args.quiet)?;
     let rendered = wakelab_study::scene::render_scene(&cfg, &map, &dir)?;
-    eprintln!(
-        "sea surface: {n} x {n} scene at {:.1} m, {:.1} s",
-        cfg.scene.pixel_spacing,
-        rendered.surface_seconds,
-        n = cfg.scene.size
-    );
-    eprintln!(
-        "SAR (S, C, X) and IR (MWIR, LWIR) images: {:.1} s",
-        rendered.sensor_seconds
-    );
-    let files = rendered.files;
-    for f in files {
+    eprintln!("{}", rendered.describe(&cfg));
+    for f in &rendered.files {
         eprintln!("wrote {}", f.display());
     }
     eprintln!(
@@ -45,14 +35,7 @@ pub fn run_wake_only(args: &RunArgs) -> Result<()> {
 pub fn run_wake(cfg: &WakelabConfig, dir: &Path, quiet: bool) -> Result<wakelab_hydro::SurfaceMap> {
     let start = Instant::now();
     let wake = wakelab_study::scene::simulate_wake(cfg, dir, quiet)?;
-    let duration = cfg.time.duration;
-    eprintln!(
-        "wake simulated: {:.0} s of wake ({:.1} km) in {} steps, {:.1} s wall",
-        duration,
-        cfg.ship.speed * duration / 1000.0,
-        wake.steps,
-        start.elapsed().as_secs_f64()
-    );
+    eprintln!("{}", wake.describe(cfg, start.elapsed().as_secs_f64()));
     for f in &wake.files {
         eprintln!("wrote {}", f.display());
     }

@@ -8,69 +8,28 @@ use wakelab_core::config::Preset;
 use wakelab_study::slurm::{write_slurm_script, SlurmRun};
 use wakelab_study::stages::OneStage;
 
-/// The stage of `--stage` (and `--input`), if any.
-fn one_stage(args: &StudyArgs) -> Result<Option<OneStage>> {
-    Ok(match (args.stage, &args.input) {
-        (None, None) => None,
-        (None, Some(_)) => anyhow::bail!("--input names the input of `--stage learning`"),
-        (Some(StageName::Learning), None) => anyhow::bail!("--stage learning needs --input NAME (e.g. S or S+X)"),
-        (Some(StageName::Learning), Some(text)) => {
-            Some(OneStage::Learning(text.parse().map_err(|e| {
-                anyhow::anyhow!("--input {text}: {e}; a band (S, C, X, MWIR, LWIR) or bands joined by +")
-            })?))
-        }
-        (Some(StageName::HeldOut), None) => Some(OneStage::HeldOut),
-        (Some(StageName::HeldOut), Some(_)) => anyhow::bail!("--input belongs to `--stage learning`, not held-out"),
-    })
-}
-
-/// `wakelab run --emit-slurm`: the script, with absolute paths so that jobs may start anywhere.
+/// `wakelab run --emit-slurm`.
 fn emit_slurm(args: &StudyArgs, name: &str, study: &wakelab_data::study::Study, dir: &std::path::Path) -> Result<()> {
-    let pairs = study.pairs()?.len();
-    let tasks = args.tasks.unwrap_or(16);
-    let cpus = args.cpus.unwrap_or(2);
-    if !(1..=100_000).contains(&tasks) {
-        anyhow::bail!("--tasks {tasks}: must be in [1, 100000]");
-    }
-    if !(1..=1024).contains(&cpus) {
-        anyhow::bail!("--cpus {cpus}: must be in [1, 1024]");
-    }
-    let path = std::path::Path::new(name);
-    let run = SlurmRun {
-        study: if path.exists() {
-            std::path::absolute(path)?.display().to_string()
-        } else {
-            name.to_string()
-        },
-        out: std::path::absolute(dir)?,
-        wakelab: std::env::current_exe()?,
-        device: args.device.clone(),
-        tasks: tasks.min(pairs),
-        cpus,
-    };
+    let run = SlurmRun::new(name, study, dir, &args.device, args.tasks, args.cpus)?;
     let script = write_slurm_script(study, &run)?;
     eprintln!(
-        "wrote {} ({pairs} pairs over {} dataset tasks, {} learning jobs); submit it with `bash {}`",
+        "wrote {} ({} pairs over {} dataset tasks, {} learning jobs); submit it with `bash {}`",
         script.display(),
+        study.pairs()?.len(),
         run.tasks,
-        wakelab_study::slurm::slurm_inputs(study).len() + usize::from(!study.learning.held_out.is_empty()),
+        SlurmRun::learning_jobs(study),
         script.display()
     );
     Ok(())
 }
 
 pub fn run_study_command(args: &StudyArgs) -> Result<()> {
-    let name = match (&args.study, args.preset) {
-        (Some(s), _) => s.clone(),
-        (None, Some(Preset::Paper)) => "paper".to_string(),
-        (None, _) => "default".to_string(),
-    };
+    let paper = args.preset == Some(Preset::Paper);
+    let name = (args.study.clone()).unwrap_or_else(|| if paper { "paper" } else { "default" }.into());
     let study = wakelab_study::load_study(&name)?;
-    let dir = args
-        .out
-        .clone()
-        .unwrap_or_else(|| PathBuf::from("runs").join(&study.study.name));
-    let stage = one_stage(args)?;
+    let dir = (args.out.clone()).unwrap_or_else(|| PathBuf::from("runs").join(&study.study.name));
+    let held_out = args.stage.map(|s| s == StageName::HeldOut);
+    let stage = OneStage::from_flags(held_out, args.input.as_deref())?;
     if args.emit_slurm {
         if stage.is_some() || args.input.is_some() {
             anyhow::bail!("--emit-slurm writes the script of every stage: leave out --stage and --input");
@@ -88,12 +47,6 @@ pub fn run_study_command(args: &StudyArgs) -> Result<()> {
     }
     let outcome = wakelab_study::run_study(&study, &dir, &device, args.quiet)?;
     wakelab_study::report::print_summary(&outcome.run);
-    for t in &outcome.run.times {
-        eprintln!("  {t}");
-    }
-    eprintln!("study \"{}\" finished in {:.1} s", study.study.name, outcome.seconds);
-    for f in outcome.files {
-        eprintln!("wrote {}", f.display());
-    }
+    eprintln!("{}", outcome.describe(&study.study.name));
     Ok(())
 }

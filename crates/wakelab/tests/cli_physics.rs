@@ -267,5 +267,5 @@ fn sar_sigma0_and_optics_print_their_json() {
     assert_eq!(v["flat_sea_radiance"].as_array().unwrap().len(), 2);
 
     let bad = wakelab(&["sar", "sigma0", "--band", "K"]);
-    assert!(!bad.status.success() && stderr(&bad).contains("--band K"));
+    assert!(!bad.status.success() && stderr(&bad).contains("'K' for '--band"));
 }

@@ -22,6 +22,15 @@ pub enum Colormap {
 }
 
 impl Colormap {
+    /// The colour map of a field: diverging for a signed field, sequential for a magnitude.
+    pub fn for_field(signed: bool) -> Self {
+        if signed {
+            Colormap::Diverging
+        } else {
+            Colormap::Sequential
+        }
+    }
+
     /// Colour of `t` in [0, 1].
     pub fn colour(&self, t: f64) -> [u8; 3] {
         const VIRIDIS: [[f64; 3]; 9] = [

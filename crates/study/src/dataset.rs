@@ -1,0 +1,57 @@
+//! `wakelab dataset`: a study rendered into a labelled dataset directory (its pairs or one
+//! shard of them), a progress bar on the way and the stage's timing written beside it.
+
+use crate::Result;
+use std::path::{Path, PathBuf};
+use std::time::Instant;
+use wakelab_core::io::write_atomically;
+use wakelab_data::study::Study;
+use wakelab_data::{Progress, Shard};
+
+/// Render the pairs of `study` (those of `shard`, or all) into `out`, skipping finished
+/// scenes, and write `timing.json`; what it did, in one line.
+pub fn render_dataset(study: &Study, out: &Path, shard: Option<Shard>, quiet: bool) -> Result<String> {
+    let start = Instant::now();
+    let template = "{spinner} {msg} [{bar:40}] {pos}/{len} | {per_sec} | {elapsed_precise}, {eta} left";
+    let bar = crate::progress_bar(quiet, study.pairs()?.len() as u64, template);
+    bar.set_message("hydro");
+    let times = wakelab_data::run_study(study, out, shard, None, &|p| match p {
+        Progress::Hydro { done, total } => bar.set_message(format!("hydro {done}/{total}")),
+        Progress::Scene { done, total } => {
+            bar.set_message("scene pairs");
+            bar.set_length(total as u64);
+            bar.set_position(done as u64);
+        }
+    })?;
+    bar.finish_and_clear();
+    write_atomically(
+        out.join("timing.json"),
+        serde_json::to_string_pretty(&times)?.as_bytes(),
+    )?;
+    Ok(times.describe(start.elapsed().as_secs_f64()))
+}
+
+/// Gather the finished scenes of `out` into its manifest and splits; what it found, in one line.
+pub fn merge_dataset(study: &Study, out: &Path) -> Result<String> {
+    let records = wakelab_data::write_manifest(study, out)?;
+    let expected = 2 * study.pairs()?.len();
+    Ok(format!(
+        "manifest: {} scenes ({expected} expected) in {}",
+        records.len(),
+        out.display()
+    ))
+}
+
+/// Write the Slurm job-array script of the dataset stage (`tasks` tasks, at most one a pair)
+/// into `out`; its path and what it holds, in one line.
+pub fn emit_dataset_slurm(study: &Study, name: &str, out: &Path, tasks: usize) -> Result<(PathBuf, String)> {
+    if !(1..=100_000).contains(&tasks) {
+        anyhow::bail!("--tasks {tasks}: must be in [1, 100000]");
+    }
+    let pairs = study.pairs()?.len();
+    let tasks = tasks.min(pairs);
+    let exe = std::env::current_exe()?.display().to_string();
+    let path = wakelab_data::slurm::write_slurm_script(Path::new(name), out, tasks, &exe)?;
+    let line = format!("wrote {} ({pairs} pairs over {tasks} tasks)", path.display());
+    Ok((path, line))
+}

@@ -1,0 +1,263 @@
+//! `wakelab run` as a user runs it: the whole study, its stages reused, its tables repeated.
+
+mod common;
+
+use common::*;
+use std::path::Path;
+
+/// A study small enough for a test: 2 wind speeds x 2 seeds of 32 x 32 pixels in S, X and LWIR,
+/// trained a few epochs with a narrow U-Net.
+const TINY_STUDY: &str = "[study]\nname = \"tiny\"\ncombine = \"product\"\nseeds = 3\ntest_fraction = 0.34\n\
+    grouped_split = false\nmin_visibility = 0.0\nmixed_layer_depth = 20.0\nbands = [\"S\", \"X\", \"LWIR\"]\n\
+    [axes]\nwind_speed = [5.0, 8.0]\nimage_size = [32]\npixel_spacing = [20.0]\nalong_track = [2000.0]\n\
+    [draws]\nheading = [0.0, 360.0]\n[base]\npreset = \"quick\"\n[base.time]\nduration = 600.0\n\
+    [learning]\nrepetitions = 2\nepochs = 2\nlearning_rate = 1e-2\nunet_epochs = 1\nunet_learning_rate = 1e-3\n\
+    unet_width = 4\nrotations = [30.0]\nheld_out = \"wind_speed\"\n";
+
+#[test]
+fn run_does_the_whole_study_reuses_its_stages_and_repeats_its_tables() {
+    let dir = tempfile::tempdir().unwrap();
+    let study = dir.path().join("tiny.toml");
+    std::fs::write(&study, TINY_STUDY).unwrap();
+    let run = |out: &Path| {
+        let o = run_study(&study, out, &["--quiet"]);
+        assert!(o.status.success(), "{}", stderr(&o));
+        o
+    };
+    let (first, second) = (dir.path().join("a"), dir.path().join("b"));
+    let o = run(&first);
+    // the headline table names every input and the decision-level fusions
+    for needle in ["S+X", "Bayes classifier (S, X)", "Dempster-Shafer (S, X)", "LWIR"] {
+        assert!(stdout(&o).contains(needle), "{needle}: {}", stdout(&o));
+    }
+    let report = first.join("report");
+    let html = std::fs::read_to_string(report.join("report.html")).unwrap();
+    for figure in [
+        "sigma0_vs_cmod5n_upwind",
+        "sigma0_vs_cmod5n_crosswind",
+        "across_wake_contrast",
+    ] {
+        let svg = std::fs::read_to_string(report.join(format!("{figure}.svg"))).unwrap();
+        assert!(svg.starts_with("<svg"), "{figure}");
+    }
+    // self-contained: every picture inline, nothing fetched from the network
+    let namespaces = html.matches("xmlns=\"http://www.w3.org/2000/svg\"").count();
+    assert_eq!(
+        html.matches("http://").count(),
+        namespaces,
+        "only SVG namespaces, no links"
+    );
+    assert!(!html.contains("https://") && !html.contains("<script"));
+    // the grid of test scenes: per band and wind, base's highest and lowest wake and no-wake
+    // test scene, each with every architecture's verdict; as a table and as thumbnails
+    let grid = std::fs::read_to_string(report.join("tables/test_scenes.csv")).unwrap();
+    let cells: Vec<Vec<&str>> = grid.lines().skip(1).map(|l| l.split(',').collect()).collect();
+    assert!(!cells.is_empty(), "{grid}");
+    let score = |c: &Vec<&str>| c[7].split(' ').next().unwrap().parse::<f64>().unwrap();
+    for c in &cells {
+        assert_eq!(c.len(), 10, "{c:?}");
+        assert_eq!(c[3].ends_with("-w"), c[2].starts_with("wake"), "{c:?}");
+        assert!(
+            c[7..].iter().all(|v| v.ends_with(" right") || v.ends_with(" wrong")),
+            "{c:?}"
+        );
+    }
+    for pair in cells.windows(2) {
+        let (a, b) = (&pair[0], &pair[1]);
+        if a[..2] == b[..2] && a[2].contains("highest") && b[2].contains("lowest") && a[2][..4] == b[2][..4] {
+            assert!(score(a) >= score(b), "{a:?} {b:?}");
+        }
+    }
+    // the whole-scene scan: a row per single band (S, X, LWIR), three pictures each
+    let whole = std::fs::read_to_string(report.join("tables/whole_scene.csv")).unwrap();
+    let scanned: Vec<Vec<&str>> = whole.lines().skip(1).map(|l| l.split(',').collect()).collect();
+    assert_eq!(
+        scanned.iter().map(|r| r[0]).collect::<Vec<_>>(),
+        ["S", "X", "LWIR"],
+        "{whole}"
+    );
+    for r in &scanned {
+        let p: f64 = r[1].parse().unwrap();
+        assert!((0.0..=1.0).contains(&p) && ["yes", "no"].contains(&r[2]), "{r:?}");
+    }
+    assert_eq!(
+        html.matches("src=\"data:image/png;base64,").count(),
+        3 * 3 + cells.len() + 3 * scanned.len(),
+        "wake, no wake, mask per band, the test scenes, and the whole scene per band"
+    );
+    assert_eq!(
+        html.matches("<svg").count(),
+        3 + 4 + 3,
+        "ROC per architecture, training curves per network, sigma0 against CMOD5.N up- and cross-wind, \
+         the across-wake contrast"
+    );
+    assert!(html.contains("CMOD5.N 10<") && html.contains("Across-wake contrast"));
+    for needle in [
+        "Table 4.4",
+        "Table 4.6",
+        "Table 5.1",
+        "Table 5.3",
+        "SAR + IR fusion",
+        "Robustness",
+        "rotate_30",
+        "held-out environment",
+        "Wall time per stage",
+    ] {
+        assert!(html.contains(needle), "report lacks {needle}");
+    }
+    for t in [
+        "table_4_4_base",
+        "table_5_2_cls",
+        "sar_ir_fusion",
+        "confusion",
+        "robustness",
+        "mask_iou",
+        "test_scenes",
+        "whole_scene",
+        "timing",
+    ] {
+        assert!(report.join("tables").join(format!("{t}.csv")).exists(), "{t}.csv");
+    }
+    // robustness: every perturbation and the held-out wind speeds have numbers for "base" on S
+    let robustness = std::fs::read_to_string(report.join("tables/robustness.csv")).unwrap();
+    let row = robustness.lines().find(|l| l.starts_with("base,S,")).unwrap();
+    assert_eq!(
+        row.split(',').filter(|c| c.contains('±')).count(),
+        1 + 4 + 2,
+        "clean, rotate_30, drop, noise, shift, held-out environment and heading: {robustness}"
+    );
+    let timing: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(first.join("timing.json")).unwrap()).unwrap();
+    let stages: Vec<&str> = timing
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|t| t["stage"].as_str().unwrap())
+        .collect();
+    assert_eq!(
+        stages,
+        [
+            "dataset",
+            "learning",
+            "held-out environments",
+            "held-out geometry",
+            "fusion",
+            "report"
+        ]
+    );
+    let markdown = std::fs::read_to_string(report.join("report.md")).unwrap();
+    assert!(markdown.contains("| input | MCC | accuracy | AUC | paper MCC | paper accuracy |"));
+    // the paper's numbers beside ours: Table 4.4's S row, Table 5.3's Bayes (S, X) row
+    assert!(
+        markdown.contains("| 0.29 | 61% |") && markdown.contains("| 1.00 | 100% |"),
+        "{markdown}"
+    );
+
+    // a rerun reuses every stage and gives the same tables
+    let tables = |root: &Path| -> Vec<(String, String)> {
+        let mut v: Vec<(String, String)> = std::fs::read_dir(root.join("report/tables"))
+            .unwrap()
+            .map(|e| e.unwrap().path())
+            .filter(|p| !p.ends_with("timing.csv"))
+            .map(|p| {
+                let name = p.file_name().unwrap().to_string_lossy().to_string();
+                (name, std::fs::read_to_string(&p).unwrap())
+            })
+            .collect();
+        v.sort();
+        v
+    };
+    let before = tables(&first);
+    let o = run(&first);
+    assert!(stderr(&o).contains("(reused; computed in"), "{}", stderr(&o));
+    assert!(!stderr(&o).contains("done in"), "{}", stderr(&o));
+    assert_eq!(before, tables(&first));
+    // a run killed during one input's training resumes with that input alone
+    std::fs::remove_file(first.join("learn/X/evaluation.json")).unwrap();
+    let o = run(&first);
+    let err = stderr(&o);
+    assert!(
+        err.contains("learning: X done in") && !err.contains("learning: S done in"),
+        "{err}"
+    );
+    assert_eq!(before, tables(&first));
+    // and a fresh run in another directory, as the Slurm jobs of `run --emit-slurm` (dataset
+    // shards, merge, one job per input, held-out, report), computes the same outputs and tables
+    let o = run_study(&study, &second, &["--emit-slurm", "--tasks", "3", "--device", "cpu"]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    assert!(!second.join("dataset").exists(), "--emit-slurm only writes the script");
+    let script = second.join("wakelab_run.slurm");
+    let text = std::fs::read_to_string(&script).unwrap();
+    assert!(text.contains("for input in S X LWIR S+X; do"), "{text}");
+    let jobs = submit_with_stand_in(&script, &stand_in_sbatch(dir.path()));
+    assert!(jobs.status.success(), "{}", stderr(&jobs));
+    let err = stderr(&jobs);
+    for input in ["S", "X", "LWIR", "S+X"] {
+        assert!(err.contains(&format!("learning: {input} done in")), "{err}");
+        assert_eq!(
+            std::fs::read(first.join("learn").join(input).join("outputs.csv")).unwrap(),
+            std::fs::read(second.join("learn").join(input).join("outputs.csv")).unwrap(),
+            "{input}"
+        );
+    }
+    assert!(stdout(&jobs).contains("submitted: dataset array"), "{}", stdout(&jobs));
+    assert_eq!(tables(&first), tables(&second));
+    // the stage flags: an input not in the study, and --input without its stage
+    let o = run_study(&study, &second, &["--stage", "learning", "--input", "C"]);
+    assert!(
+        !o.status.success() && stderr(&o).contains("--input C: not an input"),
+        "{}",
+        stderr(&o)
+    );
+    let o = run_study(&study, &second, &["--emit-slurm", "--stage", "held-out"]);
+    assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
+    let o = wakelab(&["run", "--study", study.to_str().unwrap(), "--input", "S"]);
+    assert!(
+        !o.status.success() && stderr(&o).contains("--stage learning"),
+        "{}",
+        stderr(&o)
+    );
+
+    // `eval --study` on the run's dataset reads the study's recipe and reproduces the run's
+    // outputs for an input bit for bit; recipe flags beside it are refused
+    let eval_dir = dir.path().join("eval");
+    let o = wakelab(&[
+        "eval",
+        first.join("dataset").to_str().unwrap(),
+        "--study",
+        first.join("study.toml").to_str().unwrap(),
+        "--bands",
+        "S",
+        "--out",
+        eval_dir.to_str().unwrap(),
+        "--quiet",
+    ]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    assert_eq!(
+        std::fs::read_to_string(eval_dir.join("outputs.csv")).unwrap(),
+        std::fs::read_to_string(first.join("learn/S/outputs.csv")).unwrap()
+    );
+    let o = wakelab(&[
+        "eval",
+        first.join("dataset").to_str().unwrap(),
+        "--study",
+        "default",
+        "--epochs",
+        "3",
+    ]);
+    assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
+    assert!(stderr(&o).contains("--epochs"), "{}", stderr(&o));
+
+    // bad [learning] values are refused before any work, naming the field
+    let bad = dir.path().join("bad.toml");
+    std::fs::write(&bad, TINY_STUDY.replace("unet_width = 4", "unet_width = 1000")).unwrap();
+    let out = dir.path().join("c");
+    let o = run_study(&bad, &out, &["--quiet"]);
+    assert!(!o.status.success());
+    assert!(
+        stderr(&o).contains("learning.unet_width") && stderr(&o).contains("[4, 256]"),
+        "{}",
+        stderr(&o)
+    );
+    assert!(!out.exists());
+}

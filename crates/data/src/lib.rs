@@ -29,7 +29,7 @@ use study::{ScenePair, Study};
 use wakelab_core::io::geotiff::{quantile, write_quicklook};
 use wakelab_core::io::write_atomically;
 use wakelab_core::{WakelabConfig, WakelabError};
-use wakelab_hydro::SurfaceMap;
+use wakelab_hydro::{HydroInputs, SurfaceMap};
 pub use wakelab_schema::dataset::{KelvinRecord, SceneRecord};
 use wakelab_surface::kelvin::ThinShip;
 
@@ -77,31 +77,9 @@ pub fn fnv(text: &str) -> u64 {
     h
 }
 
-/// The inputs of the hydro stage (ship, environment without the wind, grid, time, solver).
+/// The hydro stage's cache key: the hash of exactly what it reads ([`HydroInputs`]).
 pub fn hydro_key(config: &WakelabConfig) -> String {
-    #[derive(Serialize)]
-    struct Key<'a> {
-        ship: &'a wakelab_core::config::ShipConfig,
-        environment: wakelab_core::config::EnvironmentConfig,
-        grid: &'a wakelab_core::config::GridConfig,
-        time: &'a wakelab_core::config::TimeConfig,
-        solver: &'a wakelab_core::config::SolverConfig,
-        map_dx: f64,
-    }
-    let mut environment = config.environment.clone();
-    environment.wind.speed = 0.0;
-    environment.wind.direction = 0.0;
-    environment.wind.variability = 0.0;
-    environment.wind.gust_length = 0.0;
-    let key = Key {
-        ship: &config.ship,
-        environment,
-        grid: &config.grid,
-        time: &config.time,
-        solver: &config.solver,
-        map_dx: config.output.map_dx,
-    };
-    format!("{:016x}", fnv(&serde_json::to_string(&key).expect("serialisable")))
+    format!("{:016x}", fnv(&HydroInputs::of(config).key_text()))
 }
 
 /// The surface map of a hydro case, from the cache or simulated (and cached).

@@ -11,6 +11,7 @@
 pub mod eos;
 pub mod forcing;
 pub mod idp;
+pub mod inputs;
 pub mod momentum;
 pub mod output;
 pub mod pressure;
@@ -23,6 +24,7 @@ pub mod transport;
 pub mod turbulence;
 
 pub use idp::{IdpScalars, InitialDataPlane};
+pub use inputs::HydroInputs;
 pub use slices::{CrossSection, SliceField, SurfaceMap, SurfaceSlice, SLICE_FIELDS};
 pub use solver::WakeSolver;
 pub use state::WakeState;
@@ -82,13 +84,20 @@ pub fn initial_data_plane(config: &WakelabConfig) -> InitialDataPlane {
 /// Run the configured case and return its surface map at `output.map_dx` (what the surface stage
 /// reads).
 pub fn simulate_surface_map(config: &WakelabConfig) -> Result<SurfaceMap, WakelabError> {
-    Ok(simulate_wake(config)?.surface_map(config, config.output.map_dx))
+    config.validate()?;
+    HydroInputs::of(config).simulate()
 }
 
 /// Run the configured case and keep every slice in memory.
 pub fn simulate_wake(config: &WakelabConfig) -> Result<WakeSlices, WakelabError> {
+    config.validate()?;
+    keep_every_slice(config)
+}
+
+/// [`simulate_wake`] on a configuration already validated.
+pub(crate) fn keep_every_slice(config: &WakelabConfig) -> Result<WakeSlices, WakelabError> {
     let mut sections = Vec::new();
-    let mut run = simulate_wake_with(config, &mut |e| {
+    let mut run = run_wake(config, &mut |e| {
         if let WakeEvent::Section(s) = e {
             sections.push(s.clone());
         }
@@ -104,6 +113,14 @@ pub fn simulate_wake_with(
     observer: &mut dyn FnMut(WakeEvent<'_>) -> Result<(), WakelabError>,
 ) -> Result<WakeSlices, WakelabError> {
     config.validate()?;
+    run_wake(config, observer)
+}
+
+/// [`simulate_wake_with`] on a configuration already validated.
+fn run_wake(
+    config: &WakelabConfig,
+    observer: &mut dyn FnMut(WakeEvent<'_>) -> Result<(), WakelabError>,
+) -> Result<WakeSlices, WakelabError> {
     let mut solver = WakeSolver::new(config);
     let t = &config.time;
     let mut surface = Vec::new();

@@ -84,6 +84,24 @@ fn to_f32(v: &[f64]) -> Vec<f32> {
     v.iter().map(|&x| x as f32).collect()
 }
 
+/// A NetCDF writer of data set `ds` at `path` with its header and `coordinates` written.
+fn started_writer<'a>(
+    path: &Path,
+    ds: &'a netcdf3::DataSet,
+    coordinates: &[(&str, &Vec<f64>)],
+) -> Result<FileWriter<'a>, WakelabError> {
+    let mut writer = buffered_writer(path)?;
+    writer
+        .set_def(ds, Version::Offset64Bit, 0)
+        .map_err(|e| write_error(path, e))?;
+    for (name, values) in coordinates {
+        writer
+            .write_var_f32(name, &to_f32(values))
+            .map_err(|e| write_error(path, e))?;
+    }
+    Ok(writer)
+}
+
 /// Run the hydro stage of `config` and write its files into `dir`; `progress` is called after
 /// every step with (simulated time, steps) and may cancel the run by returning an error, which
 /// leaves no NetCDF file behind.
@@ -125,23 +143,9 @@ pub fn run_hydro_stage(
         let surf_ds = surf_layout.data_set("wake_surface.nc")?;
         let sec_path = sections_file.temporary_path().to_path_buf();
         let surf_path = surface_file.temporary_path().to_path_buf();
-        let mut sec_w = buffered_writer(&sec_path)?;
-        sec_w
-            .set_def(&sec_ds, Version::Offset64Bit, 0)
-            .map_err(|e| write_error(&sec_path, e))?;
-        sec_w
-            .write_var_f32("y", &to_f32(&grid.y_centres))
-            .map_err(|e| write_error(&sec_path, e))?;
-        sec_w
-            .write_var_f32("z", &to_f32(&grid.z_centres))
-            .map_err(|e| write_error(&sec_path, e))?;
-        let mut surf_w = buffered_writer(&surf_path)?;
-        surf_w
-            .set_def(&surf_ds, Version::Offset64Bit, 0)
-            .map_err(|e| write_error(&surf_path, e))?;
-        surf_w
-            .write_var_f32("y", &to_f32(&grid.y_centres))
-            .map_err(|e| write_error(&surf_path, e))?;
+        let coordinates = [("y", &grid.y_centres), ("z", &grid.z_centres)];
+        let mut sec_w = started_writer(&sec_path, &sec_ds, &coordinates)?;
+        let mut surf_w = started_writer(&surf_path, &surf_ds, &coordinates[..1])?;
         let (mut sec_i, mut surf_i) = (0usize, 0usize);
         let mut picked: Vec<CrossSection> = Vec::new();
         let pick = [0, n_sections / 2, n_sections - 1];

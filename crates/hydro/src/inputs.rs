@@ -44,12 +44,14 @@ impl HydroInputs {
     /// A configuration that holds these inputs and the defaults elsewhere: the only one the
     /// stage sees.
     fn config(&self) -> WakelabConfig {
-        let mut config = WakelabConfig::default();
-        config.ship = self.ship.clone();
-        config.environment = self.environment.clone();
-        config.grid = self.grid.clone();
-        config.time = self.time.clone();
-        config.solver = self.solver.clone();
+        let mut config = WakelabConfig {
+            ship: self.ship.clone(),
+            environment: self.environment.clone(),
+            grid: self.grid.clone(),
+            time: self.time.clone(),
+            solver: self.solver.clone(),
+            ..Default::default()
+        };
         config.output.map_dx = self.map_dx;
         config
     }

@@ -15,6 +15,7 @@ use crate::store::{Detector, ModelInfo};
 use crate::train::Example;
 use burn::tensor::Device;
 use ndarray::{s, Array2, Axis};
+use rayon::prelude::*;
 use serde::Serialize;
 
 use wakelab_core::{ConfigError, WakelabError};
@@ -47,7 +48,7 @@ impl Default for ScanOptions {
         Self {
             stride: None,
             scale: RadarScale::Linear,
-            batch: 64,
+            batch: 256,
             threshold: None,
         }
     }
@@ -122,6 +123,9 @@ impl Detection {
     }
 }
 
+/// Batches of windows scored at once, side by side.
+const PARALLEL_BATCHES: usize = 2;
+
 /// Window origins along one axis of length `len` for windows of `size` every `stride`; the last
 /// window ends at the border.
 fn tile_starts(len: usize, size: usize, stride: usize) -> Vec<usize> {
@@ -185,36 +189,45 @@ pub fn detect_image(
     let with_mask = detector.segmenter.is_some() && info.architecture == Architecture::Unet;
     let mut mask_sum = with_mask.then(|| Array2::<f32>::zeros((h, w)));
     let mut tiles = Vec::with_capacity(origins.len());
-    for (k, batch) in origins.chunks(options.batch.max(1)).enumerate() {
-        let examples: Vec<Example> = batch
-            .iter()
-            .map(|&(r, c)| Example {
-                image: detector_input(image.slice(s![r..r + n, c..c + n]).to_owned(), band, options.scale)
-                    .insert_axis(Axis(0)),
-                label: 0,
-                mask: None,
+    // batches scored side by side, PARALLEL_BATCHES at a time (burn's small convolutions keep
+    // about one core busy each), their results gathered in order
+    let batch_size = options.batch.max(1);
+    let mut done = 0;
+    for group in origins.chunks(batch_size * PARALLEL_BATCHES) {
+        let scored: Vec<_> = group
+            .par_chunks(batch_size)
+            .map(|batch| {
+                let examples: Vec<Example> = batch
+                    .iter()
+                    .map(|&(r, c)| Example {
+                        image: detector_input(image.slice(s![r..r + n, c..c + n]).to_owned(), band, options.scale)
+                            .insert_axis(Axis(0)),
+                        label: 0,
+                        mask: None,
+                    })
+                    .collect();
+                detect_with_masks(detector, info.architecture, &examples, batch_size, device)
             })
             .collect();
-        let (p, masks) = detect_with_masks(detector, info.architecture, &examples, device);
-        for (i, (&(r, c), &probability)) in batch.iter().zip(&p).enumerate() {
-            let region = s![covered_cells(r, n, stride), covered_cells(c, n, stride)];
-            sum.slice_mut(region).mapv_inplace(|v| v + probability as f32);
-            count.slice_mut(region).mapv_inplace(|v| v + 1.0);
-            if let (Some(total), Some(m)) = (mask_sum.as_mut(), masks.as_ref()) {
-                total
-                    .slice_mut(s![r..r + n, c..c + n])
-                    .zip_mut_with(&m[i], |a, b| *a += b);
+        for (batch, (p, masks)) in group.chunks(batch_size).zip(scored) {
+            for (i, (&(r, c), &probability)) in batch.iter().zip(&p).enumerate() {
+                let region = s![covered_cells(r, n, stride), covered_cells(c, n, stride)];
+                sum.slice_mut(region).mapv_inplace(|v| v + probability as f32);
+                count.slice_mut(region).mapv_inplace(|v| v + 1.0);
+                if let (Some(total), Some(m)) = (mask_sum.as_mut(), masks.as_ref()) {
+                    total
+                        .slice_mut(s![r..r + n, c..c + n])
+                        .zip_mut_with(&m[i], |a, b| *a += b);
+                }
+                tiles.push(Tile {
+                    row: r,
+                    col: c,
+                    probability,
+                });
             }
-            tiles.push(Tile {
-                row: r,
-                col: c,
-                probability,
-            });
         }
-        progress(
-            (k * options.batch.max(1) + batch.len()).min(origins.len()),
-            origins.len(),
-        );
+        done += group.len();
+        progress(done, origins.len());
     }
     let map = sum / count.mapv(|v| v.max(1.0));
     // every pixel is covered by (windows over its row) x (windows over its column)

@@ -145,20 +145,24 @@ pub fn which_training(e: WakelabError, input: &Input, architecture: Architecture
     }
 }
 
+/// Classifier batch of the test scoring (the stored outputs were scored in batches of 8).
+const TEST_BATCH: usize = 8;
+
 /// Wake probabilities of a detector on examples (the image channels only; the "cls" copy and the
 /// "unet" mask are made here).
 pub fn detect(detector: &Detector, architecture: Architecture, examples: &[Example], device: &Device) -> Vec<f64> {
-    detect_with_masks(detector, architecture, examples, device).0
+    detect_with_masks(detector, architecture, examples, TEST_BATCH, device).0
 }
 
-/// [`detect`], and the U-Net's wake masks where the detector has one.
+/// [`detect`], and the U-Net's wake masks where the detector has one; the classifier scores
+/// `batch` examples at a time (the U-Net at most 4).
 pub fn detect_with_masks(
     detector: &Detector,
     architecture: Architecture,
     examples: &[Example],
+    batch: usize,
     device: &Device,
 ) -> (Vec<f64>, Option<Vec<Array2<f32>>>) {
-    let batch = 8;
     match (architecture, &detector.segmenter) {
         (Architecture::Base, _) => (classify(&detector.classifier, examples, batch, device), None),
         (Architecture::Cls, _) => (
@@ -166,7 +170,7 @@ pub fn detect_with_masks(
             None,
         ),
         (Architecture::Unet, Some(unet)) => {
-            let masks = segment(unet, examples, 4, device);
+            let masks = segment(unet, examples, batch.min(4), device);
             let p = classify(&detector.classifier, &with_masks(examples, &masks), batch, device);
             (p, Some(masks))
         }
@@ -266,7 +270,7 @@ pub fn evaluate(
                 let mut mask_scores = Vec::new();
                 for (split, examples) in &sets {
                     let idx = if *split == Split::Train { train_idx } else { test_idx };
-                    let (o, masks) = detect_with_masks(&detector, architecture, examples, device);
+                    let (o, masks) = detect_with_masks(&detector, architecture, examples, TEST_BATCH, device);
                     if *split == Split::Test {
                         for ((&i, e), mask) in idx.iter().zip(examples).zip(masks.iter().flatten()) {
                             let iou = e.mask.as_ref().filter(|_| e.label == 1).and_then(|t| mask_iou(mask, t));

@@ -25,6 +25,7 @@ pub mod learning;
 pub mod mask_quality;
 pub mod output;
 mod pictures;
+mod plan;
 mod radar;
 pub mod report;
 pub mod scan;

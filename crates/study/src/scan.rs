@@ -8,6 +8,7 @@
 use anyhow::Result;
 use image::{Rgb, RgbImage};
 use ndarray::Array2;
+use rayon::prelude::*;
 use serde::Serialize;
 use std::path::{Path, PathBuf};
 use wakelab_core::io::atomic::{write_atomically, AtomicFile};
@@ -211,20 +212,22 @@ fn overlay(image: &Array2<f32>, band: Band, scale: RadarScale, detection: &Detec
     let factor = h.max(w).div_ceil(OVERLAY_SIDE).max(1);
     let (oh, ow) = (h.div_ceil(factor), w.div_ceil(factor));
     let display = |v: f32| if band.is_radar() { scale.decibels(v) } else { v };
-    let mut grey = vec![0.0f64; oh * ow];
-    let mut count = vec![0u32; oh * ow];
-    for ((r, c), &v) in image.indexed_iter() {
-        let k = (r / factor) * ow + c / factor;
-        let d = display(v);
-        if d.is_finite() {
-            grey[k] += d as f64;
-            count[k] += 1;
-        }
-    }
-    let means: Vec<f32> = grey
-        .iter()
-        .zip(&count)
-        .map(|(s, &n)| (s / n.max(1) as f64) as f32)
+    // block means, a row of blocks per task; each block sums its pixels row by row
+    let means: Vec<f32> = (0..oh)
+        .into_par_iter()
+        .flat_map_iter(|block_row| {
+            let (mut grey, mut count) = (vec![0.0f64; ow], vec![0u32; ow]);
+            for r in block_row * factor..((block_row + 1) * factor).min(h) {
+                for (c, &v) in image.row(r).iter().enumerate() {
+                    let d = display(v);
+                    if d.is_finite() {
+                        grey[c / factor] += d as f64;
+                        count[c / factor] += 1;
+                    }
+                }
+            }
+            grey.into_iter().zip(count).map(|(s, n)| (s / n.max(1) as f64) as f32)
+        })
         .collect();
     let (lo, hi) = (quantile(&means, 0.02), quantile(&means, 0.98));
     let span = (hi - lo).max(1e-12);

@@ -68,13 +68,6 @@ impl Architecture {
             )
         })
     }
-
-    /// A comma-separated list of names ("base,cls,unet"); the first unknown name is the error.
-    pub fn parse_list(text: &str) -> Result<Vec<Self>, String> {
-        text.split(',')
-            .map(|a| Self::parse(a.trim()).ok_or_else(|| a.to_string()))
-            .collect()
-    }
 }
 
 /// A name: `base`, `cls` or `unet`.

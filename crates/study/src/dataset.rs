@@ -45,9 +45,7 @@ pub fn merge_dataset(study: &Study, out: &Path) -> Result<String> {
 /// Write the Slurm job-array script of the dataset stage (`tasks` tasks, at most one a pair)
 /// into `out`; its path and what it holds, in one line.
 pub fn emit_dataset_slurm(study: &Study, name: &str, out: &Path, tasks: usize) -> Result<(PathBuf, String)> {
-    if !(1..=100_000).contains(&tasks) {
-        anyhow::bail!("--tasks {tasks}: must be in [1, 100000]");
-    }
+    crate::slurm::check_tasks(tasks)?;
     let pairs = study.pairs()?.len();
     let tasks = tasks.min(pairs);
     let exe = std::env::current_exe()?.display().to_string();

@@ -30,6 +30,14 @@ pub struct SlurmRun {
     pub cpus: usize,
 }
 
+/// `--tasks`, the array tasks of a dataset stage: 1 to 100000.
+pub(crate) fn check_tasks(tasks: usize) -> Result<()> {
+    if !(1..=100_000).contains(&tasks) {
+        anyhow::bail!("--tasks {tasks}: must be in [1, 100000]");
+    }
+    Ok(())
+}
+
 impl SlurmRun {
     /// The run of `study` (named `name` by the user) into `dir` from this executable, with
     /// absolute paths so that jobs may start anywhere: `tasks` dataset tasks (default 16, at
@@ -43,9 +51,7 @@ impl SlurmRun {
         cpus: Option<usize>,
     ) -> Result<Self> {
         let (tasks, cpus) = (tasks.unwrap_or(16), cpus.unwrap_or(2));
-        if !(1..=100_000).contains(&tasks) {
-            anyhow::bail!("--tasks {tasks}: must be in [1, 100000]");
-        }
+        check_tasks(tasks)?;
         if !(1..=1024).contains(&cpus) {
             anyhow::bail!("--cpus {cpus}: must be in [1, 1024]");
         }
@@ -186,6 +192,27 @@ mod tests {
             tasks: 8,
             cpus: 2,
         }
+    }
+
+    /// Task and core counts outside their ranges are refused naming the flag and the range; the
+    /// tasks are capped at the study's pairs.
+    #[test]
+    fn a_bad_job_shape_is_refused() {
+        let study = Study::from_toml_str(DEFAULT_STUDY, "default").unwrap();
+        let dir = std::path::Path::new("/tmp/unused");
+        for (tasks, cpus, needle) in [
+            (Some(0), None, "--tasks 0: must be in [1, 100000]"),
+            (Some(100_001), None, "--tasks 100001: must be in [1, 100000]"),
+            (None, Some(0), "--cpus 0: must be in [1, 1024]"),
+        ] {
+            let e = SlurmRun::new("default", &study, dir, "cpu", tasks, cpus)
+                .err()
+                .expect("refused");
+            assert!(e.to_string().contains(needle), "{e}");
+        }
+        let pairs = study.pairs().unwrap().len();
+        let run = SlurmRun::new("default", &study, dir, "cpu", Some(100_000), None).unwrap();
+        assert_eq!(run.tasks, pairs);
     }
 
     /// Every input of the default study gets its job, the report waits for all of them, and the

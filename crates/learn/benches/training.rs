@@ -17,6 +17,7 @@ fn pattern(n: usize, seed: f32) -> Vec<f32> {
 }
 
 fn training_steps(c: &mut Criterion) {
+    wakelab_learn::device::keep_freed_pages();
     let device = Device::flex();
     let mut group = c.benchmark_group("train_step");
     group.sample_size(10).measurement_time(Duration::from_secs(20));

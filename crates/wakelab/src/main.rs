@@ -19,6 +19,7 @@ pub type Result<T> = anyhow::Result<T>;
 static ALLOCATOR: mimalloc::MiMalloc = mimalloc::MiMalloc;
 
 fn main() {
+    wakelab_learn::device::keep_freed_pages();
     let cli = Cli::parse();
     if let Err(e) = dispatch(cli) {
         eprintln!("error: {e:#}");

@@ -2,6 +2,7 @@
 //! "cls" and "unet" of 4.1) and the U-Net of Tables 4.2-4.3. The code has no backend parameter:
 //! the device a model is built on decides where it runs.
 
+use crate::fast_conv::conv3x3;
 use burn::module::{Module, ModuleVisitor, Param};
 use burn::nn::conv::{Conv2d, Conv2dConfig};
 use burn::nn::pool::{MaxPool2d, MaxPool2dConfig};
@@ -71,8 +72,9 @@ impl WakeClassifier {
 
     /// Logits, shape [batch].
     pub fn forward(&self, images: Tensor<4>) -> Tensor<1> {
-        let stage =
-            |x, conv: &Conv2d, norm: &BatchNorm| self.pool.forward(self.relu.forward(norm.forward(conv.forward(x))));
+        let stage = |x, conv: &Conv2d, norm: &BatchNorm| {
+            self.pool.forward(self.relu.forward(norm.forward(conv3x3(conv, x, 0))))
+        };
         let x = stage(images, &self.conv1, &self.norm1);
         let x = stage(x, &self.conv2, &self.norm2);
         let x = stage(x, &self.conv3, &self.norm3);
@@ -110,8 +112,8 @@ impl DoubleConv {
     }
 
     fn forward(&self, x: Tensor<4>) -> Tensor<4> {
-        self.relu
-            .forward(self.second.forward(self.relu.forward(self.first.forward(x))))
+        let x = self.relu.forward(conv3x3(&self.first, x, 1));
+        self.relu.forward(conv3x3(&self.second, x, 1))
     }
 }
 

@@ -161,7 +161,7 @@ pub fn conv3x3(conv: &Conv2d, x: Tensor<4>, padding: usize) -> Tensor<4> {
     }
 }
 
-fn on_flex(x: &Tensor<4>) -> bool {
+pub(crate) fn on_flex(x: &Tensor<4>) -> bool {
     matches!(x.device().inner().as_dispatch(), DispatchDevice::Flex(_))
 }
 

@@ -14,6 +14,7 @@ pub mod device;
 pub mod eval_options;
 pub mod evaluate;
 pub mod fast_conv;
+pub mod fast_pool;
 pub mod held_out;
 pub mod image_file;
 pub mod loss;

@@ -3,9 +3,9 @@
 //! the device a model is built on decides where it runs.
 
 use crate::fast_conv::conv3x3;
+use crate::fast_pool::max_pool2x2;
 use burn::module::{Module, ModuleVisitor, Param};
 use burn::nn::conv::{Conv2d, Conv2dConfig};
-use burn::nn::pool::{MaxPool2d, MaxPool2dConfig};
 use burn::nn::{BatchNorm, BatchNormConfig, Linear, LinearConfig, PaddingConfig2d, Relu};
 use burn::tensor::module::interpolate;
 use burn::tensor::ops::{InterpolateMode, InterpolateOptions};
@@ -39,7 +39,6 @@ pub struct WakeClassifier {
     norm2: BatchNorm,
     conv3: Conv2d,
     norm3: BatchNorm,
-    pool: MaxPool2d,
     relu: Relu,
     linear1: Linear,
     linear2: Linear,
@@ -62,7 +61,6 @@ impl WakeClassifier {
             norm2: BatchNormConfig::new(20).init(device),
             conv3: conv(20, 30),
             norm3: BatchNormConfig::new(30).init(device),
-            pool: MaxPool2dConfig::new([2, 2]).init(),
             relu: Relu::new(),
             linear1: LinearConfig::new(flatten_size(input_size), 70).init(device),
             linear2: LinearConfig::new(70, 30).init(device),
@@ -72,9 +70,8 @@ impl WakeClassifier {
 
     /// Logits, shape [batch].
     pub fn forward(&self, images: Tensor<4>) -> Tensor<1> {
-        let stage = |x, conv: &Conv2d, norm: &BatchNorm| {
-            self.pool.forward(self.relu.forward(norm.forward(conv3x3(conv, x, 0))))
-        };
+        let stage =
+            |x, conv: &Conv2d, norm: &BatchNorm| max_pool2x2(self.relu.forward(norm.forward(conv3x3(conv, x, 0))));
         let x = stage(images, &self.conv1, &self.norm1);
         let x = stage(x, &self.conv2, &self.norm2);
         let x = stage(x, &self.conv3, &self.norm3);
@@ -130,7 +127,6 @@ pub struct UNet {
     up1: DoubleConv,
     up0: DoubleConv,
     output: Conv2d,
-    pool: MaxPool2d,
 }
 
 /// Channels of the U-Net's first level in Table 4.2; the levels below double it.
@@ -156,7 +152,6 @@ impl UNet {
             up1: DoubleConv::new(4 * w + 2 * w, 2 * w, device),
             up0: DoubleConv::new(2 * w + w, w, device),
             output: Conv2dConfig::new([w, 1], [1, 1]).init(device),
-            pool: MaxPool2dConfig::new([2, 2]).init(),
         }
     }
 
@@ -172,9 +167,9 @@ impl UNet {
             )
         };
         let l0 = self.down0.forward(images);
-        let l1 = self.down1.forward(self.pool.forward(l0.clone()));
-        let l2 = self.down2.forward(self.pool.forward(l1.clone()));
-        let x = self.bottom.forward(self.pool.forward(l2.clone()));
+        let l1 = self.down1.forward(max_pool2x2(l0.clone()));
+        let l2 = self.down2.forward(max_pool2x2(l1.clone()));
+        let x = self.bottom.forward(max_pool2x2(l2.clone()));
         let x = self.up2.forward(Tensor::cat(vec![up(x), l2], 1));
         let x = self.up1.forward(Tensor::cat(vec![up(x), l1], 1));
         let x = self.up0.forward(Tensor::cat(vec![up(x), l0], 1));

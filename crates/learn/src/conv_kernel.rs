@@ -102,6 +102,59 @@ fn im2col(x: &[f32], s: &ConvShape, b: usize, row: usize, rows: usize, cols: &mu
     }
 }
 
+/// A matrix in memory: element (i, j) at `at + i * row_stride + j * column_stride`.
+struct Matrix<P> {
+    at: P,
+    column_stride: isize,
+    row_stride: isize,
+}
+
+impl<P> Matrix<P> {
+    fn new(at: P, column_stride: usize, row_stride: usize) -> Self {
+        Self {
+            at,
+            column_stride: column_stride as isize,
+            row_stride: row_stride as isize,
+        }
+    }
+}
+
+/// dst (m x n) = lhs (m x k) rhs (k x n), plus dst's old values if `accumulate`: the `gemm`
+/// crate's product on this thread (the callers parallelise over tiles).
+///
+/// # Safety
+/// The three matrices must lie inside their allocations for the given sizes and strides, and no
+/// other thread may access `dst`'s elements meanwhile.
+unsafe fn product(
+    [m, n, k]: [usize; 3],
+    dst: Matrix<*mut f32>,
+    accumulate: bool,
+    lhs: Matrix<*const f32>,
+    rhs: Matrix<*const f32>,
+) {
+    gemm::gemm(
+        m,
+        n,
+        k,
+        dst.at,
+        dst.column_stride,
+        dst.row_stride,
+        accumulate,
+        lhs.at,
+        lhs.column_stride,
+        lhs.row_stride,
+        rhs.at,
+        rhs.column_stride,
+        rhs.row_stride,
+        1.0,
+        1.0,
+        false,
+        false,
+        false,
+        gemm::Parallelism::None,
+    )
+}
+
 /// y = conv3x3(x, weight) + bias, NCHW, `weight` [C_out, C_in, 3, 3] row-major.
 pub fn forward(x: &[f32], weight: &[f32], bias: Option<&[f32]>, s: &ConvShape) -> Vec<f32> {
     let (ho, wo, co) = (s.out_height(), s.out_width(), s.channels_out);
@@ -123,26 +176,12 @@ pub fn forward(x: &[f32], weight: &[f32], bias: Option<&[f32]>, s: &ConvShape) -
         // other tile writes; the strides describe that region of `y` (row stride ho * wo per
         // output channel, unit stride along the tile's pixels).
         unsafe {
-            gemm::gemm(
-                co,
-                n,
-                s.taps(),
-                out.get().add(b * co * ho * wo + row * wo),
-                1,
-                (ho * wo) as isize,
+            product(
+                [co, n, s.taps()],
+                Matrix::new(out.get().add(b * co * ho * wo + row * wo), 1, ho * wo),
                 bias.is_some(),
-                weight.as_ptr(),
-                1,
-                s.taps() as isize,
-                cols.as_ptr(),
-                1,
-                n as isize,
-                1.0,
-                1.0,
-                false,
-                false,
-                false,
-                gemm::Parallelism::None,
+                Matrix::new(weight.as_ptr(), 1, s.taps()),
+                Matrix::new(cols.as_ptr(), 1, n),
             );
         }
     });
@@ -203,26 +242,12 @@ pub fn weight_gradient(x: &[f32], dy: &[f32], s: &ConvShape) -> Vec<f32> {
                 // SAFETY: dw is this task's own [C_out, 9 C_in] buffer; dy's tile is read with
                 // its plane stride, cols as its transpose (unit row stride, column stride n).
                 unsafe {
-                    gemm::gemm(
-                        co,
-                        taps,
-                        n,
-                        dw.as_mut_ptr(),
-                        1,
-                        taps as isize,
+                    product(
+                        [co, taps, n],
+                        Matrix::new(dw.as_mut_ptr(), 1, taps),
                         true,
-                        dy.as_ptr().add(b * co * ho * wo + row * wo),
-                        1,
-                        (ho * wo) as isize,
-                        cols.as_ptr(),
-                        n as isize,
-                        1,
-                        1.0,
-                        1.0,
-                        false,
-                        false,
-                        false,
-                        gemm::Parallelism::None,
+                        Matrix::new(dy.as_ptr().add(b * co * ho * wo + row * wo), 1, ho * wo),
+                        Matrix::new(cols.as_ptr(), n, 1),
                     );
                 }
             }
@@ -269,36 +294,41 @@ fn plane_sum(values: &[f32]) -> f32 {
 mod tests {
     use super::*;
 
-    /// The definition, one product at a time, in f64.
-    fn direct(x: &[f32], w: &[f32], bias: &[f32], s: &ConvShape) -> Vec<f64> {
+    /// Every product of the definition: (output index, input index, weight index) for each
+    /// output pixel and each of its taps that falls inside the image.
+    fn for_each_tap(s: &ConvShape, mut visit: impl FnMut(usize, usize, usize)) {
         let (ho, wo) = (s.out_height(), s.out_width());
-        let mut y = vec![0.0f64; s.batch * s.channels_out * ho * wo];
         for b in 0..s.batch {
             for o in 0..s.channels_out {
                 for yy in 0..ho {
                     for xx in 0..wo {
-                        let mut sum = bias[o] as f64;
+                        let out = ((b * s.channels_out + o) * ho + yy) * wo + xx;
                         for c in 0..s.channels_in {
                             for ky in 0..3 {
                                 for kx in 0..3 {
-                                    let (iy, ix) = (yy + ky, xx + kx);
-                                    if iy < s.padding || ix < s.padding {
-                                        continue;
-                                    }
-                                    let (iy, ix) = (iy - s.padding, ix - s.padding);
+                                    let (iy, ix) =
+                                        ((yy + ky).wrapping_sub(s.padding), (xx + kx).wrapping_sub(s.padding));
                                     if iy >= s.height || ix >= s.width {
                                         continue;
                                     }
-                                    let xv = x[((b * s.channels_in + c) * s.height + iy) * s.width + ix];
-                                    sum += xv as f64 * w[((o * s.channels_in + c) * 3 + ky) * 3 + kx] as f64;
+                                    let xi = ((b * s.channels_in + c) * s.height + iy) * s.width + ix;
+                                    visit(out, xi, ((o * s.channels_in + c) * 3 + ky) * 3 + kx);
                                 }
                             }
                         }
-                        y[((b * s.channels_out + o) * ho + yy) * wo + xx] = sum;
                     }
                 }
             }
         }
+    }
+
+    /// The definition, one product at a time, in f64.
+    fn direct(x: &[f32], w: &[f32], bias: &[f32], s: &ConvShape) -> Vec<f64> {
+        let plane = s.out_height() * s.out_width();
+        let mut y: Vec<f64> = (0..s.batch * s.channels_out * plane)
+            .map(|i| bias[(i / plane) % s.channels_out] as f64)
+            .collect();
+        for_each_tap(s, |out, xi, wi| y[out] += x[xi] as f64 * w[wi] as f64);
         y
     }
 
@@ -353,34 +383,14 @@ mod tests {
             let (dx, dw, db) = backward(&x, &w, &dy, &s);
             let mut want_dx = vec![0.0f64; x.len()];
             let mut want_dw = vec![0.0f64; w.len()];
+            for_each_tap(&s, |out, xi, wi| {
+                want_dx[xi] += dy[out] as f64 * w[wi] as f64;
+                want_dw[wi] += dy[out] as f64 * x[xi] as f64;
+            });
+            let plane = ho * wo;
             let mut want_db = vec![0.0f64; s.channels_out];
-            for b in 0..s.batch {
-                for o in 0..s.channels_out {
-                    for yy in 0..ho {
-                        for xx in 0..wo {
-                            let g = dy[((b * s.channels_out + o) * ho + yy) * wo + xx] as f64;
-                            want_db[o] += g;
-                            for c in 0..s.channels_in {
-                                for ky in 0..3 {
-                                    for kx in 0..3 {
-                                        let (iy, ix) = (yy + ky, xx + kx);
-                                        if iy < s.padding || ix < s.padding {
-                                            continue;
-                                        }
-                                        let (iy, ix) = (iy - s.padding, ix - s.padding);
-                                        if iy >= s.height || ix >= s.width {
-                                            continue;
-                                        }
-                                        let xi = ((b * s.channels_in + c) * s.height + iy) * s.width + ix;
-                                        let wi = ((o * s.channels_in + c) * 3 + ky) * 3 + kx;
-                                        want_dx[xi] += g * w[wi] as f64;
-                                        want_dw[wi] += g * x[xi] as f64;
-                                    }
-                                }
-                            }
-                        }
-                    }
-                }
+            for (i, g) in dy.iter().enumerate() {
+                want_db[(i / plane) % s.channels_out] += *g as f64;
             }
             for (got, want) in [(&dx, &want_dx), (&dw, &want_dw), (&db, &want_db)] {
                 assert_eq!(got.len(), want.len());

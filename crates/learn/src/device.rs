@@ -47,12 +47,13 @@ pub fn parse_device(name: &str) -> Result<Device, WakelabError> {
     }
 }
 
-/// mimalloc's `mi_option_purge_delay` (its option enum in mimalloc 2 and 3, `mimalloc.h`), which
+/// mimalloc's `mi_option_purge_delay` (index 15 of the option enum in mimalloc 2 and 3, `mimalloc.h`), which
 /// `libmimalloc-sys` does not name.
 const MIMALLOC_PURGE_DELAY: libmimalloc_sys::mi_option_t = 15;
 
 /// Tells mimalloc, where it is the global allocator (the `wakelab` binary, the training benchmark),
-/// to keep freed pages instead of returning them to the kernel 10 ms later, its default. A
+/// to keep freed pages instead of returning them to the kernel a second later (its default in
+/// the bundled mimalloc 3, `src/options.c`). A
 /// training step frees and reallocates activation buffers of tens of MB; returned pages come back
 /// as page faults on fresh, kernel-zeroed memory (6-10 % of a U-Net step in `perf`). Measured with
 /// `bench/learning_vs_pytorch.sh`'s benchmark: 12-13 % less time per step for "base" and the
@@ -62,4 +63,21 @@ pub fn keep_freed_pages() {
     // SAFETY: sets one integer option; mimalloc reads options atomically and this one only
     // delays purging.
     unsafe { libmimalloc_sys::mi_option_set(MIMALLOC_PURGE_DELAY, -1) }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Option 15 is the purge delay: its default in the bundled mimalloc 3 (`src/options.c`'s
+    /// table; `mimalloc.h`'s comment still says 10) is 1000 ms, which none of its neighbours
+    /// (14: 1, 16: 0) has; after `keep_freed_pages` it reads -1 (never purge).
+    #[test]
+    fn the_option_set_is_mimallocs_purge_delay() {
+        // SAFETY: reads of integer options.
+        let get = |o| unsafe { libmimalloc_sys::mi_option_get(o) };
+        assert_eq!(get(MIMALLOC_PURGE_DELAY), 1000, "mimalloc's default purge delay");
+        keep_freed_pages();
+        assert_eq!(get(MIMALLOC_PURGE_DELAY), -1);
+    }
 }

@@ -5,7 +5,7 @@
 //! Why: `perf` of a U-Net training step (128 x 128, batch 4, 2 threads) on burn-flex's conv put
 //! 23 % of the time in one GEMM micro-kernel running at 9 of its 16 lanes: burn computes the
 //! weight gradient as a convolution with batch and channels swapped, whose GEMM has 9 outputs
-//! per row. See `bench/learning_vs_pytorch.sh` for the step times with and without it.
+//! per row. `bench/learning_vs_pytorch.sh` measures the training step beside PyTorch's.
 
 use crate::conv_kernel::{self, ConvShape};
 use burn::backend::autodiff::checkpoint::base::Checkpointer;
@@ -31,16 +31,18 @@ pub trait Conv3x3Backend: Backend {
     ) -> FloatTensor<Self>;
 }
 
-fn contiguous(t: &FlexTensor) -> FlexTensor {
-    assert_eq!(t.dtype(), DType::F32, "the CPU convolution runs in f32");
+/// A contiguous copy (or the tensor itself) of an f32 CPU tensor; the kernels here are f32 only.
+pub(crate) fn contiguous(t: &FlexTensor) -> FlexTensor {
+    assert_eq!(t.dtype(), DType::F32, "wakelab's CPU kernels run in f32");
     t.to_contiguous()
 }
 
-fn values(t: &FlexTensor) -> &[f32] {
+pub(crate) fn values(t: &FlexTensor) -> &[f32] {
     t.as_slice::<f32>().expect("a contiguous f32 tensor")
 }
 
-fn flex(values: Vec<f32>, shape: &[usize]) -> FlexTensor {
+/// A contiguous f32 CPU tensor of `shape` holding `values`.
+pub(crate) fn flex(values: Vec<f32>, shape: &[usize]) -> FlexTensor {
     FlexTensor::new(
         Bytes::from_elems(values),
         Layout::contiguous(Shape::from(shape.to_vec())),

@@ -6,17 +6,17 @@
 //! general 3-D max pooling (window bounds worked out with divisions for every output value).
 //! Here each output row reads two input rows.
 
-use crate::fast_conv::on_flex;
+use crate::fast_conv::{contiguous, flex, on_flex, values};
 use burn::backend::autodiff::checkpoint::base::Checkpointer;
 use burn::backend::autodiff::checkpoint::strategy::CheckpointStrategy;
 use burn::backend::autodiff::grads::Gradients;
 use burn::backend::autodiff::ops::{Backward, Ops, OpsKind};
-use burn::backend::flex::{FlexTensor, Layout};
+use burn::backend::flex::FlexTensor;
 use burn::backend::tensor::FloatTensor;
 use burn::backend::{backend_extension, Autodiff, Backend, Dispatch, Flex};
 use burn::tensor::module::max_pool2d;
 use burn::tensor::ops::MaxPoolOptions;
-use burn::tensor::{Bytes, DType, Shape, Tensor};
+use burn::tensor::Tensor;
 use rayon::prelude::*;
 use std::sync::Arc;
 
@@ -57,18 +57,9 @@ fn pool_planes(x: &[f32], [n, c, h, w]: [usize; 4]) -> (Vec<f32>, Vec<u32>) {
 }
 
 fn input(x: &FlexTensor) -> (FlexTensor, [usize; 4]) {
-    assert_eq!(x.dtype(), DType::F32, "the CPU pooling runs in f32");
-    let x = x.to_contiguous();
+    let x = contiguous(x);
     let dims = x.layout().shape().dims::<4>();
     (x, dims)
-}
-
-fn flex(values: Vec<f32>, shape: [usize; 4]) -> FlexTensor {
-    FlexTensor::new(
-        Bytes::from_elems(values),
-        Layout::contiguous(Shape::from(shape.to_vec())),
-        DType::F32,
-    )
 }
 
 fn pooled_shape([n, c, h, w]: [usize; 4]) -> [usize; 4] {
@@ -78,8 +69,8 @@ fn pooled_shape([n, c, h, w]: [usize; 4]) -> [usize; 4] {
 impl MaxPoolBackend for Flex {
     fn max_pool2x2(x: FlexTensor) -> FlexTensor {
         let (x, dims) = input(&x);
-        let (values, _) = pool_planes(x.as_slice::<f32>().expect("contiguous"), dims);
-        flex(values, pooled_shape(dims))
+        let (pooled, _) = pool_planes(values(&x), dims);
+        flex(pooled, &pooled_shape(dims))
     }
 }
 
@@ -92,10 +83,10 @@ impl Backward<Flex, 1> for MaxPoolBackward {
 
     fn backward(self, ops: Ops<Self::State, 1>, grads: &mut Gradients, _: &mut Checkpointer) {
         let [node] = ops.parents;
-        let dy = grads.consume::<Flex>(&ops.node).to_contiguous();
+        let dy = contiguous(&grads.consume::<Flex>(&ops.node));
         let (at, [n, c, h, w]) = ops.state;
         let Some(node) = node else { return };
-        let dy = dy.as_slice::<f32>().expect("contiguous f32");
+        let dy = values(&dy);
         let (ho, wo) = (h / 2, w / 2);
         let mut dx = vec![0.0f32; n * c * h * w];
         // every input is in at most one window: each gradient lands on its own element
@@ -105,15 +96,15 @@ impl Backward<Flex, 1> for MaxPoolBackward {
                 dst[i as usize] = *g;
             }
         });
-        grads.register::<Flex>(node.id, flex(dx, [n, c, h, w]));
+        grads.register::<Flex>(node.id, flex(dx, &[n, c, h, w]));
     }
 }
 
 impl<C: CheckpointStrategy> MaxPoolBackend for Autodiff<Flex, C> {
     fn max_pool2x2(x: FloatTensor<Self>) -> FloatTensor<Self> {
         let (primitive, dims) = input(x.primitive());
-        let (values, at) = pool_planes(primitive.as_slice::<f32>().expect("contiguous"), dims);
-        let y = flex(values, pooled_shape(dims));
+        let (pooled, at) = pool_planes(values(&primitive), dims);
+        let y = flex(pooled, &pooled_shape(dims));
         match MaxPoolBackward.prepare::<C>([x.node()]).compute_bound().stateful() {
             OpsKind::Tracked(prep) => prep.finish((Arc::new(at), dims), y),
             OpsKind::UnTracked(prep) => prep.finish(y),

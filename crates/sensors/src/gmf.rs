@@ -12,6 +12,11 @@
 //!   B1 = (c14 (1 + x) - c15 v (0.5 + x - tanh(4 (x + c16 + c17 v)))) / (1 + exp(0.34 (v - c18))),
 //!   B2 = (-d1 + d2 v2) exp(-v2), v2 = v / v0 + 1 (below y0: a + b (v2 - 1)^n).
 
+/// The scatterometer cell (m) that CMOD5.N describes (25 km, ERS and ASCAT): no wave is
+/// resolved there, so wakelab's sea is compared with it at that pixel spacing (every slope
+/// tilts the Bragg facets).
+pub const CELL_SIZE: f64 = 25e3;
+
 /// c1..c28 of CMOD5.N (Hersbach 2010, Table 1; `COEFFICIENTS[i - 1]` is c_i).
 pub const COEFFICIENTS: [f64; 28] = [
     -0.6878, -0.7957, 0.3380, -0.1728, 0.0000, 0.0040, 0.1103, 0.0159, 6.7329, 2.7713, -2.2885, 0.4971, -0.7250,

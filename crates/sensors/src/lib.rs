@@ -16,6 +16,7 @@ pub mod planck;
 pub mod sar;
 pub mod sar_image;
 pub mod sigma0_report;
+pub mod slopes;
 pub mod spectral;
 
 /// A scene as one sensor sees it in all its bands: `T`, what the bands share, is made once,

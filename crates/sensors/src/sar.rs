@@ -14,19 +14,28 @@
 //!   (HH with g_VV and g_HH exchanged), g_HH = (eps - 1) / (cos + sqrt(eps - sin^2))^2,
 //!   g_VV = (eps - 1)(eps (1 + sin^2) - sin^2) / (eps cos + sqrt(eps - sin^2))^2. F at the
 //!   Bragg scale is the background spectrum's (Elfouhaily et al. 1997 by default): KHCC03's own
-//!   short-wave balance ([`ShortWaves`]) with its breaking source taken from that spectrum was
-//!   tried and gave cross-wind C-band sigma0 3-5 dB below CMOD5.N, so it sets only the
-//!   growth and relaxation of the Bragg waves, not their level. Elfouhaily's spreading at
-//!   the Bragg scale is strengthened by a fitted factor (`SHORT_WAVE_SPREADING_GAIN`), so the
-//!   up-/cross-wind ratio follows CMOD5.N's at 30-45 degrees (see the tests).
+//!   short-wave balance ([`ShortWaves`]) was tried as the Bragg level, with its breaking source
+//!   taken from that spectrum (cross-wind C-band sigma0 3-5 dB below CMOD5.N) and with the
+//!   constants and self-consistent source of Kudryavtsev, Chapron & Makin (2014): within
+//!   1.5 dB of CMOD5.N at 25-50 degrees and 10-15 m/s, but 3-13 dB too dark cross-wind at
+//!   3-7 m/s, where only breaking feeds the cross-wind waves. So it sets only the growth and
+//!   relaxation of the Bragg waves. Elfouhaily's spreading at the Bragg scale is strengthened
+//!   by a fitted factor (`SHORT_WAVE_SPREADING_GAIN`), so the up-/cross-wind ratio follows
+//!   CMOD5.N's at 30-45 degrees (see the tests).
 //! - Two scales: the tilts are averaged over a Gaussian slope distribution (erratum 6) of the
 //!   waves between the image's resolved scale and the cut k_d = k_B / 4 (KHCC03's d = 1/4); a
 //!   facet tilted so far that its own Bragg wavenumber falls below k_d scatters no Bragg power
-//!   (its resonant waves belong to the tilting scales). The resolved slopes tilt each pixel
-//!   through Eq. (3.3).
-//! - Specular, Eq. (3.2) with erratum 4: sigma_S = pi sec^4(theta) |R(0)|^2 p(tan theta, 0),
-//!   R(0) = (1 - sqrt(eps)) / (1 + sqrt(eps)), p the Gaussian slope density of the waves longer
-//!   than three radar wavelengths (k < k0 / 3).
+//!   (its resonant waves belong to the tilting scales). The spectrum sets the tilts' total
+//!   variance, Cox & Munk (1954) their up-/cross-wind ratio ([`crate::slopes`]). The resolved
+//!   slopes tilt each pixel through Eq. (3.3).
+//! - Specular, Eq. (3.2) with erratum 4: sigma_S = pi sec^4(theta) |R_e|^2 p(tan theta, 0)
+//!   (slope along the look, none across), p the density of the slopes of the waves longer than
+//!   four radar wavelengths (k < k0 / 4, KAJC05's d = 1/4: Kudryavtsev, Akimov, Johannessen &
+//!   Chapron 2005, J. Geophys. Res. 110, C07016, Eq. 5): their variance from the spectrum, the
+//!   up-/cross-wind ratio and the peakedness of Cox & Munk's (1954) Gram-Charlier density.
+//!   |R_e|^2 = |R(0)|^2 exp(-4 k0^2 h^2), R(0) = (1 - sqrt(eps)) / (1 + sqrt(eps)): the
+//!   reflectivity of a facet roughened by the shorter waves of variance h^2 (the effective
+//!   reflection coefficient of Valenzuela 1978 and KAJC05 Eq. 5).
 //! - Breaking (KHCC03 Eqs. 56-60): a fraction q of the surface is covered by breaking zones
 //!   that scatter like very rough facets, the same for VV and HH:
 //!   sigma_wb = sigma_wb0(theta) (1 + M_wb theta_wb A_wb),
@@ -40,11 +49,16 @@
 use crate::breaking::BREAKING_TILT;
 pub use crate::breaking::{breaking_zone_nrcs, breaking_zones, BreakingZones};
 pub use crate::sigma0_report::{sigma0_of_sea, Sigma0Report};
+use crate::slopes::{look_frame_variances, wind_frame_variances, SlopeDensity};
 use num_complex::Complex64;
 use std::f64::consts::PI;
 use wakelab_core::config::Polarisation;
 use wakelab_surface::short_waves::ShortWaves;
 use wakelab_surface::spectrum::SeaSpectrum;
+
+/// The waves that reflect specularly are longer than 1 / SPECULAR_CUT radar wavelengths
+/// (k < k0 / 4: KAJC05's d = 1/4, Kudryavtsev, Akimov, Johannessen & Chapron 2005, Eq. 5).
+const SPECULAR_CUT: f64 = 0.25;
 
 /// First-order Bragg coefficients (g_HH, g_VV) at incidence `theta` (rad), Eq. (3.1).
 pub fn bragg_coefficients(theta: f64, eps: Complex64) -> (Complex64, Complex64) {
@@ -75,8 +89,11 @@ pub struct RadarSea<'a> {
     pub cut: f64,
     /// Variances of the unresolved tilting slopes along and across the look direction.
     pub tilt_variance: (f64, f64),
-    /// Variances of the slopes of waves longer than three radar wavelengths.
-    pub specular_variance: (f64, f64),
+    /// The slopes of the waves longer than four radar wavelengths, which reflect specularly.
+    pub specular_slopes: SlopeDensity,
+    /// |R(0)|^2 exp(-4 k0^2 h^2): the Fresnel reflectivity of those facets, lowered by the
+    /// roughness h of the shorter waves on them.
+    pub specular_reflectivity: f64,
     pub breaking: BreakingZones,
 }
 
@@ -118,6 +135,11 @@ impl<'a> RadarSea<'a> {
     ) -> Self {
         let cut = 0.5 * k0 * incidence.sin();
         let resolved = PI / dx;
+        let (wind, from_wind) = (spectrum.wind_speed, look - spectrum.wind_direction);
+        let tilts = spectrum.slope_variances(look, resolved.min(cut), cut);
+        let long = spectrum.slope_variances(look, 1e-3, SPECULAR_CUT * k0);
+        let (up_variance, cross_variance) = wind_frame_variances(long.0 + long.1, wind);
+        let roughness = spectrum.elevation_variance(SPECULAR_CUT * k0, 4000.0);
         Self {
             spectrum,
             short_waves,
@@ -126,8 +148,12 @@ impl<'a> RadarSea<'a> {
             polarisation,
             look,
             cut,
-            tilt_variance: spectrum.slope_variances(look, resolved.min(cut), cut),
-            specular_variance: spectrum.slope_variances(look, 1e-3, k0 / 3.0),
+            tilt_variance: look_frame_variances(tilts, wind, from_wind),
+            specular_slopes: SlopeDensity {
+                up_variance,
+                cross_variance,
+            },
+            specular_reflectivity: normal_reflectivity(permittivity) * (-4.0 * k0 * k0 * roughness).exp(),
             breaking: breaking_zones(spectrum, short_waves, k0, look),
         }
     }
@@ -182,12 +208,13 @@ impl<'a> RadarSea<'a> {
         sum / weight
     }
 
-    /// Specular NRCS (Eq. (3.2) with erratum 4).
+    /// Specular NRCS (Eq. (3.2) with erratum 4): the facets whose normal points at the radar
+    /// have slope tan(theta) along the look, which lies `look - wind` from the wind.
     pub fn specular(&self, theta: f64) -> f64 {
-        let (vr, va) = self.specular_variance;
         let t = theta.tan();
-        let p = (-t * t / (2.0 * vr)).exp() / (2.0 * PI * (vr * va).sqrt());
-        PI / theta.cos().powi(4) * normal_reflectivity(self.permittivity) * p
+        let from_wind = self.look - self.spectrum.wind_direction;
+        let p = self.specular_slopes.at(t * from_wind.cos(), t * from_wind.sin());
+        PI / theta.cos().powi(4) * self.specular_reflectivity * p
     }
 
     /// NRCS of the breaking zones, sigma_wb0 (1 + M_wb theta_wb A_wb) (KHCC03 Eq. 60).
@@ -297,55 +324,74 @@ mod tests {
         }
     }
 
-    /// The specular term at normal incidence is |R(0)|^2 / (2 s_u s_c) (Eq. (3.2) with
-    /// erratum 4, Gaussian slopes): the geometric-optics closed form.
+    /// The specular term at normal incidence is the geometric-optics closed form
+    /// |R(0)|^2 exp(-4 k0^2 h^2) (1 + c40 / 8 + c22 / 4 + c04 / 8) / (2 s_u s_c) (Eq. (3.2) with
+    /// erratum 4; the Gram-Charlier factor of Cox & Munk 1954 at zero slope), h^2 the variance
+    /// of the waves shorter than four radar wavelengths.
     #[test]
     fn specular_at_normal_incidence_is_the_closed_form() {
         let spectrum = sea(8.0);
         let short = ShortWaves::new(&spectrum);
         let eps = crate::permittivity::seawater_permittivity(5.3e9, 15.0, 35.0);
-        let radar = RadarSea::new(&spectrum, &short, 111.0, eps, Polarisation::Vv, 0.0, 0.6, 10.0);
-        let (vu, vc) = radar.specular_variance;
-        let closed = normal_reflectivity(eps) / (2.0 * (vu * vc).sqrt());
+        let k0 = 111.0;
+        let radar = RadarSea::new(&spectrum, &short, k0, eps, Polarisation::Vv, 0.0, 0.6, 10.0);
+        let slopes = radar.specular_slopes;
+        let h2 = spectrum.elevation_variance(k0 / 4.0, 4000.0);
+        let factor = 1.0 + 0.40 / 8.0 + 0.12 / 4.0 + 0.23 / 8.0;
+        let closed = normal_reflectivity(eps) * (-4.0 * k0 * k0 * h2).exp() * factor
+            / (2.0 * (slopes.up_variance * slopes.cross_variance).sqrt());
         assert!((radar.specular(1e-9) / closed - 1.0).abs() < 1e-9);
+        // and the slopes are those of the waves longer than four radar wavelengths
+        let (along, across) = spectrum.slope_variances(0.0, 1e-3, k0 / 4.0);
+        assert!(((slopes.up_variance + slopes.cross_variance) / (along + across) - 1.0).abs() < 1e-12);
     }
 
     /// C-band VV against CMOD5.N (Hersbach 2010) over 20-50 degrees, 3-15 m/s, up-, cross-
-    /// and down-wind. What holds (measured): up- and down-wind within 2 dB from 25 degrees and
-    /// within 2.5 dB at 20; cross-wind within 2 dB from 35 degrees and 2.5 dB at 30. Below 30
-    /// degrees cross-wind is up to 4.4 dB low at 5-7 m/s: the 2 dB does not hold there
-    /// (the tilting waves' cross-wind slopes of the Elfouhaily spectrum are about 0.6 of the
-    /// up-wind ones, Cox & Munk observed 0.7-0.9). The up-/cross-wind ratio is CMOD5.N's within
-    /// 1.5 dB at 30-45 degrees and every wind: that is what the spreading gain was fitted to, so
-    /// it checks the fit, not an independent figure.
+    /// and down-wind, for CMOD5.N's 25 km cell (no wave resolved: every slope tilts). The
+    /// issue's goal is 2 dB everywhere. What holds (measured, worst over the six winds; see
+    /// `LIMITS`): up- and down-wind within 1.5 dB from 25 degrees and 2.1 dB at 20; cross-wind
+    /// within 1.5 dB at 35-45 degrees, 2.0 dB at 50, 2.2 dB at 20 and 30, and 3.2 dB at 25
+    /// (5-7 m/s, too dark: the cross-wind Bragg waves of Elfouhaily's spectrum at
+    /// k = 94 rad/m). Before Cox & Munk's slopes the worst were 2.9 dB up-wind and 4.3 dB
+    /// cross-wind, both at 20 degrees. The up-/cross-wind ratio
+    /// is CMOD5.N's within 1.5 dB at 30-45 degrees and every wind: that is what the spreading
+    /// gain was fitted to, so it checks the fit, not an independent figure.
     #[test]
     fn c_band_vv_is_near_cmod5n() {
+        // incidence, limit up-/down-wind, limit cross-wind (dB)
+        const LIMITS: [(f64, f64, f64); 7] = [
+            (20.0, 2.3, 2.4),
+            (25.0, 2.0, 3.4),
+            (30.0, 2.0, 2.4),
+            (35.0, 2.0, 2.0),
+            (40.0, 2.0, 2.0),
+            (45.0, 2.0, 2.0),
+            (50.0, 2.0, 2.1),
+        ];
         let eps = seawater_permittivity(RadarBand::C.frequency(), 15.0, 35.0);
-        let (mut worst_along, mut worst_cross, mut worst_ratio) = (0.0f64, 0.0f64, 0.0f64);
+        let mut worst_ratio = 0.0f64;
+        let mut worst = [(0.0f64, 0.0f64); 7];
         for wind in [3.0, 5.0, 7.0, 10.0, 12.0, 15.0] {
             let spectrum = sea(wind);
-            for inc in [20.0, 25.0, 30.0, 35.0, 40.0, 45.0, 50.0] {
+            for (i, &(inc, along_limit, cross_limit)) in LIMITS.iter().enumerate() {
                 // wind towards heading 0: looking along 180 is looking up-wind
-                let at = |look: f64| sigma0_of_sea(&spectrum, RadarBand::C, eps, Polarisation::Vv, look, inc, 10.0);
+                let at = |look: f64| {
+                    sigma0_of_sea(
+                        &spectrum,
+                        RadarBand::C,
+                        eps,
+                        Polarisation::Vv,
+                        look,
+                        inc,
+                        crate::gmf::CELL_SIZE,
+                    )
+                };
                 let (up, cross, down) = (at(PI), at(PI / 2.0), at(0.0));
                 let d = |r: &Sigma0Report| r.sigma0_db - r.cmod5n_db.expect("C band");
-                let along_limit = if inc < 25.0 { 2.5 } else { 2.0 };
-                assert!(
-                    d(&up).abs() < along_limit && d(&down).abs() < along_limit,
-                    "{wind} {inc}: {} {}",
-                    d(&up),
-                    d(&down)
-                );
-                let cross_limit = match inc {
-                    i if i < 30.0 => 4.5,
-                    i if i < 35.0 => 2.5,
-                    _ => 2.0,
-                };
+                let along = d(&up).abs().max(d(&down).abs());
+                assert!(along < along_limit, "{wind} {inc}: {} {}", d(&up), d(&down));
                 assert!(d(&cross).abs() < cross_limit, "{wind} {inc} cross: {}", d(&cross));
-                worst_along = worst_along.max(d(&up).abs()).max(d(&down).abs());
-                if inc >= 30.0 {
-                    worst_cross = worst_cross.max(d(&cross).abs());
-                }
+                worst[i] = (worst[i].0.max(along), worst[i].1.max(d(&cross).abs()));
                 if (30.0..=45.0).contains(&inc) {
                     let ratio = (up.sigma0_db - cross.sigma0_db) - (up.cmod5n_db.unwrap() - cross.cmod5n_db.unwrap());
                     assert!(ratio.abs() < 1.5, "{wind} {inc} ratio {ratio}");
@@ -353,7 +399,10 @@ mod tests {
                 }
             }
         }
-        eprintln!("worst |wakelab - CMOD5.N|: up/down {worst_along:.2} dB, cross from 30 deg {worst_cross:.2} dB, up/cross ratio at 30-45 deg {worst_ratio:.2} dB");
+        for (&(inc, ..), (along, cross)) in LIMITS.iter().zip(worst) {
+            eprintln!("{inc} deg: worst |wakelab - CMOD5.N| up/down {along:.2} dB, cross {cross:.2} dB");
+        }
+        eprintln!("worst up/cross ratio difference at 30-45 deg: {worst_ratio:.2} dB");
     }
 
     /// Up-wind above down-wind (the breakers' asymmetry, A_wb) at 30-50 degrees, as every

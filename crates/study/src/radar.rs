@@ -14,10 +14,9 @@ use wakelab_sensors::sar_image::surface_permittivity;
 
 /// Two plots (looking up-wind, cross-wind): wakelab's C-band VV sigma0 (solid) and CMOD5.N's
 /// over incidence 20-50 degrees for winds of 5, 10 and 15 m/s, for the sea of `base` without
-/// swell, split into two scales at `base`'s pixel spacing.
+/// swell, in CMOD5.N's 25 km cell ([`wakelab_sensors::gmf::CELL_SIZE`]: every wave tilts).
 pub fn sigma0_against_cmod5n(base: &WakelabConfig) -> Vec<LinePlot> {
     let eps = surface_permittivity(base, RadarBand::C);
-    let spacing = base.scene.pixel_spacing;
     let mut sea = base.clone();
     sea.environment.swell.amplitude = 0.0;
     let mut plots = Vec::new();
@@ -33,7 +32,8 @@ pub fn sigma0_against_cmod5n(base: &WakelabConfig) -> Vec<LinePlot> {
             let reports: Vec<_> = (0..=12)
                 .map(|i| {
                     let inc = 20.0 + 2.5 * i as f64;
-                    sigma0_of_sea(&spectrum, RadarBand::C, eps, Polarisation::Vv, look, inc, spacing)
+                    let cell = wakelab_sensors::gmf::CELL_SIZE;
+                    sigma0_of_sea(&spectrum, RadarBand::C, eps, Polarisation::Vv, look, inc, cell)
                 })
                 .collect();
             series.push(Series {

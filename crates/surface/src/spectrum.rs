@@ -237,6 +237,22 @@ impl SeaSpectrum {
         (along, across)
     }
 
+    /// Elevation variance (m^2) of the wind waves with k_lo <= k < k_hi: the integral of
+    /// Psi(k) (log-spaced midpoint rule).
+    pub fn elevation_variance(&self, k_lo: f64, k_hi: f64) -> f64 {
+        if k_hi <= k_lo || k_lo <= 0.0 {
+            return 0.0;
+        }
+        let n = 400;
+        let step = (k_hi / k_lo).ln() / n as f64;
+        (0..n)
+            .map(|i| {
+                let k = k_lo * ((i as f64 + 0.5) * step).exp();
+                self.wind_omni(k) * k * step
+            })
+            .sum()
+    }
+
     /// Wave action spectral density N = rho omega F / k, up to the constant rho (Eq. (2.67)).
     pub fn action(&self, kx: f64, ky: f64) -> f64 {
         let k = kx.hypot(ky);
@@ -370,6 +386,20 @@ mod tests {
                 "U={u}: wp {}",
                 s.peak_angular_frequency
             );
+        }
+    }
+
+    /// The variance of a band of Pierson-Moskowitz waves has a closed form: Psi(k) =
+    /// alpha / (2 k^3) exp(-beta g^2 / (k^2 U^4)) integrates to alpha / (4 b) (exp(-b / k_hi^2)
+    /// - exp(-b / k_lo^2)) with b = beta g^2 / U^4 (Eq. (2.71)).
+    #[test]
+    fn band_variance_matches_the_pierson_moskowitz_closed_form() {
+        let (u, g) = (8.0f64, 9.81);
+        let b = PM_BETA * g * g / u.powi(4);
+        for (lo, hi) in [(0.05, 0.2), (0.1, 5.0)] {
+            let closed = PM_ALPHA / (4.0 * b) * ((-b / (hi * hi)).exp() - (-b / (lo * lo)).exp());
+            let got = pm(u).elevation_variance(lo, hi);
+            assert!((got / closed - 1.0).abs() < 1e-4, "{lo}-{hi}: {got} vs {closed}");
         }
     }
 

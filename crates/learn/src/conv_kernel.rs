@@ -28,6 +28,24 @@ pub struct ConvShape {
 }
 
 impl ConvShape {
+    pub fn new(
+        batch: usize,
+        channels_in: usize,
+        channels_out: usize,
+        height: usize,
+        width: usize,
+        padding: usize,
+    ) -> Self {
+        Self {
+            batch,
+            channels_in,
+            channels_out,
+            height,
+            width,
+            padding,
+        }
+    }
+
     pub fn out_height(&self) -> usize {
         self.height + 2 * self.padding - 2
     }
@@ -339,14 +357,7 @@ mod tests {
     }
 
     fn shapes() -> Vec<ConvShape> {
-        let shape = |batch, channels_in, channels_out, height, width, padding| ConvShape {
-            batch,
-            channels_in,
-            channels_out,
-            height,
-            width,
-            padding,
-        };
+        let shape = ConvShape::new;
         // odd sizes, a tile boundary inside the image (width 40: 12 rows per tile), both paddings
         vec![
             shape(2, 3, 5, 7, 9, 1),
@@ -403,14 +414,7 @@ mod tests {
 
     #[test]
     fn results_do_not_depend_on_the_threads() {
-        let s = ConvShape {
-            batch: 3,
-            channels_in: 5,
-            channels_out: 7,
-            height: 33,
-            width: 20,
-            padding: 1,
-        };
+        let s = ConvShape::new(3, 5, 7, 33, 20, 1);
         let x = values(s.batch * s.channels_in * s.height * s.width, 0.3);
         let w = values(s.channels_out * s.channels_in * 9, 0.6);
         let dy = values(s.batch * s.channels_out * s.out_height() * s.out_width(), 0.7);

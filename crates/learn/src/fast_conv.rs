@@ -58,14 +58,7 @@ fn conv_shape(x: &FlexTensor, weight: &FlexTensor, padding: usize) -> ConvShape 
         (channels_in, 3, 3),
         "a 3 x 3 kernel over the input's channels"
     );
-    ConvShape {
-        batch,
-        channels_in,
-        channels_out,
-        height,
-        width,
-        padding,
-    }
+    ConvShape::new(batch, channels_in, channels_out, height, width, padding)
 }
 
 fn forward_flex(x: &FlexTensor, weight: &FlexTensor, bias: &FlexTensor, padding: usize) -> FlexTensor {

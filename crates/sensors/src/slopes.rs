@@ -122,9 +122,9 @@ mod tests {
         assert!((m4 - (3.0 + PEAKEDNESS_CROSS)).abs() < 1e-6, "kurtosis {m4}");
     }
 
-    /// CM54's printed values: at 10 m/s the clean surface's slope variances are 0.0316
-    /// up-wind and 0.0222 cross-wind; the partition keeps any total in that ratio and turns
-    /// with the look.
+    /// A transcription check of CM54's clean-surface regression lines (their values at
+    /// 10 m/s, 0.0316 up-wind and 0.0222 cross-wind), and the partition conserves the total
+    /// variance, keeps CM54's ratio and turns with the look (equal shares at 45 degrees).
     #[test]
     fn partition_follows_cox_and_munk() {
         let (up, cross) = cox_munk_variances(10.0);

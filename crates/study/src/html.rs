@@ -328,7 +328,9 @@ pub fn report_page(
          and breaking waves; the study's base sea without swell) against the geophysical model function \
          CMOD5.N (Hersbach 2010), and the example pair's across-wake contrast per radar band (each row's \
          mean along the image, wake scene over no-wake scene). Observed turbulent-wake contrasts are a \
-         few dB, weaker at higher wind and in older wakes.</p><div class=\"grid\">",
+         few dB, weaker at higher wind and in older wakes. The table \"The spec's environments\" says \
+         whether the wake is bright or dark in each band without and with swell, beside the spec's Figs. \
+         3.1-3.2, with the rates that decide it.</p><div class=\"grid\">",
     );
     for svg in radar_figures {
         let _ = write!(s, "<figure>{svg}</figure>");

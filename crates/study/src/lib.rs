@@ -19,6 +19,7 @@
 //! skips every finished scene. Fusion and the report are cheap and always rebuilt.
 
 pub mod dataset;
+pub mod environments;
 mod held_out;
 mod html;
 pub mod learning;

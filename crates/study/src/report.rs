@@ -5,6 +5,7 @@ use crate::stages::StudyRun;
 use crate::Result;
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
+use wakelab_core::config::NamedDirection;
 use wakelab_core::io::{csv_record, write_atomically};
 use wakelab_core::WakelabError;
 use wakelab_data::study::Study;
@@ -339,6 +340,12 @@ pub fn write_report(dir: &Path, study: &Study, run: &StudyRun) -> Result<Vec<Pat
     let scans = crate::whole_scene::scan_whole_scene(dir, study, run)?;
     tables.push(crate::whole_scene::whole_scene_table(&scans));
     let whole_scene_html = crate::whole_scene::whole_scene_html(&scans)?;
+    let base = study.base_config()?;
+    let environments = crate::environments::spec_environments(&base, &run.dataset.dir)?;
+    let age = crate::environments::environment_config(&base, NamedDirection::Calm)
+        .scene
+        .along_track;
+    tables.push(crate::environments::environment_table(&environments, age));
     let timing = timing_table(run);
     let mut markdown = format!(
         "# wakelab study \"{}\"\n\nwakelab {}, run {} on {}; {} scenes; see report.html for pictures and plots.\n\n",
@@ -354,7 +361,7 @@ pub fn write_report(dir: &Path, study: &Study, run: &StudyRun) -> Result<Vec<Pat
     }
     let md = write_atomically(out.join("report.md"), markdown.as_bytes())?;
     // the radar-physics figures, also as files a user can open or put in a paper
-    let mut figures = crate::radar::sigma0_against_cmod5n(&study.base_config()?);
+    let mut figures = crate::radar::sigma0_against_cmod5n(&base);
     figures.extend(crate::radar::across_wake_contrast(run)?);
     let names = [
         "sigma0_vs_cmod5n_upwind",

@@ -114,9 +114,17 @@ fn run_does_the_whole_study_reuses_its_stages_and_repeats_its_tables() {
         "mask_iou",
         "test_scenes",
         "whole_scene",
+        "spec_environments",
         "timing",
     ] {
         assert!(report.join("tables").join(format!("{t}.csv")).exists(), "{t}.csv");
+    }
+    // the spec's three environments in the three radar bands, each called bright, dark or none
+    let environments = std::fs::read_to_string(report.join("tables/spec_environments.csv")).unwrap();
+    assert_eq!(environments.lines().count(), 1 + 3 * 3, "{environments}");
+    for line in environments.lines().skip(1) {
+        let verdict = line.split(',').nth(4).unwrap();
+        assert!(["bright", "dark", "none"].contains(&verdict), "{line}");
     }
     // robustness: every perturbation and the held-out wind speeds have numbers for "base" on S
     let robustness = std::fs::read_to_string(report.join("tables/robustness.csv")).unwrap();

@@ -108,6 +108,48 @@ fn low_wind_patches_are_as_dark_as_cmod5n_says() {
     assert!((model - cmod).abs() < 2.0, "wakelab {model} CMOD5.N {cmod}");
 }
 
+/// The whole chain's open sea against what C-band scatterometers observe: the surface stage
+/// and the image of C-band VV at the default 35 degrees and 10 m pixels, 3-15 m/s, the radar
+/// looking cross-, down- and up-wind. A perfect SAR's mean sigma0 lies within 2 dB of CMOD5.N
+/// (Hersbach 2010); a real one's (4 looks, velocity bunching, the noise floor) is that mean plus
+/// its NESZ (Sentinel-1 IW's -22 dB) within 0.2 dB: speckle and bunching keep the mean, thermal
+/// noise adds its power, as in a real instrument's low-wind images.
+#[test]
+fn the_open_seas_sigma0_is_cmod5ns_plus_the_noise_floor() {
+    for wind in [3.0, 5.0, 10.0, 15.0] {
+        // the look is 90 degrees from the heading: wind towards 0, 90, 270 is cross-, down-, up-wind
+        for direction in [0.0, 90.0, 270.0] {
+            let mean_db = |real: bool| {
+                let c = config(&format!(
+                    "[environment.wind]\nspeed = {wind}\ndirection = {direction}\n[environment.swell]\n\
+                     direction = \"calm\"\n[sar]\nlooks = {}\nnoise_floor = {real}\nvelocity_bunching = {real}\n",
+                    if real { 4 } else { 0 }
+                ));
+                let s = render_sar(&c, &simulate_surface(&c, None), RadarBand::C).sigma0;
+                (10.0 * s.mean().unwrap().log10(), c)
+            };
+            let ((perfect, c), (real, _)) = (mean_db(false), mean_db(true));
+            // CMOD5.N's direction is 0 looking up-wind
+            let relative = direction - c.platform.look_direction;
+            let cmod = 10.0 * cmod5n(wind, c.platform.incidence, 180.0 - relative).log10();
+            let nesz = c.sar.nesz_db(RadarBand::C);
+            let with_noise = 10.0 * (10f64.powf(perfect / 10.0) + 10f64.powf(nesz / 10.0)).log10();
+            eprintln!(
+                "{wind} m/s, wind {relative} deg from the look: perfect {perfect:+.2} dB, CMOD5.N {cmod:+.2}, \
+                 real {real:+.2} (perfect + NESZ {with_noise:+.2})"
+            );
+            assert!(
+                (perfect - cmod).abs() < 2.0,
+                "{wind} {direction}: {perfect} vs CMOD5.N {cmod}"
+            );
+            assert!(
+                (real - with_noise).abs() < 0.2,
+                "{wind} {direction}: {real} vs {with_noise}"
+            );
+        }
+    }
+}
+
 /// The same configuration gives the same image, bit for bit; another seed changes the sea, the
 /// slicks, the wind's patches and the speckle.
 #[test]

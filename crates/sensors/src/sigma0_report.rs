@@ -22,6 +22,9 @@ pub struct Sigma0Report {
     pub permittivity_real: f64,
     pub permittivity_imag: f64,
     pub bragg_wavenumber: f64,
+    /// Side of the cell the sea is seen in (m): waves longer than it are resolved, shorter ones
+    /// tilt the Bragg facets.
+    pub cell_size_m: f64,
     /// Two-scale Bragg part, before the (1 - q) of the breakers.
     pub sigma0_bragg: f64,
     /// Specular part, before the (1 - q) of the breakers.
@@ -38,13 +41,16 @@ pub struct Sigma0Report {
     pub cmod5n_db: Option<f64>,
 }
 
-/// The [`Sigma0Report`] of a configuration's sea (its wind, swell, water and pixel spacing) in
-/// `band`, looking `look_from_wind_deg` degrees from the wind direction (0: down-wind), with the
-/// configured polarisation and incidence: what `wakelab sar sigma0` prints.
+/// The [`Sigma0Report`] of a configuration's sea (its wind, swell and water) in `band`, looking
+/// `look_from_wind_deg` degrees from the wind direction (0: down-wind), with the configured
+/// polarisation and incidence, seen in cells of side `cell` (m; the scene's pixel spacing for an
+/// image's background, [`crate::gmf::CELL_SIZE`] for CMOD5.N's): what `wakelab sar sigma0`
+/// prints.
 pub fn sigma0_of_config(
     cfg: &wakelab_core::WakelabConfig,
     band: wakelab_core::units::RadarBand,
     look_from_wind_deg: f64,
+    cell: f64,
 ) -> Sigma0Report {
     let env = &cfg.environment;
     sigma0_of_sea(
@@ -54,7 +60,7 @@ pub fn sigma0_of_config(
         cfg.sar.polarisation,
         (env.wind.direction - look_from_wind_deg).to_radians(),
         cfg.platform.incidence,
-        cfg.scene.pixel_spacing,
+        cell,
     )
 }
 
@@ -96,6 +102,7 @@ pub fn sigma0_of_sea(
         permittivity_real: permittivity.re,
         permittivity_imag: permittivity.im,
         bragg_wavenumber: band.bragg_wavenumber(incidence_deg),
+        cell_size_m: dx,
         sigma0_bragg: parts.bragg,
         sigma0_specular: parts.specular,
         sigma0_breaking: parts.fraction * parts.breaking,

@@ -346,6 +346,11 @@ pub struct Sigma0Args {
     /// Look direction relative to the wind direction (degrees; 0: looking down-wind).
     #[arg(long, value_name = "DEG", default_value_t = 90.0)]
     pub look: f64,
+    /// Side of the cell the sea is seen in (m): waves longer than it are resolved, shorter ones
+    /// tilt the Bragg facets; default: scene.pixel_spacing (the background of an image).
+    /// CMOD5.N's cell is 25000, as in the study report's figure.
+    #[arg(long, value_name = "M")]
+    pub cell: Option<f64>,
     /// Print JSON.
     #[arg(long)]
     pub json: bool,

@@ -39,7 +39,11 @@ pub fn sar_sigma0(args: &Sigma0Args) -> Result<()> {
         cfg.sar.polarisation = p;
     }
     cfg.validate()?;
-    let report = wakelab_sensors::sigma0_report::sigma0_of_config(&cfg, args.band, args.look);
+    let cell = args.cell.unwrap_or(cfg.scene.pixel_spacing);
+    if !(0.1..=1e6).contains(&cell) {
+        return Err(wakelab_core::ConfigError::new("--cell", cell, "in [0.1, 1000000] m").into());
+    }
+    let report = wakelab_sensors::sigma0_report::sigma0_of_config(&cfg, args.band, args.look, cell);
     emit(&report, args.json)
 }
 

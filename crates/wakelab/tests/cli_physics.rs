@@ -231,6 +231,28 @@ fn sar_sigma0_and_optics_print_their_json() {
     assert!((cmod - -12.947).abs() < 1e-3, "CMOD5.N {cmod}");
     assert!((ours - cmod).abs() < 2.0, "wakelab {ours} dB vs CMOD5.N {cmod} dB");
 
+    // --cell: in CMOD5.N's 25 km cell every wave tilts the Bragg facets, which at 20 degrees
+    // (where sigma0 curves upward with falling incidence) raises the mean over the 10 m pixels'
+    let at_20 = ["--wind", "10", "--incidence", "20", "--look", "180"];
+    let pixel = sar_sigma0_json(&at_20);
+    let cell = sar_sigma0_json(&[&at_20[..], &["--cell", "25000"]].concat());
+    assert_eq!(
+        (pixel["cell_size_m"].as_f64(), cell["cell_size_m"].as_f64()),
+        (Some(10.0), Some(25000.0))
+    );
+    let (p, c) = (
+        pixel["sigma0_db"].as_f64().unwrap(),
+        cell["sigma0_db"].as_f64().unwrap(),
+    );
+    assert!(c > p + 0.1, "25 km {c} dB vs 10 m {p} dB");
+    let bad = wakelab(&["sar", "sigma0", "--cell", "0"]);
+    assert!(!bad.status.success());
+    assert!(
+        stderr(&bad).contains("`--cell` = 0: in [0.1, 1000000] m"),
+        "{}",
+        stderr(&bad)
+    );
+
     let o = wakelab(&[
         "optics",
         "--json",

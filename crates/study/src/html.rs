@@ -348,8 +348,9 @@ pub fn report_page(
     s.push_str(&crate::test_scenes::test_scene_grid(run)?);
     s.push_str(
         "<h2 id=\"whole-scene\">Detection on a whole scene</h2><p>Each band's \"base\" detector scanned over one \
-         scene eight chips wide, as <code>wakelab detect</code> does (table \"Detection on a whole scene\"): the \
-         image, the map of window probabilities, and the band's physics mask of the wake.</p>",
+         scene eight chips wide, as <code>wakelab detect</code> does (table \"Detection on a whole scene\", with the \
+         false alarms at the threshold that flags 5 % of the detector's no-wake test chips): the image, the map \
+         of window probabilities, and the band's physics mask of the wake.</p>",
     );
     s.push_str(whole_scene);
     s.push_str("<h2 id=\"matrices\">Confusion matrices</h2><p>Test images summed over the repetitions.</p>");

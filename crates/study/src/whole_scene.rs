@@ -10,7 +10,10 @@
 //! the last repetition's) scans it with windows of its input size at half that stride
 //! ([`wakelab_learn::detect::detect_image`]). Against the physics mask of that band the report
 //! gives whether the map's peak lies on the wake, the map's mean on and off the wake, and the
-//! share of off-wake cells above the threshold (false alarms, slicks among them).
+//! share of off-wake cells above the threshold (false alarms, slicks among them); and, at the
+//! threshold that flags 5 % of the detector's own no-wake test chips ([`chip_threshold`]), the
+//! shares of off-wake and wake cells above it: whether the chips' false-alarm rate carries over
+//! to a whole scene.
 
 use crate::report::Table;
 use crate::stages::StudyRun;
@@ -26,6 +29,7 @@ use wakelab_learn::detect::{detect_image, ScanOptions};
 use wakelab_learn::models::Architecture;
 use wakelab_learn::store::load_detector;
 use wakelab_schema::band::{Band, Input};
+use wakelab_schema::split::Split;
 
 /// The scene's side in chips.
 const CHIPS: usize = 8;
@@ -58,6 +62,51 @@ pub struct WholeScene {
     pub mean_off_wake: f64,
     /// Share of the off-wake cells at or above the threshold.
     pub false_alarm_cells: f64,
+    /// The threshold that flags [`CHIP_FALSE_ALARMS`] of the detector's no-wake test chips, and
+    /// the shares of the off-wake and the wake cells above it (None without test outputs).
+    pub chip_threshold: Option<ChipThreshold>,
+}
+
+/// The share of no-wake test chips a [`chip_threshold`] flags.
+pub const CHIP_FALSE_ALARMS: f64 = 0.05;
+
+/// A whole scene's cells at the threshold calibrated on the detector's test chips.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct ChipThreshold {
+    pub threshold: f64,
+    /// Off-wake cells above it (false alarms) and wake cells above it (detections).
+    pub false_alarm_cells: f64,
+    pub wake_cells: f64,
+}
+
+/// The smallest threshold that at most [`CHIP_FALSE_ALARMS`] of `no_wake` chip outputs exceed:
+/// their order statistic of rank ceil((1 - share) n) (the nearest-rank percentile); None when
+/// there are none.
+pub fn chip_threshold(mut no_wake: Vec<f64>) -> Option<f64> {
+    if no_wake.is_empty() {
+        return None;
+    }
+    no_wake.sort_by(f64::total_cmp);
+    let rank = ((1.0 - CHIP_FALSE_ALARMS) * no_wake.len() as f64).ceil() as usize;
+    Some(no_wake[rank.clamp(1, no_wake.len()) - 1])
+}
+
+/// The "base" detector's outputs on the no-wake test chips of `band`, from the repetition whose
+/// detector is saved (the last).
+fn no_wake_test_outputs(run: &StudyRun, band: Band) -> Vec<f64> {
+    let input = Input::single(band);
+    let ours = |o: &&wakelab_schema::results::Output| {
+        o.bands == input && o.architecture == Architecture::Base && o.split == Split::Test
+    };
+    let Some(last) = run.outputs.iter().filter(ours).map(|o| o.repetition).max() else {
+        return Vec::new();
+    };
+    run.outputs
+        .iter()
+        .filter(ours)
+        .filter(|o| o.repetition == last && o.label == 0)
+        .map(|o| o.output)
+        .collect()
 }
 
 /// The other wakes' courses in the image (degrees) and their ages as multiples of the first
@@ -171,6 +220,12 @@ pub fn scan_whole_scene(dir: &Path, study: &Study, run: &StudyRun) -> Result<Vec
             (found.peak.row / stride as f64).floor() as usize,
             (found.peak.col / stride as f64).floor() as usize,
         );
+        let share_above = |v: &[f64], t: f64| v.iter().filter(|&&p| p > t).count() as f64 / v.len().max(1) as f64;
+        let chip_threshold = chip_threshold(no_wake_test_outputs(run, band)).map(|t| ChipThreshold {
+            threshold: t,
+            false_alarm_cells: share_above(&off, t),
+            wake_cells: share_above(&on, t),
+        });
         let display = crate::pictures::display_values(&band_pair.wake, band.is_radar());
         out.push(WholeScene {
             band,
@@ -185,6 +240,7 @@ pub fn scan_whole_scene(dir: &Path, study: &Study, run: &StudyRun) -> Result<Vec
             false_alarm_cells: alarms as f64 / off.len().max(1) as f64,
             probability: found.probability,
             threshold: found.threshold,
+            chip_threshold,
             mask,
             map,
         });
@@ -204,6 +260,11 @@ pub fn whole_scene_table(scans: &[WholeScene]) -> Table {
                 format!("{:.2}", w.mean_on_wake),
                 format!("{:.2}", w.mean_off_wake),
                 format!("{:.0}%", 100.0 * w.false_alarm_cells),
+                w.chip_threshold.map_or("-".into(), |c| format!("{:.2}", c.threshold)),
+                w.chip_threshold
+                    .map_or("-".into(), |c| format!("{:.0}%", 100.0 * c.false_alarm_cells)),
+                w.chip_threshold
+                    .map_or("-".into(), |c| format!("{:.0}%", 100.0 * c.wake_cells)),
             ]
         })
         .collect();
@@ -224,7 +285,9 @@ pub fn whole_scene_table(scans: &[WholeScene]) -> Table {
              over {slicks:.0}% of it and {count} wake(s) of the study's ship ({wakes}), scanned by each band's \
              \"base\" detector (its last repetition) with windows of its input at half that stride. Cells on the \
              wake hold a pixel of the band's physics mask (all wakes); a false-alarm cell is an off-wake cell at \
-             or above the threshold ({threshold}).",
+             or above the threshold ({threshold}). The chips' threshold is the one that flags {chips_fa:.0}% of the \
+             detector's no-wake test chips (the same repetition's): the share of off-wake cells above it says \
+             whether that false-alarm rate holds on a whole scene, the share of wake cells above it what is found.",
             chips = first.chips,
             side = first.side,
             dx = first.pixel_spacing,
@@ -242,6 +305,7 @@ pub fn whole_scene_table(scans: &[WholeScene]) -> Table {
                 .collect::<Vec<_>>()
                 .join("; "),
             threshold = first.threshold,
+            chips_fa = 100.0 * CHIP_FALSE_ALARMS,
         ),
         header: [
             "band",
@@ -250,6 +314,9 @@ pub fn whole_scene_table(scans: &[WholeScene]) -> Table {
             "mean on the wake",
             "mean off the wake",
             "false-alarm cells",
+            "chips' 5% threshold",
+            "false-alarm cells there",
+            "wake cells there",
         ]
         .map(String::from)
         .to_vec(),
@@ -285,6 +352,17 @@ pub fn whole_scene_html(scans: &[WholeScene]) -> Result<String> {
 mod tests {
     use super::*;
     use wakelab_data::study::{DEFAULT_STUDY, PAPER_STUDY};
+
+    /// The nearest-rank percentile: of 20 outputs 0.01..0.20 the threshold flags one (5 %).
+    #[test]
+    fn the_chip_threshold_flags_five_percent_of_the_no_wake_chips() {
+        let outputs: Vec<f64> = (1..=20).rev().map(|i| i as f64 / 100.0).collect();
+        let t = chip_threshold(outputs.clone()).unwrap();
+        assert_eq!(t, 0.19);
+        assert_eq!(outputs.iter().filter(|&&p| p > t).count(), 1);
+        assert_eq!(chip_threshold(vec![0.3]), Some(0.3));
+        assert_eq!(chip_threshold(Vec::new()), None);
+    }
 
     /// The default study's scene is eight 32-pixel chips with its three wakes; the paper study's
     /// 1024-pixel chips are capped at two (2048 pixels), and both configurations are valid.

@@ -103,10 +103,13 @@ fn bragg_modulation(scene: &SurfaceScene, b: RadarBand) -> &Array2<f64> {
     &scene.bragg.iter().find(|x| x.band == b).expect("every band").modulation
 }
 
-/// A rendered pair: every band, and the Kelvin-arm mask of the wake scene when it has Kelvin waves.
+/// A rendered pair: every band, the Kelvin-arm mask of the wake scene when it has Kelvin waves,
+/// and the natural slicks' mask.
 pub struct RenderedPair {
     pub bands: Vec<BandPair>,
     pub kelvin_mask: Option<Array2<u8>>,
+    /// The natural slicks' pixels (1), the same in both scenes; None without slicks.
+    pub slick_mask: Option<Array2<u8>>,
 }
 
 /// Render a pair in `bands` from the wake's surface map; also returns the seconds spent in the
@@ -141,6 +144,7 @@ pub fn render_pair(pair: &ScenePair, map: &SurfaceMap, bands: &[Band]) -> (Rende
     let rendered = RenderedPair {
         bands: out,
         kelvin_mask: with.kelvin.map(|k| k.mask),
+        slick_mask: with.slick_mask,
     };
     (rendered, surface, t.elapsed().as_secs_f64())
 }

@@ -77,6 +77,10 @@ pub struct ChipThreshold {
     /// Off-wake cells above it (false alarms) and wake cells above it (detections).
     pub false_alarm_cells: f64,
     pub wake_cells: f64,
+    /// The off-wake cells above it among those holding a natural slick's pixel (None: no such
+    /// cell) and among the rest, the open sea.
+    pub slick_cells: Option<f64>,
+    pub open_sea_cells: f64,
 }
 
 /// The smallest threshold that at most [`CHIP_FALSE_ALARMS`] of `no_wake` chip outputs exceed:
@@ -179,6 +183,7 @@ pub fn scan_whole_scene(dir: &Path, study: &Study, run: &StudyRun) -> Result<Vec
     };
     let map = wakelab_data::hydro_map(&run.dataset.dir, &pair.config)?;
     let (rendered, _, _) = render_pair(&pair, &map, &bands);
+    let slicks = rendered.slick_mask;
     let device = wakelab_learn::device::parse_device("cpu")?;
     let mut out = Vec::new();
     for band_pair in rendered.bands {
@@ -192,21 +197,28 @@ pub fn scan_whole_scene(dir: &Path, study: &Study, run: &StudyRun) -> Result<Vec
         let found = detect_image(&detector, &info, &band_pair.wake, options, &device, &mut |_, _| {})?;
         let mask = band_pair.mask;
         let (stride, map) = (found.stride, found.map);
-        let on_wake = |r: usize, c: usize| {
-            let (h, w) = mask.dim();
-            let block = mask.slice(s![
+        // whether a stride cell holds any pixel of a mask
+        let touches = |m: &Array2<u8>, r: usize, c: usize| {
+            let (h, w) = m.dim();
+            let block = m.slice(s![
                 r * stride..((r + 1) * stride).min(h),
                 c * stride..((c + 1) * stride).min(w)
             ]);
-            block.iter().any(|&m| m > 0)
+            block.iter().any(|&v| v > 0)
         };
+        let on_wake = |r: usize, c: usize| touches(&mask, r, c);
         let (mut on, mut off, mut alarms) = (Vec::new(), Vec::new(), 0usize);
+        let (mut on_slick, mut open_sea) = (Vec::new(), Vec::new());
         for ((r, c), &p) in map.indexed_iter() {
             if on_wake(r, c) {
                 on.push(p as f64);
             } else {
                 off.push(p as f64);
                 alarms += usize::from(p as f64 >= found.threshold);
+                match &slicks {
+                    Some(m) if touches(m, r, c) => on_slick.push(p as f64),
+                    _ => open_sea.push(p as f64),
+                }
             }
         }
         let mean = |v: &[f64]| {
@@ -225,6 +237,8 @@ pub fn scan_whole_scene(dir: &Path, study: &Study, run: &StudyRun) -> Result<Vec
             threshold: t,
             false_alarm_cells: share_above(&off, t),
             wake_cells: share_above(&on, t),
+            slick_cells: (!on_slick.is_empty()).then(|| share_above(&on_slick, t)),
+            open_sea_cells: share_above(&open_sea, t),
         });
         let display = crate::pictures::display_values(&band_pair.wake, band.is_radar());
         out.push(WholeScene {
@@ -248,6 +262,11 @@ pub fn scan_whole_scene(dir: &Path, study: &Study, run: &StudyRun) -> Result<Vec
     Ok(out)
 }
 
+/// A share as a whole percentage, "-" when there is none.
+fn percent(share: Option<f64>) -> String {
+    share.map_or("-".into(), |v| format!("{:.0}%", 100.0 * v))
+}
+
 /// The scans as a table, one row per band.
 pub fn whole_scene_table(scans: &[WholeScene]) -> Table {
     let rows = scans
@@ -261,10 +280,10 @@ pub fn whole_scene_table(scans: &[WholeScene]) -> Table {
                 format!("{:.2}", w.mean_off_wake),
                 format!("{:.0}%", 100.0 * w.false_alarm_cells),
                 w.chip_threshold.map_or("-".into(), |c| format!("{:.2}", c.threshold)),
-                w.chip_threshold
-                    .map_or("-".into(), |c| format!("{:.0}%", 100.0 * c.false_alarm_cells)),
-                w.chip_threshold
-                    .map_or("-".into(), |c| format!("{:.0}%", 100.0 * c.wake_cells)),
+                percent(w.chip_threshold.map(|c| c.false_alarm_cells)),
+                percent(w.chip_threshold.map(|c| c.wake_cells)),
+                percent(w.chip_threshold.and_then(|c| c.slick_cells)),
+                percent(w.chip_threshold.map(|c| c.open_sea_cells)),
             ]
         })
         .collect();
@@ -287,7 +306,8 @@ pub fn whole_scene_table(scans: &[WholeScene]) -> Table {
              wake hold a pixel of the band's physics mask (all wakes); a false-alarm cell is an off-wake cell at \
              or above the threshold ({threshold}). The chips' threshold is the one that flags {chips_fa:.0}% of the \
              detector's no-wake test chips (the same repetition's): the share of off-wake cells above it says \
-             whether that false-alarm rate holds on a whole scene, the share of wake cells above it what is found.",
+             whether that false-alarm rate holds on a whole scene, the share of wake cells above it what is found; \
+             the off-wake cells are split into those holding a natural slick's pixel and the open sea.",
             chips = first.chips,
             side = first.side,
             dx = first.pixel_spacing,
@@ -317,6 +337,8 @@ pub fn whole_scene_table(scans: &[WholeScene]) -> Table {
             "chips' 5% threshold",
             "false-alarm cells there",
             "wake cells there",
+            "slick cells flagged there",
+            "open-sea cells flagged there",
         ]
         .map(String::from)
         .to_vec(),

@@ -626,6 +626,12 @@ impl Default for WakelabConfig {
 }
 
 impl WakelabConfig {
+    /// How far behind the stern the simulated wake reaches (m): the hull's aft half plus the
+    /// ship's run over the simulated time (the 3D wake of x = U t, spec 2.1).
+    pub fn wake_end(&self) -> f64 {
+        0.5 * self.ship.length + self.ship.speed * self.time.duration
+    }
+
     /// The embedded default with the given preset's grid and time.
     pub fn with_preset(preset: Preset) -> Self {
         Self::from_toml_str(&format!("preset = \"{}\"", preset.name()), "<preset>").expect("embedded presets are valid")

@@ -199,7 +199,7 @@ impl WakelabConfig {
                 format!("at most scene.size = {} pixels", sc.size),
             ));
         }
-        let wake_end = 0.5 * s.length + s.speed * t.duration;
+        let wake_end = self.wake_end();
         for (i, w) in sc.wake_placements().iter().enumerate() {
             // the scene's own wake is named by its fields, the others by their index
             let field = |name: &str| match i {

@@ -127,8 +127,7 @@ fn scene_pair(study: &Study) -> Result<Option<(ScenePair, usize)>> {
     let Some(first) = study.pairs()?.into_iter().next() else {
         return Ok(None);
     };
-    let (ship, time) = (&first.config.ship, &first.config.time);
-    let halfway = 0.5 * (0.5 * ship.length + ship.speed * time.duration);
+    let halfway = 0.5 * first.config.wake_end();
     let chip = first.config.scene.size;
     for chips in [CHIPS, CHIPS / 2, CHIPS / 4]
         .into_iter()

@@ -39,6 +39,16 @@ pub fn group_speed(k: f64, gravity: f64, tension: f64) -> f64 {
     (gravity + 3.0 * tension / RHO_WATER * k * k) / (2.0 * angular_frequency(k, gravity, tension))
 }
 
+/// The midpoints k and widths dk of `n` log-spaced bins over [k_lo, k_hi): the radial rule of
+/// every band integral of the spectrum.
+fn log_bins(k_lo: f64, k_hi: f64, n: usize) -> impl Iterator<Item = (f64, f64)> {
+    let step = (k_hi / k_lo).ln() / n as f64;
+    (0..n).map(move |i| {
+        let k = k_lo * ((i as f64 + 0.5) * step).exp();
+        (k, k * step)
+    })
+}
+
 /// The background sea: wind waves of one model plus an optional swell.
 #[derive(Debug, Clone)]
 pub struct SeaSpectrum {
@@ -212,9 +222,7 @@ impl SeaSpectrum {
         if k_hi <= k_lo {
             return (0.0, 0.0);
         }
-        let n = 400;
         let angles = 72;
-        let step = (k_hi / k_lo).ln() / n as f64;
         // the directions, their angle from the wind's for the spreading, and from the look
         let directions: Vec<(f64, f64, f64, f64)> = (0..angles)
             .map(|a| {
@@ -224,9 +232,7 @@ impl SeaSpectrum {
             })
             .collect();
         let (mut along, mut across) = (0.0, 0.0);
-        for i in 0..n {
-            let k = k_lo * ((i as f64 + 0.5) * step).exp();
-            let dk = k * step;
+        for (k, dk) in log_bins(k_lo, k_hi, 400) {
             let ring = self.ring(k);
             for &(phi, twice_from_wind, cos2, sin2) in &directions {
                 let f = ring.at_with(phi, twice_from_wind) * k * dk * 2.0 * PI / angles as f64;
@@ -243,14 +249,7 @@ impl SeaSpectrum {
         if k_hi <= k_lo || k_lo <= 0.0 {
             return 0.0;
         }
-        let n = 400;
-        let step = (k_hi / k_lo).ln() / n as f64;
-        (0..n)
-            .map(|i| {
-                let k = k_lo * ((i as f64 + 0.5) * step).exp();
-                self.wind_omni(k) * k * step
-            })
-            .sum()
+        log_bins(k_lo, k_hi, 400).map(|(k, dk)| self.wind_omni(k) * dk).sum()
     }
 
     /// Wave action spectral density N = rho omega F / k, up to the constant rho (Eq. (2.67)).
@@ -262,15 +261,10 @@ impl SeaSpectrum {
     /// Integrated properties of the spectrum up to `k_max` (rad/m).
     pub fn summary(&self, k_max: f64) -> SpectrumSummary {
         // log-spaced radial integration; exact angular integrals of the spreading where possible
-        let n = 4000;
-        let (k_lo, k_hi) = (1e-4f64, k_max);
-        let step = (k_hi / k_lo).ln() / n as f64;
         let (mut m0, mut up, mut cross) = (0.0, 0.0, 0.0);
         let (mut peak_k, mut peak_v) = (0.0, 0.0);
         let angles = 72;
-        for i in 0..n {
-            let k = k_lo * ((i as f64 + 0.5) * step).exp();
-            let dk = k * step;
+        for (k, dk) in log_bins(1e-4, k_max, 4000) {
             let mut ring = 0.0;
             let (mut ring_up, mut ring_cross) = (0.0, 0.0);
             let spectrum = self.ring(k);

@@ -86,7 +86,7 @@ pub fn environment_config(base: &WakelabConfig, environment: NamedDirection) -> 
     c.sar.noise_floor = false;
     c.sar.velocity_bunching = false;
     c.slicks.coverage = 0.0;
-    let halfway = 0.5 * (0.5 * c.ship.length + c.ship.speed * c.time.duration);
+    let halfway = 0.5 * c.wake_end();
     c.scene.size = SIDE;
     c.scene.pixel_spacing = SPACING;
     c.scene.along_track = ALONG_TRACK.min(halfway);
@@ -235,6 +235,46 @@ mod tests {
         assert_eq!(contrast(-4.0, 0.1).verdict(), "dark");
         assert_eq!(contrast(-0.6, 1.5).verdict(), "bright");
         assert_eq!(contrast(-0.4, 0.3).verdict(), "none");
+    }
+
+    /// The table's refraction source against its closed form. On a uniformly converging current
+    /// V = -a y over a Pierson-Moskowitz sea whose short waves follow the power law F ~ k^-c
+    /// (Eq. (2.70)), with the wind 45 degrees off the Bragg waves (where the spreading does not
+    /// change with k), N = rho omega F / k gives k d ln N / dk = d ln omega / d ln k - c - 1, so
+    /// for Bragg waves across the track R = (k d ln N / dk) dV/dy = (c + 1 - d ln omega / d ln k) a,
+    /// with d ln omega / d ln k = (g + 3 tau k^2 / rho) / (2 (g + tau k^2 / rho)).
+    #[test]
+    fn the_refraction_source_is_the_closed_form_on_a_converging_current() {
+        let c = WakelabConfig::from_toml_str(
+            "[sea]\nspectrum = \"pierson_moskowitz\"\n[environment.wind]\ndirection = 45.0\n\
+             [environment.swell]\ndirection = \"calm\"\n",
+            "test",
+        )
+        .unwrap();
+        let a = 1e-3;
+        let x: Vec<f64> = (0..=50).map(|i| 100.0 * i as f64).collect();
+        let y: Vec<f64> = (-20..=20).map(|j| 10.0 * j as f64).collect();
+        let cells = x.len() * y.len();
+        let mut fields = vec![vec![0f32; cells]; SliceField::ALL.len()];
+        for (i, v) in fields[SliceField::V as usize].iter_mut().enumerate() {
+            *v = (-a * y[i % y.len()]) as f32;
+        }
+        fields[SliceField::Eps as usize] = vec![c.environment.ambient_dissipation as f32; cells];
+        fields[SliceField::NuT as usize] = vec![1e-4; cells];
+        let map = SurfaceMap { x, y, fields };
+        let sea = background_spectrum(&c);
+        let (g, tau) = (sea.gravity, sea.tension);
+        for band in RadarBand::ALL {
+            let (refraction, _, _) = refraction_against_damping(&c, &map, band);
+            let k = bragg_vectors(&c, band).0.magnitude();
+            let rho = wakelab_surface::spectrum::RHO_WATER;
+            let dln_omega = (g + 3.0 * tau * k * k / rho) / (2.0 * (g + tau * k * k / rho));
+            let closed = (c.sea.short_wave_exponent + 1.0 - dln_omega) * a;
+            assert!(
+                (refraction / closed - 1.0).abs() < 1e-3,
+                "{band:?}: R {refraction} vs {closed}"
+            );
+        }
     }
 
     /// Each environment's configuration is valid for the default study's base and differs from

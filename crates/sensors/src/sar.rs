@@ -21,7 +21,9 @@
 //!   3-7 m/s, where only breaking feeds the cross-wind waves. So it sets only the growth and
 //!   relaxation of the Bragg waves. Elfouhaily's spreading at the Bragg scale is strengthened
 //!   by a fitted factor (`SHORT_WAVE_SPREADING_GAIN`), so the up-/cross-wind ratio follows
-//!   CMOD5.N's at 30-45 degrees (see the tests).
+//!   CMOD5.N's at 30-45 degrees (see the tests), and below k ~ 100 rad/m the level is revised
+//!   as Yurovskaya et al. (2013) measured it: decimetre waves almost isotropic and weakly wind
+//!   dependent ([`wakelab_surface::bragg_scale`], two of its constants calibrated on CMOD5.N).
 //! - Two scales: the tilts are averaged over a Gaussian slope distribution (erratum 6) of the
 //!   waves between the image's resolved scale and the cut k_d = k_B / 4 (KHCC03's d = 1/4); a
 //!   facet tilted so far that its own Bragg wavenumber falls below k_d scatters no Bragg power
@@ -181,7 +183,7 @@ impl<'a> RadarSea<'a> {
         };
         // Bragg waves along the look direction, towards (-) and away from (+) the radar
         let (c, s) = (self.look.cos(), self.look.sin());
-        let density = self.spectrum.directional(-kb * c, -kb * s) + self.spectrum.directional(kb * c, kb * s);
+        let density = self.spectrum.bragg_density(-kb * c, -kb * s) + self.spectrum.bragg_density(kb * c, kb * s);
         8.0 * PI * self.k0.powi(4) * cos_i.powi(4) * g.norm_sqr() * density
     }
 
@@ -316,7 +318,7 @@ mod tests {
                 let mut radar = RadarSea::new(&spectrum, &short, k0, eps, pol, 0.3, theta, 10.0);
                 radar.tilt_variance = (0.0, 0.0);
                 let kb = 2.0 * k0 * theta.sin();
-                let f = spectrum.directional(kb * 0.3f64.cos(), kb * 0.3f64.sin());
+                let f = spectrum.bragg_density(kb * 0.3f64.cos(), kb * 0.3f64.sin());
                 let closed = 16.0 * PI * k0.powi(4) * theta.cos().powi(4) * g * g * f;
                 let got = radar.bragg(theta);
                 assert!((got / closed - 1.0).abs() < 1e-6, "{pol:?} {inc}: {got} vs {closed}");
@@ -347,26 +349,26 @@ mod tests {
     }
 
     /// C-band VV against CMOD5.N (Hersbach 2010) over 20-50 degrees, 3-15 m/s, up-, cross-
-    /// and down-wind, for CMOD5.N's 25 km cell (no wave resolved: every slope tilts). The
-    /// issue's goal is 2 dB everywhere. What holds (measured, worst over the six winds; see
-    /// `LIMITS`): up- and down-wind within 1.5 dB from 25 degrees and 2.1 dB at 20; cross-wind
-    /// within 1.0 dB at 35-40 degrees, 1.6 dB at 45, 2.0 dB at 50, 2.2 dB at 20 and 30, and
-    /// 3.2 dB at 25 (5-7 m/s, too dark: the cross-wind Bragg waves of Elfouhaily's spectrum at
-    /// k = 94 rad/m). Before Cox & Munk's slopes the worst were 2.9 dB up-wind and 4.3 dB
-    /// cross-wind, both at 20 degrees. The up-/cross-wind ratio is CMOD5.N's within 1.5 dB at
-    /// 30-45 degrees and every wind: that is what the spreading gain was fitted to, so it
-    /// checks the fit, not an independent figure.
+    /// and down-wind, for CMOD5.N's 25 km cell (no wave resolved: every slope tilts): the
+    /// issue's 2 dB everywhere. Measured worst (see the printout): 1.9 dB, at 50 degrees and
+    /// 15 m/s cross-wind, a cell the decimetre revision does not touch (k_B = 170 rad/m).
+    /// Not an independent check: two constants of the decimetre revision (w0, U_ref in
+    /// `wakelab_surface::bragg_scale`) were chosen on this table, and the spreading gain on the
+    /// ratio below. What is independent is its shape, from Yurovskaya et al. (2013): with the
+    /// isotropy alone (w0 = 1) the worst is 2.4 dB, and without the revision 3.2 dB (cross-wind,
+    /// 25 degrees, 5-7 m/s). The up-/cross-wind ratio is CMOD5.N's within 1.5 dB at 30-45
+    /// degrees and every wind (measured 1.4).
     #[test]
     fn c_band_vv_is_near_cmod5n() {
         // incidence, limit up-/down-wind, limit cross-wind (dB)
         const LIMITS: [(f64, f64, f64); 7] = [
-            (20.0, 2.3, 2.4),
-            (25.0, 2.0, 3.4),
-            (30.0, 2.0, 2.4),
+            (20.0, 2.0, 2.0),
+            (25.0, 2.0, 2.0),
+            (30.0, 2.0, 2.0),
             (35.0, 2.0, 2.0),
             (40.0, 2.0, 2.0),
             (45.0, 2.0, 2.0),
-            (50.0, 2.0, 2.1),
+            (50.0, 2.0, 2.0),
         ];
         let eps = seawater_permittivity(RadarBand::C.frequency(), 15.0, 35.0);
         let mut worst_ratio = 0.0f64;

@@ -145,8 +145,8 @@ fn a_uniform_slick_damps_by_a_few_db_growing_with_frequency() {
         let parts = radar.parts(c.platform.incidence.to_radians());
         let (towards, away) = wakelab_surface::bragg_vectors(&c, band);
         let (ft, fa) = (
-            sea.directional(towards.kx, towards.ky),
-            sea.directional(away.kx, away.ky),
+            sea.bragg_density(towards.kx, towards.ky),
+            sea.bragg_density(away.kx, away.ky),
         );
         let m = (ft * ratio(towards) + fa * ratio(away)) / (ft + fa);
         let kb = wakelab_surface::short_waves::breaking_wavenumber(band.wavenumber());

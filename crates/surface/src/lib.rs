@@ -8,6 +8,7 @@
 //! out. Without a wake it returns the undisturbed sea of the same environment and seed.
 
 pub mod action;
+pub mod bragg_scale;
 pub mod film;
 pub mod fourier;
 pub mod kelvin;
@@ -250,8 +251,8 @@ pub fn simulate_surface(config: &WakelabConfig, map: Option<&SurfaceMap>) -> Sur
             let r_t = with_slicks(r_t, d_bragg.as_ref(), rel_t.rate);
             let r_a = with_slicks(r_a, d_bragg.as_ref(), rel_a.rate);
             let (f_t, f_a) = (
-                spectrum.directional(towards.kx, towards.ky),
-                spectrum.directional(away.kx, away.ky),
+                spectrum.bragg_density(towards.kx, towards.ky),
+                spectrum.bragg_density(away.kx, away.ky),
             );
             let mut modulation = r_t;
             ndarray::Zip::from(&mut modulation)
@@ -316,8 +317,8 @@ pub fn kelvin_on_scene(
                 towards: Relaxation::new(towards, spectrum, short_waves),
                 away: Relaxation::new(away, spectrum, short_waves),
                 density: (
-                    spectrum.directional(towards.kx, towards.ky),
-                    spectrum.directional(away.kx, away.ky),
+                    spectrum.bragg_density(towards.kx, towards.ky),
+                    spectrum.bragg_density(away.kx, away.ky),
                 ),
                 // the waves the two-scale model tilts by: longer than its cut, k_B / 4
                 spread: {

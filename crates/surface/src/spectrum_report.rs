@@ -18,7 +18,8 @@ pub struct SpectrumReport {
     pub bragg: Vec<BraggReport>,
 }
 
-/// The spectrum at one band's Bragg wavenumber, for the configured incidence and look.
+/// The spectrum at one band's Bragg wavenumber, for the configured incidence and look, as the
+/// radar sees it (Elfouhaily's revised in the decimetre range: [`crate::bragg_scale`]).
 #[derive(serde::Serialize)]
 pub struct BraggReport {
     pub band: &'static str,
@@ -47,9 +48,9 @@ pub fn spectrum_report(cfg: &WakelabConfig) -> SpectrumReport {
                 frequency_hz: band.frequency(),
                 bragg_wavenumber: k,
                 bragg_wavelength_m: 2.0 * std::f64::consts::PI / k,
-                density_towards: sea.directional(t.kx, t.ky),
-                density_away: sea.directional(a.kx, a.ky),
-                omnidirectional: sea.wind_omni(k),
+                density_towards: sea.bragg_density(t.kx, t.ky),
+                density_away: sea.bragg_density(a.kx, a.ky),
+                omnidirectional: sea.bragg_omni(k),
             }
         })
         .collect();

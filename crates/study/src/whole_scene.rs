@@ -165,6 +165,45 @@ fn scene_pair(study: &Study) -> Result<Option<(ScenePair, usize)>> {
     Ok(None)
 }
 
+/// Whether the detection map's cell (r, c), `stride` pixels on a side, holds any pixel of `mask`.
+fn touches(mask: &Array2<u8>, stride: usize, r: usize, c: usize) -> bool {
+    let (h, w) = mask.dim();
+    let (r0, c0) = ((r * stride).min(h), (c * stride).min(w));
+    let block = mask.slice(s![r0..((r + 1) * stride).min(h), c0..((c + 1) * stride).min(w)]);
+    block.iter().any(|&v| v > 0)
+}
+
+/// A detection map's probabilities sorted by where their cells lie.
+#[derive(Debug, Default, PartialEq)]
+struct CellSplit {
+    /// Cells holding a pixel of the wake's mask.
+    on_wake: Vec<f64>,
+    /// Every other cell.
+    off_wake: Vec<f64>,
+    /// The off-wake cells holding a pixel of a natural slick.
+    on_slick: Vec<f64>,
+    /// The off-wake cells holding none.
+    open_sea: Vec<f64>,
+}
+
+/// Sort the map's cells into wake and off-wake, and the off-wake ones into slick and open sea.
+fn split_cells(map: &Array2<f32>, stride: usize, wake: &Array2<u8>, slicks: Option<&Array2<u8>>) -> CellSplit {
+    let mut split = CellSplit::default();
+    for ((r, c), &p) in map.indexed_iter() {
+        let p = p as f64;
+        if touches(wake, stride, r, c) {
+            split.on_wake.push(p);
+            continue;
+        }
+        split.off_wake.push(p);
+        match slicks {
+            Some(m) if touches(m, stride, r, c) => split.on_slick.push(p),
+            _ => split.open_sea.push(p),
+        }
+    }
+    split
+}
+
 /// Scan the scene with every single band's "base" detector of the run in `dir`; bands without
 /// a saved detector are left out.
 pub fn scan_whole_scene(dir: &Path, study: &Study, run: &StudyRun) -> Result<Vec<WholeScene>> {
@@ -196,30 +235,9 @@ pub fn scan_whole_scene(dir: &Path, study: &Study, run: &StudyRun) -> Result<Vec
         let found = detect_image(&detector, &info, &band_pair.wake, options, &device, &mut |_, _| {})?;
         let mask = band_pair.mask;
         let (stride, map) = (found.stride, found.map);
-        // whether a stride cell holds any pixel of a mask
-        let touches = |m: &Array2<u8>, r: usize, c: usize| {
-            let (h, w) = m.dim();
-            let block = m.slice(s![
-                r * stride..((r + 1) * stride).min(h),
-                c * stride..((c + 1) * stride).min(w)
-            ]);
-            block.iter().any(|&v| v > 0)
-        };
-        let on_wake = |r: usize, c: usize| touches(&mask, r, c);
-        let (mut on, mut off, mut alarms) = (Vec::new(), Vec::new(), 0usize);
-        let (mut on_slick, mut open_sea) = (Vec::new(), Vec::new());
-        for ((r, c), &p) in map.indexed_iter() {
-            if on_wake(r, c) {
-                on.push(p as f64);
-            } else {
-                off.push(p as f64);
-                alarms += usize::from(p as f64 >= found.threshold);
-                match &slicks {
-                    Some(m) if touches(m, r, c) => on_slick.push(p as f64),
-                    _ => open_sea.push(p as f64),
-                }
-            }
-        }
+        let cells = split_cells(&map, stride, &mask, slicks.as_ref());
+        let alarms = cells.off_wake.iter().filter(|&&p| p >= found.threshold).count();
+        let (on, off, on_slick, open_sea) = (cells.on_wake, cells.off_wake, cells.on_slick, cells.open_sea);
         let mean = |v: &[f64]| {
             if v.is_empty() {
                 f64::NAN
@@ -247,7 +265,7 @@ pub fn scan_whole_scene(dir: &Path, study: &Study, run: &StudyRun) -> Result<Vec
             pixel_spacing: pair.config.scene.pixel_spacing,
             chips,
             wakes: pair.config.scene.wake_placements(),
-            peak_on_wake: on_wake(peak.0, peak.1),
+            peak_on_wake: touches(&mask, stride, peak.0, peak.1),
             mean_on_wake: mean(&on),
             mean_off_wake: mean(&off),
             false_alarm_cells: alarms as f64 / off.len().max(1) as f64,
@@ -375,6 +393,30 @@ mod tests {
     use wakelab_data::study::{DEFAULT_STUDY, PAPER_STUDY};
 
     /// The nearest-rank percentile: of 20 outputs 0.01..0.20 the threshold flags one (5 %).
+    /// A map of 3 x 3 cells of 2 px over 6 x 6 px masks: the wake fills the top row of cells, a
+    /// slick touches the centre cell with one pixel and also lies under the wake (a wake cell stays
+    /// a wake cell); a fourth column of cells past the masks' edge holds no pixel of either.
+    #[test]
+    fn cells_split_into_wake_slick_and_open_sea() {
+        let map = Array2::from_shape_fn((3, 4), |(r, c)| (10 * r + c) as f32);
+        let mut wake = Array2::<u8>::zeros((6, 6));
+        wake.slice_mut(s![0..2, ..]).fill(1);
+        let mut slicks = Array2::<u8>::zeros((6, 6));
+        slicks[[3, 2]] = 1;
+        slicks[[1, 1]] = 1;
+        let split = split_cells(&map, 2, &wake, Some(&slicks));
+        assert_eq!(split.on_wake, vec![0.0, 1.0, 2.0]);
+        assert_eq!(
+            split.off_wake,
+            vec![3.0, 10.0, 11.0, 12.0, 13.0, 20.0, 21.0, 22.0, 23.0]
+        );
+        assert_eq!(split.on_slick, vec![11.0]);
+        assert_eq!(split.open_sea, vec![3.0, 10.0, 12.0, 13.0, 20.0, 21.0, 22.0, 23.0]);
+        // without slicks every off-wake cell is open sea
+        let plain = split_cells(&map, 2, &wake, None);
+        assert!(plain.on_slick.is_empty() && plain.open_sea == plain.off_wake);
+    }
+
     #[test]
     fn the_chip_threshold_flags_five_percent_of_the_no_wake_chips() {
         let outputs: Vec<f64> = (1..=20).rev().map(|i| i as f64 / 100.0).collect();

@@ -250,10 +250,7 @@ mod tests {
     use wakelab_core::WakelabConfig;
 
     fn sea(wind: f64) -> SeaSpectrum {
-        let c = WakelabConfig::default();
-        let mut swell = c.environment.swell.clone();
-        swell.amplitude = 0.0;
-        SeaSpectrum::new(&c.sea, wind, 0.0, &swell, 9.81)
+        SeaSpectrum::wind_sea(&WakelabConfig::default().sea, wind, 0.0, 9.81)
     }
 
     fn db(wind: f64, band: RadarBand, pol: Polarisation, inc: f64, look_deg: f64) -> f64 {

@@ -260,10 +260,7 @@ mod tests {
     use wakelab_core::WakelabConfig;
 
     fn waves(wind: f64) -> ShortWaves {
-        let c = WakelabConfig::default();
-        let mut swell = c.environment.swell.clone();
-        swell.amplitude = 0.0;
-        ShortWaves::new(&SeaSpectrum::new(&c.sea, wind, 0.0, &swell, 9.81))
+        ShortWaves::new(&SeaSpectrum::wind_sea(&WakelabConfig::default().sea, wind, 0.0, 9.81))
     }
 
     /// Without the breaking source the balance's closed form is B = alpha beta_v^(1/n)

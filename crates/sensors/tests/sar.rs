@@ -186,7 +186,8 @@ fn across_wake_extremes(extra: &str) -> Vec<(f64, f64, Vec<f64>)> {
 }
 
 /// A 4 km old wake of the default ship is a few dB dark, darker at lower wind and when younger,
-/// and the sea beyond the wake's reach is unchanged. Observed turbulent-wake contrasts in C and
+/// and the sea beyond the wake's reach is unchanged: within 6 dB at 5-8 m/s in every band, within
+/// 10 dB at 3 m/s (measured: S -9.0, C -7.4, X -5.7 dB, darker than the 1-6 dB below). Observed turbulent-wake contrasts in C and
 /// X band are about 1-6 dB, weaker at higher wind and in older wakes (e.g. the TerraSAR-X wakes
 /// of Tings et al. 2019; a TerraSAR-X wake measured for wakelab: 1.3 dB dark on average, 3.5 dB
 /// at its darkest).
@@ -209,8 +210,8 @@ fn a_wakes_contrast_is_a_few_db_and_weakens_with_wind_and_age() {
             let (lo, hi, profile) = &bands[b];
             let (lo, hi) = (*lo, *hi);
             eprintln!("{band:?} {wind} m/s, 4 km: darkest {lo:+.2} dB, brightest {hi:+.2} dB");
-            assert!(lo < -0.3 && lo > -12.0, "{band:?} {wind}: {lo} dB");
-            if *wind >= 5.0 && *band != RadarBand::S {
+            assert!(lo < -0.3 && lo > -10.0, "{band:?} {wind}: {lo} dB");
+            if *wind >= 5.0 {
                 assert!(lo > -6.0, "{band:?} {wind}: {lo} dB is more than observed");
             }
             assert!(lo > last, "{band:?}: not weaker at {wind} m/s ({lo} vs {last})");
@@ -227,12 +228,11 @@ fn a_wakes_contrast_is_a_few_db_and_weakens_with_wind_and_age() {
     }
 }
 
-/// Looking up- and down-wind (the wind blowing across the track), where the wind's growth
-/// relaxes the Bragg waves, every band's wake is a few dB dark at 5-8 m/s: inside the 1-6 dB of
-/// observed wakes, S band included, and weaker with wind. Looking across the wind (the default
-/// geometry, the test above) S band is darker: there its Bragg waves relax only through the
-/// breaking-generated source (KAJC05 Eq. 34; at 5 m/s mu = 0.024 /s in S against 0.10 in C
-/// and 0.29 in X).
+/// Looking up- and down-wind (the wind blowing across the track) every band's wake is a few dB
+/// dark at 5-8 m/s too: inside the 1-6 dB of observed wakes, and weaker with wind. Before the
+/// decimetre waves relaxed isotropically (`wakelab_surface::action`), S band met this only in
+/// this geometry: looking across the wind its Bragg waves relaxed at Eq. 34's cross-wind rate,
+/// 0.024 /s at 5 m/s, and the wake was 8.6 dB dark.
 #[test]
 fn looking_along_the_wind_every_band_is_a_few_db_dark() {
     let mut last = [f64::NEG_INFINITY; 3];

@@ -18,6 +18,16 @@
 //! mu + d - R vanish, it is held at a tenth of mu (r at most 10): the non-linear loss the
 //! linear form omits.
 //!
+//! Where the spectrum is isotropic, so is mu. Linearised about a steady level B, Eq. 34 reads
+//! mu = omega [(n + 1) (B / alpha)^n - beta_v(phi)]: with B the same in every direction, as
+//! Yurovskaya et al. (2013) measured for decimetre waves ([`crate::bragg_scale`]), its leading
+//! term is isotropic. KHCC03's own balance, whose B is not isotropic there, gives S-band Bragg
+//! waves travelling across the wind a rate ten times below the along-wind one (0.024 against
+//! 0.29 /s at 5 m/s). So mu = (1 - i) mu(phi) + i <mu>, with i the spectrum's isotropy at k
+//! ([`SeaSpectrum::isotropy`]: 1 well below 100 rad/m, 0 above) and <mu> Eq. 34 averaged over
+//! direction (its magnitude stays that of KHCC03's balance; the residual -omega beta_v(phi)
+//! anisotropy is left out).
+//!
 //! The rays are marched downstream in x (behind the stern) over the rows of the hydro surface
 //! map; each step integrates the linear equation exactly for that step's coefficients (so the
 //! march is stable at any rate), and the cross-track drift V + c_gy moves r between columns by
@@ -47,7 +57,8 @@ impl WaveVector {
 #[derive(Debug, Clone, Copy)]
 pub struct Relaxation {
     pub k: WaveVector,
-    /// Relaxation rate mu (1/s), Kudryavtsev et al. (2005) Eq. 34.
+    /// Relaxation rate mu (1/s), Kudryavtsev et al. (2005) Eq. 34, isotropic where the
+    /// spectrum is (module doc).
     pub rate: f64,
     /// Gradient of ln N_0 in k (m), heading frame.
     pub dln_action_dk: (f64, f64),
@@ -68,7 +79,15 @@ impl Relaxation {
         let cg = group_speed(km, sea.gravity, sea.tension);
         Self {
             k,
-            rate: short_waves.relaxation_rate(km, k.ky.atan2(k.kx)),
+            rate: {
+                let isotropy = sea.isotropy(km);
+                let own = short_waves.relaxation_rate(km, k.ky.atan2(k.kx));
+                if isotropy > 0.0 {
+                    (1.0 - isotropy) * own + isotropy * short_waves.mean_relaxation_rate(km)
+                } else {
+                    own
+                }
+            },
             dln_action_dk: (dx, dy),
             group_velocity: (cg * k.kx / km, cg * k.ky / km),
         }
@@ -202,5 +221,42 @@ mod tests {
         let exact = mu / lambda + (r0 - mu / lambda) * (-lambda * 3.0f64).exp();
         assert!((r - exact).abs() < 1e-12);
         assert!((relaxation_step(1.0, 0.4, 0.4, 1e3) - 1.0).abs() < 1e-12);
+    }
+
+    /// S-band Bragg waves (50 rad/m, decimetre) relax at one rate in every direction, Eq. 34's
+    /// mean over the ring; X-band ones (250 rad/m) at Eq. 34's own directional rate; a
+    /// Pierson-Moskowitz sea (no decimetre revision) keeps the directional rate everywhere.
+    #[test]
+    fn decimetre_waves_relax_isotropically() {
+        let c = wakelab_core::WakelabConfig::default();
+        let sea = SeaSpectrum::wind_sea(&c.sea, 5.0, 0.0, 9.81);
+        let short = ShortWaves::new(&sea);
+        let along = |k: f64, phi: f64, sea: &SeaSpectrum, short: &ShortWaves| {
+            Relaxation::new(
+                WaveVector {
+                    kx: k * phi.cos(),
+                    ky: k * phi.sin(),
+                },
+                sea,
+                short,
+            )
+            .rate
+        };
+        let mean = short.mean_relaxation_rate(50.0);
+        for phi in [0.0, 1.0, std::f64::consts::FRAC_PI_2, std::f64::consts::PI] {
+            let rate = along(50.0, phi, &sea, &short);
+            assert!((rate / mean - 1.0).abs() < 5e-3, "{phi}: {rate} vs {mean}");
+            let x = along(250.0, phi, &sea, &short);
+            let own = short.relaxation_rate(250.0, phi);
+            assert!((x / own - 1.0).abs() < 1e-3, "{phi}: {x} vs {own}");
+        }
+        // Eq. 34 itself is anisotropic there: slow across the wind
+        assert!(short.relaxation_rate(50.0, std::f64::consts::FRAC_PI_2) < 0.5 * short.relaxation_rate(50.0, 0.0));
+        let mut pm_config = c.sea.clone();
+        pm_config.spectrum = wakelab_core::config::SpectrumModel::PiersonMoskowitz;
+        let pm = SeaSpectrum::wind_sea(&pm_config, 5.0, 0.0, 9.81);
+        let pm_short = ShortWaves::new(&pm);
+        let cross = along(50.0, std::f64::consts::FRAC_PI_2, &pm, &pm_short);
+        assert_eq!(cross, pm_short.relaxation_rate(50.0, std::f64::consts::FRAC_PI_2));
     }
 }

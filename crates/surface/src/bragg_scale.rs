@@ -17,8 +17,10 @@
 //! 0.4-0.6 with U_ref in 9-11 m/s gives the same worst difference within 0.05 dB, and the
 //! isotropy alone (w0 = 1) already takes the worst from 3.2 to 2.4 dB (see the sensors' tests).
 //!
-//! Only the Bragg-resonant level uses this (the radar's Bragg term and the weights of the
-//! wake's modulation of the waves towards and away from the radar). The tilting and specular
+//! Only the Bragg-resonant waves use this: the radar's Bragg term, the weights of the wake's
+//! modulation of the waves towards and away from the radar, and the isotropy of their
+//! relaxation rate in the wake's action balance ([`SeaSpectrum::isotropy`], [`crate::action`]).
+//! The refraction source keeps the unrevised spectrum's gradient. The tilting and specular
 //! facets, the breakers and the infrared keep the unrevised spectrum, whose slopes are scaled to
 //! Cox & Munk's. The revision covers YDCK13's measured range, wavelengths below a few
 //! decimetres (k >= 15 rad/m); every Bragg wavenumber of wakelab's bands at 15-70 degrees
@@ -71,6 +73,17 @@ impl SeaSpectrum {
         let delta = self.spreading_contrast(k);
         // the swell's share is kept as it is
         full - self.wind_omni(k) / k * spreading(delta) + self.bragg_omni(k) / k * spreading(revision_weight(k) * delta)
+    }
+
+    /// How isotropic the wind sea's Bragg-scale waves of wavenumber k are: 1 - s(k) where the
+    /// revision applies (1 for decimetre waves, 0 well above 100 rad/m), 0 elsewhere. The
+    /// wake's action balance relaxes them isotropically in this share ([`crate::action`]).
+    pub fn isotropy(&self, k: f64) -> f64 {
+        if self.is_revised_at(k) {
+            1.0 - revision_weight(k)
+        } else {
+            0.0
+        }
     }
 
     fn is_revised_at(&self, k: f64) -> bool {

@@ -230,6 +230,16 @@ impl ShortWaves {
         s.growth * c * c.abs() - s.viscous
     }
 
+    /// Eq. 34's rate averaged over the directions of the waves of wavenumber k (1/s): the
+    /// relaxation of an isotropic ring (see [`crate::action`]).
+    pub fn mean_relaxation_rate(&self, k: f64) -> f64 {
+        let directions = 72;
+        (0..directions)
+            .map(|i| self.relaxation_rate(k, (i as f64 + 0.5) * 2.0 * PI / directions as f64))
+            .sum::<f64>()
+            / directions as f64
+    }
+
     /// Relaxation rate mu = omega [n beta_v + (n + 1) I / B] (1/s) of a disturbance of the
     /// waves (k, direction), KAJC05 Eq. 34.
     pub fn relaxation_rate(&self, k: f64, direction: f64) -> f64 {

@@ -50,9 +50,15 @@ impl SeaSpectrum {
     /// Elfouhaily's where the revision does not apply.
     pub fn bragg_omni(&self, k: f64) -> f64 {
         let omni = self.wind_omni(k);
-        if !self.is_revised_at(k) {
-            return omni;
+        if self.is_revised_at(k) {
+            self.revised_omni(k, omni)
+        } else {
+            omni
         }
+    }
+
+    /// Psi_r from Elfouhaily's Psi(k) = `omni` at this sea's wind.
+    fn revised_omni(&self, k: f64, omni: f64) -> f64 {
         let w = DECIMETRE_WIND_WEIGHT + (1.0 - DECIMETRE_WIND_WEIGHT) * revision_weight(k);
         let mut reference = self.clone();
         reference.wind_speed = REFERENCE_WIND;
@@ -64,15 +70,14 @@ impl SeaSpectrum {
     /// Pierson-Moskowitz seas and k < 15 rad/m are returned unrevised.
     pub fn bragg_density(&self, kx: f64, ky: f64) -> f64 {
         let k = kx.hypot(ky);
-        let full = self.directional(kx, ky);
         if !self.is_revised_at(k) {
-            return full;
+            return self.directional(kx, ky);
         }
-        let cos2 = (2.0 * (ky.atan2(kx) - self.wind_direction)).cos();
-        let spreading = |delta: f64| (1.0 + delta * cos2) / (2.0 * std::f64::consts::PI);
-        let delta = self.spreading_contrast(k);
-        // the swell's share is kept as it is
-        full - self.wind_omni(k) / k * spreading(delta) + self.bragg_omni(k) / k * spreading(revision_weight(k) * delta)
+        let phi = ky.atan2(kx);
+        let cos2 = (2.0 * (phi - self.wind_direction)).cos();
+        let delta = revision_weight(k) * self.spreading_contrast(k);
+        let spreading = (1.0 + delta * cos2) / (2.0 * std::f64::consts::PI);
+        self.revised_omni(k, self.wind_omni(k)) / k * spreading + self.swell_density(k, phi)
     }
 
     /// How isotropic the wind sea's Bragg-scale waves of wavenumber k are: 1 - s(k) where the

@@ -348,17 +348,22 @@ impl Ring<'_> {
         }
         let sea = self.sea;
         let spreading = (1.0 + self.contrast * cos_twice_from_wind) / (2.0 * PI);
-        let mut f = self.omni_per_k * spreading;
-        if let Some(s) = sea.swell {
-            // Gaussian in k and in direction about the swell's own (one-sided) direction
-            let k = self.k;
-            let sk = s.width * s.k;
-            let dphi = (phi - s.direction + PI).rem_euclid(2.0 * PI) - PI;
-            let radial = (-(k - s.k).powi(2) / (2.0 * sk * sk)).exp() / ((2.0 * PI).sqrt() * sk);
-            let angular = (-dphi * dphi / (2.0 * s.spread * s.spread)).exp() / ((2.0 * PI).sqrt() * s.spread);
-            f += s.m0 * radial * angular / k;
-        }
-        f
+        self.omni_per_k * spreading + sea.swell_density(self.k, phi)
+    }
+}
+
+impl SeaSpectrum {
+    /// The swell's share of F at (k, phi) (m^4): Gaussian in k and in direction about the
+    /// swell's own (one-sided) direction; zero without a swell.
+    pub(crate) fn swell_density(&self, k: f64, phi: f64) -> f64 {
+        let Some(s) = self.swell else {
+            return 0.0;
+        };
+        let sk = s.width * s.k;
+        let dphi = (phi - s.direction + PI).rem_euclid(2.0 * PI) - PI;
+        let radial = (-(k - s.k).powi(2) / (2.0 * sk * sk)).exp() / ((2.0 * PI).sqrt() * sk);
+        let angular = (-dphi * dphi / (2.0 * s.spread * s.spread)).exp() / ((2.0 * PI).sqrt() * s.spread);
+        s.m0 * radial * angular / k
     }
 }
 

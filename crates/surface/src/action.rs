@@ -23,8 +23,8 @@
 //! Yurovskaya et al. (2013) measured for decimetre waves ([`crate::bragg_scale`]), its leading
 //! term is isotropic. KHCC03's own balance, whose B is not isotropic there, gives S-band Bragg
 //! waves travelling across the wind a rate ten times below the along-wind one (0.024 against
-//! 0.29 /s at 5 m/s). So mu = (1 - i) mu(phi) + i <mu>, with i the spectrum's isotropy at k
-//! ([`SeaSpectrum::isotropy`]: 1 well below 100 rad/m, 0 above) and <mu> Eq. 34 averaged over
+//! 0.29 /s at 5 m/s). So mu = (1 - i) mu(phi) + i mu_mean, with i the spectrum's isotropy at k
+//! ([`SeaSpectrum::isotropy`]: 1 well below 100 rad/m, 0 above) and mu_mean Eq. 34 averaged over
 //! direction (its magnitude stays that of KHCC03's balance; the residual -omega beta_v(phi)
 //! anisotropy is left out).
 //!

@@ -242,7 +242,7 @@ fn looking_along_the_wind_every_band_is_a_few_db_dark() {
         ));
         for (b, (band, (lo, _, _))) in RadarBand::ALL.iter().zip(&bands).enumerate() {
             eprintln!("{band:?} {wind} m/s, wind across the track: darkest {lo:+.2} dB");
-            assert!(*lo < -0.3 && *lo > -12.0, "{band:?} {wind}: {lo} dB");
+            assert!(*lo < -0.3 && *lo > -10.0, "{band:?} {wind}: {lo} dB");
             if wind >= 5.0 {
                 assert!(*lo > -6.0, "{band:?} {wind}: {lo} dB is more than observed");
             }

@@ -13,8 +13,8 @@ use crate::Result;
 use wakelab_core::config::{NamedDirection, SwellDirection};
 use wakelab_core::units::RadarBand;
 use wakelab_core::WakelabConfig;
-use wakelab_hydro::{SliceField, SurfaceMap};
-use wakelab_surface::action::{extra_damping, Relaxation};
+use wakelab_hydro::SurfaceMap;
+use wakelab_surface::action::{current_gradient, extra_damping, Relaxation};
 use wakelab_surface::short_waves::ShortWaves;
 use wakelab_surface::surfactant::redistribute_surfactant;
 use wakelab_surface::{background_spectrum, bragg_vectors, simulate_surface, wake_damping};
@@ -150,18 +150,12 @@ fn refraction_against_damping(c: &WakelabConfig, map: &SurfaceMap, band: RadarBa
         .x
         .iter()
         .position(|&x| x >= c.scene.along_track)
-        .unwrap_or(map.x.len() - 1);
-    let (u, v) = (map.field(SliceField::U), map.field(SliceField::V));
-    let at = |f: &[f32], j: usize| f[row * cols + j] as f64;
+        .unwrap_or(map.x.len() - 1)
+        .max(1);
+    // the same gradients the action balance's march uses on that row
     let (mut largest, mut there) = (f64::NEG_INFINITY, 0);
-    for j in 1..cols.saturating_sub(1) {
-        let dy = map.y[j + 1] - map.y[j - 1];
-        // the across-track gradients; along the track they change over kilometres
-        let grad = [
-            [0.0, (at(u, j + 1) - at(u, j - 1)) / dy],
-            [0.0, (at(v, j + 1) - at(v, j - 1)) / dy],
-        ];
-        let r = relaxation.refraction(grad);
+    for j in 0..cols {
+        let r = relaxation.refraction(current_gradient(map, row, j));
         if r > largest {
             (largest, there) = (r, j);
         }
@@ -217,6 +211,7 @@ pub fn environment_table(rows: &[EnvironmentContrast], along_track: f64) -> Tabl
 #[cfg(test)]
 mod tests {
     use super::*;
+    use wakelab_hydro::SliceField;
 
     fn contrast(darkest_db: f64, brightest_db: f64) -> EnvironmentContrast {
         EnvironmentContrast {

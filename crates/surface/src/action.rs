@@ -146,6 +146,26 @@ pub fn extra_damping(
         .collect()
 }
 
+/// The surface current's gradients [[du/dx, du/dy], [dv/dx, dv/dy]] (1/s, heading frame) on
+/// row r >= 1 and column j of the surface map: backward in x from row r - 1 (d/dx_heading =
+/// -d/dx_behind; Eq. (2.25) gives d/dx from d/dt), centred across the track (one-sided at the
+/// edges).
+pub fn current_gradient(map: &SurfaceMap, r: usize, j: usize) -> [[f64; 2]; 2] {
+    let cols = map.y.len();
+    let (u, v) = (map.field(SliceField::U), map.field(SliceField::V));
+    let at = |f: &[f32], r: usize, j: usize| f[r * cols + j] as f64;
+    let (jl, jr) = (j.saturating_sub(1), (j + 1).min(cols - 1));
+    let ydist = (map.y[jr] - map.y[jl]).max(1e-9);
+    let dxb = map.x[r] - map.x[r - 1];
+    let gradient = |f: &[f32]| {
+        [
+            -(at(f, r, j) - at(f, r - 1, j)) / dxb,
+            (at(f, r, jr) - at(f, r, jl)) / ydist,
+        ]
+    };
+    [gradient(u), gradient(v)]
+}
+
 /// r = N / N_0 on the rows and columns of the surface map for one wave vector, under the wake's
 /// extra damping `damping` on each cell (from [`extra_damping`]).
 pub fn relax_short_waves(map: &SurfaceMap, damping: &[f64], relaxation: &Relaxation, ship_speed: f64) -> Vec<f64> {
@@ -160,21 +180,9 @@ pub fn relax_short_waves(map: &SurfaceMap, damping: &[f64], relaxation: &Relaxat
     let (cgx, cgy) = relaxation.group_velocity;
     for r in 1..rows {
         let dxb = map.x[r] - map.x[r - 1];
-        // gradients at this row: d/dx_heading = -d/dx_behind (Eq. (2.25) gives d/dx from d/dt)
         for j in 0..cols {
-            let (jl, jr) = (j.saturating_sub(1), (j + 1).min(cols - 1));
-            let ydist = (y[jr] - y[jl]).max(1e-9);
             let (ra, rb) = (r - 1, r);
-            let grad = [
-                [
-                    -(at(u, rb, j) - at(u, ra, j)) / dxb,
-                    (at(u, rb, jr) - at(u, rb, jl)) / ydist,
-                ],
-                [
-                    -(at(v, rb, j) - at(v, ra, j)) / dxb,
-                    (at(v, rb, jr) - at(v, rb, jl)) / ydist,
-                ],
-            ];
+            let grad = current_gradient(map, r, j);
             let rel_speed = (ship_speed - 0.5 * (at(u, ra, j) + at(u, rb, j)) - cgx).max(0.5);
             let dt = dxb / rel_speed;
             let gamma_here = 0.5 * (damping[ra * cols + j] + damping[rb * cols + j]);

@@ -209,6 +209,19 @@ impl SeaSpectrum {
         (a0 + ap * (c / cp).powf(2.5) + am * (cm / c).powf(2.5)).tanh()
     }
 
+    /// The swell's share of F at (k, phi) (m^4): Gaussian in k and in direction about the
+    /// swell's own (one-sided) direction; zero without a swell.
+    pub(crate) fn swell_density(&self, k: f64, phi: f64) -> f64 {
+        let Some(s) = self.swell else {
+            return 0.0;
+        };
+        let sk = s.width * s.k;
+        let dphi = (phi - s.direction + PI).rem_euclid(2.0 * PI) - PI;
+        let radial = (-(k - s.k).powi(2) / (2.0 * sk * sk)).exp() / ((2.0 * PI).sqrt() * sk);
+        let angular = (-dphi * dphi / (2.0 * s.spread * s.spread)).exp() / ((2.0 * PI).sqrt() * s.spread);
+        s.m0 * radial * angular / k
+    }
+
     /// Two-sided 2D elevation spectrum F(kx, ky) (m^4): wind sea plus swell.
     pub fn directional(&self, kx: f64, ky: f64) -> f64 {
         let k = kx.hypot(ky);
@@ -349,21 +362,6 @@ impl Ring<'_> {
         let sea = self.sea;
         let spreading = (1.0 + self.contrast * cos_twice_from_wind) / (2.0 * PI);
         self.omni_per_k * spreading + sea.swell_density(self.k, phi)
-    }
-}
-
-impl SeaSpectrum {
-    /// The swell's share of F at (k, phi) (m^4): Gaussian in k and in direction about the
-    /// swell's own (one-sided) direction; zero without a swell.
-    pub(crate) fn swell_density(&self, k: f64, phi: f64) -> f64 {
-        let Some(s) = self.swell else {
-            return 0.0;
-        };
-        let sk = s.width * s.k;
-        let dphi = (phi - s.direction + PI).rem_euclid(2.0 * PI) - PI;
-        let radial = (-(k - s.k).powi(2) / (2.0 * sk * sk)).exp() / ((2.0 * PI).sqrt() * sk);
-        let angular = (-dphi * dphi / (2.0 * s.spread * s.spread)).exp() / ((2.0 * PI).sqrt() * s.spread);
-        s.m0 * radial * angular / k
     }
 }
 

@@ -61,6 +61,19 @@ impl Dataset {
         self.records.first().map_or(0, |r| r.parameters.image_size)
     }
 
+    /// The median pixel spacing (m) and looks of the dataset's scenes: what its detectors
+    /// learned (None for a dataset without scenes).
+    pub fn imagery(&self) -> (Option<f64>, Option<f64>) {
+        let median = |mut v: Vec<f64>| {
+            v.sort_by(f64::total_cmp);
+            v.get(v.len() / 2).copied()
+        };
+        (
+            median(self.records.iter().map(|r| r.parameters.pixel_spacing).collect()),
+            median(self.records.iter().map(|r| r.parameters.looks as f64).collect()),
+        )
+    }
+
     /// The image of scene `i` in `band` as a detector's input ([`detector_input`]).
     pub fn image(&self, i: usize, band: Band) -> Result<Array2<f32>, WakelabError> {
         let r = &self.records[i];

@@ -123,6 +123,16 @@ impl Detection {
     }
 }
 
+/// A window with its no-data (NaN) pixels set to the median of its data, so that they sit at
+/// the normalised input's zero and neither darken nor brighten it.
+fn filled(mut window: Array2<f32>) -> Array2<f32> {
+    if window.iter().any(|v| v.is_nan()) {
+        let centre = crate::data::median(&window);
+        window.mapv_inplace(|v| if v.is_nan() { centre } else { v });
+    }
+    window
+}
+
 /// Batches of windows scored at once, side by side.
 const PARALLEL_BATCHES: usize = 2;
 
@@ -188,6 +198,25 @@ pub fn detect_image(
     let mut count = Array2::<f32>::zeros(cells);
     let with_mask = detector.segmenter.is_some() && info.architecture == Architecture::Unet;
     let mut mask_sum = with_mask.then(|| Array2::<f32>::zeros((h, w)));
+    let mut mask_count = with_mask.then(|| Array2::<f32>::zeros((h, w)));
+    // windows more than half no-data (NaN) are not scored
+    let origins: Vec<(usize, usize)> = origins
+        .into_iter()
+        .filter(|&(r, c)| {
+            let missing = image
+                .slice(s![r..r + n, c..c + n])
+                .iter()
+                .filter(|v| v.is_nan())
+                .count();
+            2 * missing <= n * n
+        })
+        .collect();
+    if origins.is_empty() {
+        return Err(WakelabError::Image {
+            path: "IMAGE".into(),
+            message: format!("every {n} x {n} window is more than half no-data: nothing to scan"),
+        });
+    }
     let mut tiles = Vec::with_capacity(origins.len());
     // batches scored side by side, PARALLEL_BATCHES at a time (burn's small convolutions keep
     // about one core busy each), their results gathered in order
@@ -200,8 +229,12 @@ pub fn detect_image(
                 let examples: Vec<Example> = batch
                     .iter()
                     .map(|&(r, c)| Example {
-                        image: detector_input(image.slice(s![r..r + n, c..c + n]).to_owned(), band, options.scale)
-                            .insert_axis(Axis(0)),
+                        image: detector_input(
+                            filled(image.slice(s![r..r + n, c..c + n]).to_owned()),
+                            band,
+                            options.scale,
+                        )
+                        .insert_axis(Axis(0)),
                         label: 0,
                         mask: None,
                     })
@@ -214,10 +247,10 @@ pub fn detect_image(
                 let region = s![covered_cells(r, n, stride), covered_cells(c, n, stride)];
                 sum.slice_mut(region).mapv_inplace(|v| v + probability as f32);
                 count.slice_mut(region).mapv_inplace(|v| v + 1.0);
-                if let (Some(total), Some(m)) = (mask_sum.as_mut(), masks.as_ref()) {
-                    total
-                        .slice_mut(s![r..r + n, c..c + n])
-                        .zip_mut_with(&m[i], |a, b| *a += b);
+                if let (Some(total), Some(times), Some(m)) = (mask_sum.as_mut(), mask_count.as_mut(), masks.as_ref()) {
+                    let window = s![r..r + n, c..c + n];
+                    total.slice_mut(window).zip_mut_with(&m[i], |a, b| *a += b);
+                    times.slice_mut(window).mapv_inplace(|v| v + 1.0);
                 }
                 tiles.push(Tile {
                     row: r,
@@ -229,25 +262,19 @@ pub fn detect_image(
         done += group.len();
         progress(done, origins.len());
     }
-    let map = sum / count.mapv(|v| v.max(1.0));
-    // every pixel is covered by (windows over its row) x (windows over its column)
-    let mask = mask_sum.map(|mut total| {
-        let per_axis = |starts: &[usize], len: usize| {
-            let mut c = vec![0.0f32; len];
-            for &s0 in starts {
-                c[s0..s0 + n].iter_mut().for_each(|v| *v += 1.0);
-            }
-            c
-        };
-        let (rc, cc) = (per_axis(&rows, h), per_axis(&cols, w));
-        for ((r, c), v) in total.indexed_iter_mut() {
-            *v /= rc[r] * cc[c];
-        }
+    // a cell no scored window covers is no-data
+    let map = ndarray::Zip::from(&sum)
+        .and(&count)
+        .map_collect(|&s, &c| if c > 0.0 { s / c } else { f32::NAN });
+    // each pixel's mask: the mean over the windows that covered it (no-data where none did)
+    let mask = mask_sum.zip(mask_count).map(|(mut total, times)| {
+        total.zip_mut_with(&times, |v, &t| *v = if t > 0.0 { *v / t } else { f32::NAN });
         total
     });
     let probability = tiles.iter().map(|t| t.probability).fold(0.0, f64::max);
     let ((pr, pc), &top) = map
         .indexed_iter()
+        .filter(|(_, v)| !v.is_nan())
         .max_by(|a, b| a.1.total_cmp(b.1).then(b.0.cmp(&a.0)))
         .expect("a map of at least one cell");
     let half = stride as f64 / 2.0;

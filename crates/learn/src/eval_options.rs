@@ -33,15 +33,20 @@ pub struct EvalOptions {
 }
 
 impl EvalOptions {
-    /// What a detector of `architecture` trained with these options on `bands` at `input_size`
-    /// records beside its weights.
-    pub fn model_info(&self, architecture: Architecture, bands: &Input, input_size: usize) -> ModelInfo {
+    /// What a detector of `architecture` trained with these options on `bands` of `dataset`
+    /// records beside its weights: the network, and the imagery it learned (input size, pixel
+    /// spacing, looks, scale), which `detect` matches an input to.
+    pub fn model_info(&self, architecture: Architecture, bands: &Input, dataset: &crate::data::Dataset) -> ModelInfo {
+        let (pixel_spacing, looks) = dataset.imagery();
         ModelInfo {
             architecture,
             bands: bands.clone(),
-            input_size,
+            input_size: dataset.image_size(),
             threshold: self.threshold,
             unet_width: self.unet.width,
+            pixel_spacing,
+            looks,
+            input_scale: Some("linear".into()),
         }
     }
 

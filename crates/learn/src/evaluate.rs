@@ -293,7 +293,7 @@ pub fn evaluate(
                     }));
                 }
                 let last = repetition + 1 == options.repetitions;
-                let detector = last.then(|| (detector, options.model_info(architecture, input, train[0].size())));
+                let detector = last.then(|| (detector, options.model_info(architecture, input, dataset)));
                 Ok(Job {
                     outputs,
                     curves,

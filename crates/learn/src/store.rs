@@ -46,6 +46,16 @@ pub struct ModelInfo {
     /// First-level channels of the "unet" detector's U-Net (Table 4.2: 64).
     #[serde(default = "default_unet_width")]
     pub unet_width: usize,
+    /// Ground pixel spacing of the training images (m); None in files written before it was
+    /// recorded.
+    #[serde(default)]
+    pub pixel_spacing: Option<f64>,
+    /// Looks of the training images' speckle.
+    #[serde(default)]
+    pub looks: Option<f64>,
+    /// The scale of the training images' radar pixels ("linear": wakelab renders linear sigma0).
+    #[serde(default)]
+    pub input_scale: Option<String>,
 }
 
 fn default_unet_width() -> usize {
@@ -54,7 +64,7 @@ fn default_unet_width() -> usize {
 
 impl ModelInfo {
     fn to_metadata(&self) -> BTreeMap<String, String> {
-        BTreeMap::from([
+        let mut meta = BTreeMap::from([
             ("wakelab.format".to_string(), FORMAT.to_string()),
             ("wakelab.normalisation".to_string(), INPUT_NORMALISATION.to_string()),
             ("wakelab.architecture".to_string(), self.architecture.name().to_string()),
@@ -63,7 +73,18 @@ impl ModelInfo {
             ("wakelab.threshold".to_string(), self.threshold.to_string()),
             ("wakelab.unet_width".to_string(), self.unet_width.to_string()),
             ("wakelab.version".to_string(), env!("CARGO_PKG_VERSION").to_string()),
-        ])
+        ]);
+        let optional = [
+            ("wakelab.pixel_spacing", self.pixel_spacing.map(|v| v.to_string())),
+            ("wakelab.looks", self.looks.map(|v| v.to_string())),
+            ("wakelab.input_scale", self.input_scale.clone()),
+        ];
+        for (key, value) in optional {
+            if let Some(v) = value {
+                meta.insert(key.to_string(), v);
+            }
+        }
+        meta
     }
 
     fn from_metadata(meta: &BTreeMap<String, String>, path: &Path) -> Result<Self, WakelabError> {
@@ -109,6 +130,9 @@ impl ModelInfo {
                 Some(w) => w.parse().map_err(|e| err(format!("unet_width: {e}")))?,
                 None => default_unet_width(),
             },
+            pixel_spacing: optional_number(meta, "wakelab.pixel_spacing").map_err(err)?,
+            looks: optional_number(meta, "wakelab.looks").map_err(err)?,
+            input_scale: meta.get("wakelab.input_scale").cloned(),
         })
     }
 
@@ -116,6 +140,14 @@ impl ModelInfo {
     pub fn image_channels(&self) -> usize {
         self.bands.bands().len()
     }
+}
+
+/// A number under `key` when the metadata has one (files written before it was recorded
+/// have none).
+fn optional_number(meta: &BTreeMap<String, String>, key: &str) -> Result<Option<f64>, String> {
+    meta.get(key)
+        .map(|v| v.parse().map_err(|e| format!("{key}: \"{v}\": {e}")))
+        .transpose()
 }
 
 /// The metadata's band list: names joined by commas ("S,X").

@@ -207,10 +207,15 @@ fn same_seed_gives_the_same_weights_and_outputs_bit_for_bit() {
             input_size: 24,
             threshold: 0.5,
             unet_width: options.unet.width,
+            pixel_spacing: Some(10.0),
+            looks: Some(4.0),
+            input_scale: Some("linear".into()),
         };
         let (path, _) = save_detector(&d, &info, &dir.path().join("m.safetensors")).unwrap();
         let (loaded, loaded_info) = load_detector(&path, Some((Architecture::Unet, 24)), &device).unwrap();
         assert_eq!(loaded_info.unet_width, 16);
+        assert_eq!((loaded_info.pixel_spacing, loaded_info.looks), (Some(10.0), Some(4.0)));
+        assert_eq!(loaded_info.input_scale.as_deref(), Some("linear"));
         let reloaded = detect(&loaded, Architecture::Unet, &test, &device);
         assert!(o.iter().zip(&reloaded).all(|(a, b)| a.to_bits() == b.to_bits()));
         (o, std::fs::read(path).unwrap())
@@ -240,6 +245,9 @@ fn saved_detector_reloads_with_the_same_outputs_and_refuses_the_wrong_architectu
         input_size: 24,
         threshold: 0.5,
         unet_width: wakelab_learn::models::UNET_WIDTH,
+        pixel_spacing: None,
+        looks: None,
+        input_scale: None,
     };
     let (_, export) = save_detector(&detector, &info, &path).unwrap();
     assert!(export.exists());
@@ -304,6 +312,9 @@ fn a_scan_of_a_large_scene_peaks_on_its_line() {
         input_size: 32,
         threshold: 0.5,
         unet_width: wakelab_learn::models::UNET_WIDTH,
+        pixel_spacing: None,
+        looks: None,
+        input_scale: None,
     };
     let options = ScanOptions {
         stride: Some(16),

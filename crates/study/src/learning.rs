@@ -120,7 +120,7 @@ pub fn train_into(
         },
     )
     .map_err(|e| which_training(e, input, architecture, 0))?;
-    let info = options.model_info(architecture, input, train[0].size());
+    let info = options.model_info(architecture, input, dataset);
     std::fs::create_dir_all(dir).map_err(|e| WakelabError::io(dir, e))?;
     let path = model
         .map(Path::to_path_buf)

@@ -27,6 +27,7 @@ pub mod mask_quality;
 pub mod output;
 mod pictures;
 mod plan;
+pub mod product_scan;
 mod radar;
 pub mod report;
 pub mod scan;

@@ -1,33 +1,46 @@
-//! `wakelab detect` on a whole scene: the detector scanned over the image
-//! ([`wakelab_learn::detect::detect_image`]) and its results written where a user opens them: the
-//! wake-probability map as a float32 GeoTIFF on the input's ground (a GeoTIFF input's CRS and
-//! mapping kept, coarsened to the map's cells; a plain image's pixel grid otherwise) with its JSON
-//! sidecar, a PNG of the image with the map over it, the U-Net's mask where there is one, and the
-//! detections as JSON with their map coordinates.
+//! `wakelab detect` on a whole scene: the detector scanned over the product
+//! ([`wakelab_learn::detect::detect_image`]) and its results written where a user opens them:
+//! the wake-probability map as a Cloud-Optimised GeoTIFF on the product's ground (its CRS, or
+//! its GCPs, coarsened to the map's cells), the detections as GeoJSON in longitude and latitude
+//! (RFC 7946; the one schema of every finding, `kind` = window here) and as JSON with their
+//! pixel and ground coordinates, a PNG of the image with the map over it, and the U-Net's mask
+//! where there is one.
 
 use anyhow::Result;
 use image::{Rgb, RgbImage};
 use ndarray::Array2;
 use rayon::prelude::*;
 use serde::Serialize;
+use serde_json::{json, Map, Value};
 use std::path::{Path, PathBuf};
 use wakelab_core::io::atomic::{write_atomically, AtomicFile};
-use wakelab_core::io::geotiff::{quantile, write_georeferenced_tiff, Georeference};
+use wakelab_core::io::geotiff::quantile;
 use wakelab_learn::data::RadarScale;
 use wakelab_learn::detect::{Detection, Found, Peak};
+use wakelab_products::cog::{write_cog, BandInfo};
+use wakelab_products::frame::Placement;
+use wakelab_products::geojson::{feature_collection, Finding, Kind};
+use wakelab_products::{Frame, Product, ProductMeta};
 use wakelab_schema::band::Band;
 
 /// Longest side of the overlay PNG; larger scenes are block-averaged down to it.
 const OVERLAY_SIDE: usize = 2048;
 
-/// A detection with its place on the input's ground.
+/// A detection with its place on the ground.
 #[derive(Debug, Serialize)]
 struct Located<'a, T> {
     #[serde(flatten)]
     found: &'a T,
-    /// Model coordinates of its (row, col) in the input's CRS (GeoTIFF inputs only).
+    /// Its (row, col) in the product's pixels (before any resampling to the detector's
+    /// spacing).
+    product_row: f64,
+    product_col: f64,
+    /// Model coordinates in the product's CRS (a product placed by a geotransform).
     x: Option<f64>,
     y: Option<f64>,
+    /// Longitude and latitude (degrees, WGS 84) by GDAL's transformer.
+    lon: Option<f64>,
+    lat: Option<f64>,
 }
 
 /// The detections file: the scene's verdict and every detection.
@@ -36,7 +49,7 @@ struct DetectionsFile<'a> {
     image: String,
     model: String,
     band: Band,
-    scale: &'a str,
+    product: &'a ProductMeta,
     probability: f64,
     wake: bool,
     threshold: f64,
@@ -44,24 +57,13 @@ struct DetectionsFile<'a> {
     stride: usize,
     windows: usize,
     georeferenced: bool,
-    /// The map's strongest cell, with its model coordinates for a GeoTIFF input.
+    /// Product pixels per scanned pixel (rows, columns): 1 unless the product was averaged to
+    /// the detector's spacing.
+    resampled: (f64, f64),
+    notes: &'a [String],
+    /// The map's strongest cell.
     peak: Located<'a, Peak>,
     detections: Vec<Located<'a, Found>>,
-}
-
-/// The probability map's sidecar.
-#[derive(Debug, Serialize)]
-struct MapSidecar {
-    quantity: &'static str,
-    units: &'static str,
-    image: String,
-    model: String,
-    /// Side of a map cell in input pixels.
-    cell: usize,
-    window: usize,
-    rows: usize,
-    cols: usize,
-    georeferenced: bool,
 }
 
 /// What a scan wrote.
@@ -69,14 +71,19 @@ pub struct ScanFiles {
     pub map: PathBuf,
     pub overlay: PathBuf,
     pub detections: PathBuf,
+    pub geojson: PathBuf,
     pub mask: Option<PathBuf>,
 }
 
 /// Where `wakelab detect` writes the scan of `image` unless told: `detect-<image name>` in the
 /// current directory.
 pub fn default_scan_dir(image: &Path) -> PathBuf {
-    let stem = image.file_stem().map(|s| s.to_string_lossy().into_owned());
-    PathBuf::from(format!("detect-{}", stem.unwrap_or_else(|| "image".into())))
+    let name = image
+        .file_name()
+        .map(|s| s.to_string_lossy().into_owned())
+        .unwrap_or_default();
+    let stem = name.split('.').next().filter(|s| !s.is_empty()).unwrap_or("image");
+    PathBuf::from(format!("detect-{stem}"))
 }
 
 /// `detect --mask PATH`: the U-Net's stitched mask of `detection` as a PNG at `path`; a note
@@ -89,7 +96,7 @@ pub fn write_asked_mask(
 ) -> Result<Option<String>> {
     Ok(match &detection.mask {
         Some(m) => {
-            crate::learning::write_mask_png(path, m)?;
+            crate::learning::write_mask_png(path, &m.mapv(|v| if v.is_nan() { 0.0 } else { v }))?;
             None
         }
         None => Some(format!(
@@ -99,115 +106,171 @@ pub fn write_asked_mask(
     })
 }
 
-/// The scan of `image` (read from `image_path`, band `band`, radar pixels in `scale`) by
-/// `model`, written into `dir`.
-pub fn write_scan(
-    dir: &Path,
-    image_path: &Path,
-    model: &Path,
-    image: &Array2<f32>,
-    band: Band,
-    scale: RadarScale,
-    detection: &Detection,
-) -> Result<ScanFiles> {
+/// What was scanned: the product, the image the detector saw (the product's, averaged to the
+/// detector's spacing where they differ) and its frame.
+pub struct Scanned<'a> {
+    pub product: &'a Product,
+    pub image: &'a Array2<f32>,
+    pub frame: &'a Frame,
+    /// Product pixels per scanned pixel (rows, columns).
+    pub factor: (f64, f64),
+    pub band: Band,
+    pub model: &'a Path,
+    /// What the user should know (reading, resampling).
+    pub notes: &'a [String],
+}
+
+impl Scanned<'_> {
+    /// A scanned pixel position in the product's pixels.
+    fn in_product(&self, row: f64, col: f64) -> (f64, f64) {
+        (row * self.factor.0, col * self.factor.1)
+    }
+}
+
+/// The scan `detection` of `scanned`, written into `dir`.
+pub fn write_scan(dir: &Path, scanned: &Scanned, detection: &Detection) -> Result<ScanFiles> {
     std::fs::create_dir_all(dir).map_err(|e| anyhow::anyhow!("cannot create {}: {e}", dir.display()))?;
-    let tiff = matches!(
-        image_path
-            .extension()
-            .and_then(|e| e.to_str())
-            .map(str::to_ascii_lowercase)
-            .as_deref(),
-        Some("tif" | "tiff")
-    );
-    let input_geo = if tiff { Georeference::read(image_path)? } else { None };
-    let georeferenced = input_geo.is_some();
-    // a plain image: its pixel grid, x right and y up, one unit per pixel (not metres)
-    let geo = input_geo.unwrap_or_else(Georeference::pixel_grid);
+    let meta = &scanned.product.meta;
     let (rows, cols) = detection.map.dim();
     let files = ScanFiles {
         map: dir.join("probability.tif"),
         overlay: dir.join("overlay.png"),
         detections: dir.join("detections.json"),
+        geojson: dir.join("detections.geojson"),
         mask: detection.mask.as_ref().map(|_| dir.join("mask.tif")),
     };
-    let values: Vec<f32> = detection.map.iter().copied().collect();
-    write_georeferenced_tiff(&files.map, &values, rows, cols, &geo.coarsened(detection.stride as f64))?;
-    let sidecar = MapSidecar {
-        quantity: "wake probability: mean over the detector's windows covering the cell",
-        units: "1",
-        image: image_path.display().to_string(),
-        model: model.display().to_string(),
-        cell: detection.stride,
-        window: detection.window,
-        rows,
-        cols,
-        georeferenced,
-    };
-    write_atomically(
-        dir.join("probability.json"),
-        serde_json::to_string_pretty(&sidecar)?.as_bytes(),
+    let stride = detection.stride as f64;
+    let model = scanned.model.display().to_string();
+    let metadata = vec![
+        ("WAKELAB_IMAGE".to_string(), scanned.product.path.display().to_string()),
+        ("WAKELAB_PRODUCT_ID".to_string(), meta.product_id.clone()),
+        ("WAKELAB_MODEL".to_string(), model.clone()),
+        ("WAKELAB_WINDOW".to_string(), detection.window.to_string()),
+        ("WAKELAB_CELL".to_string(), detection.stride.to_string()),
+    ];
+    write_cog(
+        &files.map,
+        &detection.map,
+        &scanned.frame.scaled(stride, stride, (rows, cols)),
+        &BandInfo {
+            description: "wake probability: mean over the detector's windows covering the cell",
+            unit: "1",
+            metadata: metadata.clone(),
+        },
     )?;
     if let (Some(path), Some(mask)) = (&files.mask, &detection.mask) {
-        let (h, w) = mask.dim();
-        let values: Vec<f32> = mask.iter().copied().collect();
-        write_georeferenced_tiff(path, &values, h, w, &geo)?;
-        let sidecar = MapSidecar {
-            quantity: "U-Net wake mask: per-pixel wake probability, overlapping windows averaged",
-            cell: 1,
-            rows: h,
-            cols: w,
-            ..sidecar
-        };
-        write_atomically(
-            path.with_extension("json"),
-            serde_json::to_string_pretty(&sidecar)?.as_bytes(),
+        write_cog(
+            path,
+            mask,
+            scanned.frame,
+            &BandInfo {
+                description: "U-Net wake mask: per-pixel wake probability, overlapping windows averaged",
+                unit: "1",
+                metadata,
+            },
         )?;
     }
     let picture = AtomicFile::new(&files.overlay)?;
-    overlay(image, band, scale, detection).save_with_format(picture.temporary_path(), image::ImageFormat::Png)?;
+    overlay(scanned.image, scanned.band, detection)
+        .save_with_format(picture.temporary_path(), image::ImageFormat::Png)?;
     picture.commit()?;
-    let locate = |row: f64, col: f64| georeferenced.then(|| geo.model_xy(col, row)).flatten();
-    let located = detection
+
+    // every point placed at once: GDAL's transformer is built once per call
+    let mut points: Vec<(f64, f64)> = detection.detections.iter().map(|f| (f.row, f.col)).collect();
+    points.push((detection.peak.row, detection.peak.col));
+    let in_product: Vec<(f64, f64)> = points.iter().map(|&(r, c)| scanned.in_product(r, c)).collect();
+    let frame = &scanned.product.frame;
+    let lonlat = frame.lonlat(&in_product.iter().map(|&(r, c)| (c, r)).collect::<Vec<_>>());
+    let model_xy = |row: f64, col: f64| match &frame.placement {
+        Placement::Transform { transform: t, .. } => {
+            Some((t[0] + col * t[1] + row * t[2], t[3] + col * t[4] + row * t[5]))
+        }
+        _ => None,
+    };
+    let place = |k: usize| {
+        let (row, col) = in_product[k];
+        let xy = model_xy(row, col);
+        let ll = lonlat.as_ref().map(|l| l[k]);
+        (row, col, xy, ll)
+    };
+    let located: Vec<Located<Found>> = detection
         .detections
         .iter()
-        .map(|found| {
-            let xy = locate(found.row, found.col);
+        .enumerate()
+        .map(|(k, found)| {
+            let (row, col, xy, ll) = place(k);
             Located {
                 found,
+                product_row: row,
+                product_col: col,
                 x: xy.map(|p| p.0),
                 y: xy.map(|p| p.1),
+                lon: ll.map(|p| p.0),
+                lat: ll.map(|p| p.1),
             }
         })
         .collect();
-    let xy = locate(detection.peak.row, detection.peak.col);
-    let peak = Located {
-        found: &detection.peak,
-        x: xy.map(|p| p.0),
-        y: xy.map(|p| p.1),
-    };
+    let (row, col, xy, ll) = place(points.len() - 1);
     let report = DetectionsFile {
-        image: image_path.display().to_string(),
-        model: model.display().to_string(),
-        band,
-        scale: scale.name(),
+        image: scanned.product.path.display().to_string(),
+        model: model.clone(),
+        band: scanned.band,
+        product: meta,
         probability: detection.probability,
         wake: detection.wake,
         threshold: detection.threshold,
         window: detection.window,
         stride: detection.stride,
         windows: detection.tiles.len(),
-        georeferenced,
-        peak,
+        georeferenced: lonlat.is_some(),
+        resampled: scanned.factor,
+        notes: scanned.notes,
+        peak: Located {
+            found: &detection.peak,
+            product_row: row,
+            product_col: col,
+            x: xy.map(|p| p.0),
+            y: xy.map(|p| p.1),
+            lon: ll.map(|p| p.0),
+            lat: ll.map(|p| p.1),
+        },
         detections: located,
     };
     write_atomically(&files.detections, serde_json::to_string_pretty(&report)?.as_bytes())?;
+
+    let findings: Vec<Finding> = detection
+        .detections
+        .iter()
+        .zip(&in_product)
+        .map(|(found, &(row, col))| {
+            let mut properties = Map::new();
+            properties.insert("probability".into(), json!(found.score));
+            properties.insert("orientation_deg".into(), json!(found.orientation));
+            properties.insert("length_px".into(), json!(found.length));
+            Finding {
+                kind: Kind::Window,
+                row,
+                col,
+                properties,
+            }
+        })
+        .collect();
+    let mut common = Map::new();
+    common.insert("detector".into(), Value::String(model));
+    common.insert("band".into(), json!(scanned.band));
+    common.insert("product_id".into(), json!(meta.product_id));
+    common.insert("acquisition_time".into(), json!(meta.acquisition_time));
+    common.insert("polarisation".into(), json!(meta.polarisation));
+    let collection = feature_collection(frame, &findings, &common);
+    write_atomically(&files.geojson, serde_json::to_string_pretty(&collection)?.as_bytes())?;
     Ok(files)
 }
 
-/// The image in grey (radar in dB), stretched between its 2 % and 98 % quantiles and
+/// The image in grey (radar in dB; no-data black), stretched between its 2 % and 98 % quantiles and
 /// block-averaged to at most [`OVERLAY_SIDE`] pixels, with the probability map laid over it in
 /// red (opacity 0.6 p).
-fn overlay(image: &Array2<f32>, band: Band, scale: RadarScale, detection: &Detection) -> RgbImage {
+fn overlay(image: &Array2<f32>, band: Band, detection: &Detection) -> RgbImage {
+    let scale = RadarScale::Linear;
     let (h, w) = image.dim();
     let factor = h.max(w).div_ceil(OVERLAY_SIDE).max(1);
     let (oh, ow) = (h.div_ceil(factor), w.div_ceil(factor));
@@ -219,14 +282,16 @@ fn overlay(image: &Array2<f32>, band: Band, scale: RadarScale, detection: &Detec
             let (mut grey, mut count) = (vec![0.0f64; ow], vec![0u32; ow]);
             for r in block_row * factor..((block_row + 1) * factor).min(h) {
                 for (c, &v) in image.row(r).iter().enumerate() {
-                    let d = display(v);
+                    let d = if v.is_nan() { f32::NAN } else { display(v) };
                     if d.is_finite() {
                         grey[c / factor] += d as f64;
                         count[c / factor] += 1;
                     }
                 }
             }
-            grey.into_iter().zip(count).map(|(s, n)| (s / n.max(1) as f64) as f32)
+            grey.into_iter()
+                .zip(count)
+                .map(|(s, n)| if n == 0 { f32::NAN } else { (s / n as f64) as f32 })
         })
         .collect();
     let (lo, hi) = (quantile(&means, 0.02), quantile(&means, 0.98));
@@ -239,7 +304,8 @@ fn overlay(image: &Array2<f32>, band: Band, scale: RadarScale, detection: &Detec
             ((r * factor) / detection.stride).min(detection.map.nrows() - 1),
             ((c * factor) / detection.stride).min(detection.map.ncols() - 1),
         );
-        let a = 0.6 * (detection.map[cell] as f64).clamp(0.0, 1.0);
+        let p = detection.map[cell] as f64;
+        let a = if p.is_nan() { 0.0 } else { 0.6 * p.clamp(0.0, 1.0) };
         let blend = |target: f64| (g * (1.0 - a) + target * a).round() as u8;
         out.put_pixel(c as u32, r as u32, Rgb([blend(255.0), blend(0.0), blend(0.0)]));
     }

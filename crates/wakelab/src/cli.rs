@@ -138,9 +138,13 @@ pub enum Command {
     /// Algorithm 2 on a dataset: repeated Monte Carlo train/test splits, every output kept, MCC,
     /// accuracy, F1 and ROC AUC per band and architecture (Tables 4.4-4.6).
     Eval(EvalArgs),
-    /// Run a saved single-band detector on an image (npy, TIFF or PNG) of any size: prints the
-    /// wake probability; with a "unet" detector, --mask writes the U-Net's wake mask as a PNG.
+    /// Run a saved single-band detector over an image of any size: a Sentinel-1 GRD product
+    /// (calibrated, noise removed, no-data masked), a GeoTIFF / COG, npy or PNG. Writes the
+    /// probability map (COG), detections (GeoJSON) and an overlay; prints the verdict.
     Detect(DetectArgs),
+    /// Calibrate a SAR product to sigma0 (SNAP's "Calibration"): the masked sigma0 that detect
+    /// scans, as a Cloud-Optimised GeoTIFF on the product's ground.
+    Calibrate(CalibrateArgs),
     /// SAR tools.
     Sar {
         #[command(subcommand)]
@@ -288,10 +292,43 @@ pub struct EvalArgs {
     pub study: Option<String>,
 }
 
+/// How a product is read (`detect` and `calibrate`).
+#[derive(Args, Debug, Clone)]
+pub struct ReadArgs {
+    /// Polarisation of a multi-polarisation product (default VV, else HH).
+    #[arg(long, value_name = "VV|HH|VH|HV")]
+    pub pol: Option<String>,
+    /// Keep the thermal noise in a Sentinel-1 product's sigma0 (removed by default).
+    #[arg(long)]
+    pub keep_noise: bool,
+    /// A raster of the input's size, non-zero on pixels to ignore (land, anything).
+    #[arg(long, value_name = "FILE")]
+    pub exclude: Option<PathBuf>,
+}
+
+impl ReadArgs {
+    /// The products crate's options (the quantity is set by the detector's band).
+    pub fn options(
+        &self,
+        scale: Option<wakelab_products::InputScale>,
+        pixel_spacing: Option<f64>,
+    ) -> wakelab_products::ReadOptions {
+        wakelab_products::ReadOptions {
+            scale,
+            polarisation: self.pol.clone(),
+            keep_noise: self.keep_noise,
+            exclude: self.exclude.clone(),
+            pixel_spacing,
+            ..Default::default()
+        }
+    }
+}
+
 /// Options of `detect`.
 #[derive(Args, Debug)]
 pub struct DetectArgs {
-    /// The image.
+    /// The image: a Sentinel-1 GRD product (.SAFE directory, its manifest.safe, or the .zip),
+    /// a GeoTIFF / COG of sigma0 or brightness temperature, an npy array or a PNG.
     pub image: PathBuf,
     /// Detector file written by `train` or `eval`.
     #[arg(long, value_name = "FILE")]
@@ -303,18 +340,24 @@ pub struct DetectArgs {
     /// Decision threshold on a window's wake probability; default: the detector's.
     #[arg(long, value_name = "P", allow_negative_numbers = true)]
     pub threshold: Option<f64>,
-    /// Output directory: probability.tif (the wake-probability map, GeoTIFF on the input's
-    /// ground) with its probability.json sidecar, overlay.png, detections.json and, for a "unet"
-    /// detector, mask.tif. Default: detect-<image name> in the current directory.
+    /// Output directory: probability.tif (the wake-probability map, a COG on the input's
+    /// ground), overlay.png, detections.geojson (longitude/latitude), detections.json and, for a
+    /// "unet" detector, mask.tif. Default: detect-<image name> in the current directory.
     #[arg(long, value_name = "DIR")]
     pub out: Option<PathBuf>,
     /// Also write the wake mask (PNG) here.
     #[arg(long, value_name = "FILE")]
     pub mask: Option<PathBuf>,
-    /// How a radar image's pixels are scaled: linear (sigma0, as wakelab writes), db or
-    /// amplitude (sqrt sigma0). Infrared images are brightness temperatures (K).
-    #[arg(long, default_value = "linear", value_name = "linear|db|amplitude")]
-    pub scale: wakelab_learn::data::RadarScale,
+    /// The scale of a radar image's pixels: linear (sigma0), db, amplitude (sqrt sigma0) or
+    /// display (an 8-bit stretch; probabilities uncalibrated). Default: what the file's band
+    /// unit states, else linear. Infrared images are brightness temperatures (K).
+    #[arg(long, value_name = "linear|db|amplitude|display")]
+    pub scale: Option<wakelab_products::InputScale>,
+    /// Ground pixel spacing of a bare array (m); products state their own.
+    #[arg(long, value_name = "M")]
+    pub pixel_spacing: Option<f64>,
+    #[command(flatten)]
+    pub read: ReadArgs,
     /// Backend: cpu, or wgpu / cuda in builds with those features.
     #[arg(long, default_value = "cpu")]
     pub device: String,
@@ -324,6 +367,27 @@ pub struct DetectArgs {
     /// No progress bar.
     #[arg(long)]
     pub quiet: bool,
+}
+
+/// Options of `calibrate`.
+#[derive(Args, Debug)]
+pub struct CalibrateArgs {
+    /// The product: a Sentinel-1 GRD (.SAFE directory, manifest.safe or .zip), or a GeoTIFF.
+    pub product: PathBuf,
+    /// The Cloud-Optimised GeoTIFF to write.
+    #[arg(long, value_name = "FILE")]
+    pub out: PathBuf,
+    /// Write sigma0 in dB (default: linear).
+    #[arg(long)]
+    pub db: bool,
+    /// The scale of a GeoTIFF's pixels when its band unit does not state it.
+    #[arg(long, value_name = "linear|db|amplitude")]
+    pub scale: Option<wakelab_products::InputScale>,
+    #[command(flatten)]
+    pub read: ReadArgs,
+    /// Print JSON (the product's metadata and what reading did).
+    #[arg(long)]
+    pub json: bool,
 }
 
 /// Options of `sar sigma0`.

@@ -1,20 +1,16 @@
-//! `wakelab train`, `wakelab eval` and `wakelab detect`: the learning stage on a dataset
-//! directory and on a user's own image.
+//! `wakelab train` and `wakelab eval`: the learning stage on a dataset directory.
 
-use crate::cli::{DetectArgs, EvalArgs, TrainArgs};
+use crate::cli::{EvalArgs, TrainArgs};
 use crate::Result;
 use indicatif::ProgressBar;
 use std::path::PathBuf;
 use wakelab_learn::data::Dataset;
-use wakelab_learn::detect::{detect_image, ScanOptions};
 use wakelab_learn::device::parse_device;
 use wakelab_learn::evaluate::EvalOptions;
 use wakelab_learn::models::Architecture;
-use wakelab_learn::store::load_detector;
 use wakelab_learn::train::Recipe;
 use wakelab_schema::recipe;
 use wakelab_study::learning::{evaluate_into, summary_table, total_epochs, train_into};
-use wakelab_study::scan::{write_asked_mask, write_scan};
 
 /// Options shared by `train` and `eval`.
 #[derive(clap::Args, Debug, Clone)]
@@ -179,47 +175,6 @@ pub fn run_train(train: &TrainArgs) -> Result<()> {
     if let Some((n, c, auc)) = trained.test {
         let auc = auc.map(|a| format!("{a:.3}")).unwrap_or_else(|| "-".into());
         println!("test split ({n} scenes): {c}, AUC {auc}");
-    }
-    Ok(())
-}
-
-/// `wakelab detect`: a saved single-band detector scanned over a user's image of any size.
-pub fn run_detect(args: &DetectArgs) -> Result<()> {
-    let device = parse_device(&args.device)?;
-    let (detector, info) = load_detector(&args.model, None, &device)?;
-    let pixels = wakelab_learn::detect::read_single_band(&args.image)?;
-    let options = ScanOptions {
-        stride: args.stride,
-        threshold: args.threshold,
-        scale: args.scale,
-        ..ScanOptions::default()
-    };
-    let template = "{spinner} detect [{bar:30}] {pos}/{len} windows | {elapsed_precise}, {eta} left";
-    let bar = wakelab_study::progress_bar(args.quiet, 0, template);
-    let detection = detect_image(&detector, &info, &pixels, options, &device, &mut |done, total| {
-        bar.set_length(total as u64);
-        bar.set_position(done as u64);
-    })?;
-    bar.finish_and_clear();
-    let band = info.bands.as_single().expect("detect_image checked a single band");
-    let dir = (args.out.clone()).unwrap_or_else(|| wakelab_study::scan::default_scan_dir(&args.image));
-    let files = write_scan(&dir, &args.image, &args.model, &pixels, band, args.scale, &detection)?;
-    if let Some(path) = &args.mask {
-        let architecture = info.architecture.to_string();
-        if let Some(note) = write_asked_mask(path, &detection, &args.model, &architecture)? {
-            eprintln!("{note}");
-        }
-    }
-    if args.json {
-        println!("{}", serde_json::to_string_pretty(&detection)?);
-    } else {
-        println!("{}: {}", args.image.display(), detection.describe());
-        println!(
-            "wrote {} (map), {} and {}",
-            files.map.display(),
-            files.overlay.display(),
-            files.detections.display()
-        );
     }
     Ok(())
 }

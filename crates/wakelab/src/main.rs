@@ -2,6 +2,7 @@
 
 mod cli;
 mod dataset;
+mod detect;
 mod learn;
 mod reports;
 mod scene;
@@ -41,7 +42,8 @@ fn dispatch(cli: Cli) -> Result<()> {
         Command::Dataset(args) => dataset::run_dataset(&args),
         Command::Train(args) => learn::run_train(&args),
         Command::Eval(args) => learn::run_eval(&args),
-        Command::Detect(args) => learn::run_detect(&args),
+        Command::Detect(args) => detect::run_detect(&args),
+        Command::Calibrate(args) => detect::run_calibrate(&args),
         Command::Config {
             action: ConfigAction::Show { config },
         } => {

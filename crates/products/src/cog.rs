@@ -1,0 +1,122 @@
+//! Cloud-Optimised GeoTIFFs through GDAL's COG driver (GDAL >= 3.1): tiled, DEFLATE-compressed
+//! with the floating-point predictor, internal overviews by averaging, the nodata value, the
+//! band's description and unit, and the frame's georeference (geotransform and CRS, or GCPs).
+//! Written to a temporary path and renamed, so a failed write leaves no half-written file.
+
+use crate::Frame;
+use gdal::cpl::CslStringList;
+use gdal::{DriverManager, Metadata};
+use ndarray::Array2;
+use std::ffi::CString;
+use std::path::{Path, PathBuf};
+use wakelab_core::io::atomic::AtomicFile;
+use wakelab_core::WakelabError;
+
+/// What a COG's one band holds.
+#[derive(Debug, Clone)]
+pub struct BandInfo<'a> {
+    /// The band's description (GDAL's band description, shown by QGIS).
+    pub description: &'a str,
+    /// Its unit ("1", "dB", "K").
+    pub unit: &'a str,
+    /// Dataset metadata items (key, value).
+    pub metadata: Vec<(String, String)>,
+}
+
+fn cog_error(path: &Path, e: impl std::fmt::Display) -> WakelabError {
+    WakelabError::Image {
+        path: path.display().to_string(),
+        message: format!("writing the COG: {e}"),
+    }
+}
+
+/// Write `values` (NaN = nodata) on `frame` as a single-band float32 COG at `path`.
+pub fn write_cog(path: &Path, values: &Array2<f32>, frame: &Frame, band: &BandInfo) -> Result<PathBuf, WakelabError> {
+    let (rows, cols) = values.dim();
+    let err = |e: gdal::errors::GdalError| cog_error(path, e);
+    let mem = DriverManager::get_driver_by_name("MEM").map_err(err)?;
+    let mut dataset = mem.create_with_band_type::<f32, _>("", cols, rows, 1).map_err(err)?;
+    frame.apply(&mut dataset).map_err(err)?;
+    for (key, value) in &band.metadata {
+        dataset.set_metadata_item(key, value, "").map_err(err)?;
+    }
+    {
+        let mut raster = dataset.rasterband(1).map_err(err)?;
+        let data: Vec<f32> = values.iter().copied().collect();
+        let mut buffer = gdal::raster::Buffer::new((cols, rows), data);
+        raster.write((0, 0), (cols, rows), &mut buffer).map_err(err)?;
+        raster.set_no_data_value(Some(f64::NAN)).map_err(err)?;
+        raster.set_description(band.description).map_err(err)?;
+        let unit = CString::new(band.unit).map_err(|e| cog_error(path, e))?;
+        // SAFETY: the band handle is valid while `raster` lives; GDAL copies the string.
+        unsafe { gdal_sys::GDALSetRasterUnitType(raster.c_rasterband(), unit.as_ptr()) };
+    }
+    let mut options = CslStringList::new();
+    for (k, v) in [
+        ("COMPRESS", "DEFLATE"),
+        ("PREDICTOR", "YES"),
+        ("BLOCKSIZE", "256"),
+        ("OVERVIEWS", "AUTO"),
+        ("RESAMPLING", "AVERAGE"),
+        ("NUM_THREADS", "ALL_CPUS"),
+    ] {
+        options.add_name_value(k, v).map_err(err)?;
+    }
+    let cog = DriverManager::get_driver_by_name("COG").map_err(err)?;
+    let file = AtomicFile::new(path)?;
+    dataset
+        .create_copy(&cog, file.temporary_path(), &options)
+        .map_err(err)?
+        .close()
+        .map_err(err)?;
+    file.commit()
+}
+
+/// `wakelab calibrate`: the product's calibrated, masked sigma0 (linear, or dB with `db`) as a
+/// COG on its ground, with what the product says of itself in the file's metadata.
+pub fn write_sigma0(product: &crate::Product, path: &Path, db: bool) -> Result<PathBuf, WakelabError> {
+    let meta = &product.meta;
+    if !meta.calibrated {
+        return Err(cog_error(
+            path,
+            format!(
+                "{} is a display-stretched image: it holds no sigma0 to write",
+                product.path.display()
+            ),
+        ));
+    }
+    let values = if db {
+        product.image.mapv(|v| 10.0 * v.log10())
+    } else {
+        product.image.clone()
+    };
+    let pol = meta.polarisation.clone().unwrap_or_default();
+    let noise = match &meta.noise_removed {
+        Some(format) => format!("thermal noise removed ({format})"),
+        None => "thermal noise kept".into(),
+    };
+    let description = format!("sigma0 {pol} ({}), {noise}", if db { "dB" } else { "linear" });
+    let mut metadata = vec![
+        ("WAKELAB_INPUT".to_string(), product.path.display().to_string()),
+        ("WAKELAB_PRODUCT_ID".to_string(), meta.product_id.clone()),
+        ("WAKELAB_FLOORED_PIXELS".to_string(), product.report.floored.to_string()),
+        ("WAKELAB_MASKED_PIXELS".to_string(), product.report.masked.to_string()),
+    ];
+    let optional = [
+        ("WAKELAB_MISSION", meta.mission.clone()),
+        ("WAKELAB_ACQUISITION_TIME", meta.acquisition_time.clone()),
+        ("WAKELAB_POLARISATION", meta.polarisation.clone()),
+        ("WAKELAB_ORBIT_DIRECTION", meta.orbit_direction.clone()),
+    ];
+    metadata.extend(optional.into_iter().filter_map(|(k, v)| v.map(|v| (k.to_string(), v))));
+    write_cog(
+        path,
+        &values,
+        &product.frame,
+        &BandInfo {
+            description: &description,
+            unit: if db { "dB" } else { "1" },
+            metadata,
+        },
+    )
+}

@@ -1,0 +1,272 @@
+//! Where an image's pixels lie on the Earth: an affine geotransform in a CRS, or ground control
+//! points (a Sentinel-1 GRD's geolocation grid), or nothing (a bare array). Pixel coordinates
+//! are GDAL's: (column, row) from the top-left corner of the top-left pixel, so the centre of
+//! pixel (r, c) is (c + 0.5, r + 0.5). Ground coordinates come from GDAL's own transformer
+//! (`GDALCreateGenImgProjTransformer2`, what `gdaltransform` runs), so a detection's longitude
+//! and latitude are exactly GDAL's for the same pixel.
+
+use gdal::spatial_ref::SpatialRef;
+use gdal::{Dataset, DriverManager, GcpRef};
+use std::ffi::CString;
+
+/// A ground control point: pixel (column) and line (row) to x, y, z in the frame's CRS.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Gcp {
+    pub pixel: f64,
+    pub line: f64,
+    pub x: f64,
+    pub y: f64,
+    pub z: f64,
+}
+
+/// How the pixels are placed.
+#[derive(Debug, Clone, PartialEq)]
+pub enum Placement {
+    /// No georeference.
+    None,
+    /// GDAL's geotransform (x = t0 + col t1 + row t2, y = t3 + col t4 + row t5) in a CRS (WKT).
+    Transform { transform: [f64; 6], wkt: String },
+    /// Ground control points in a CRS (WKT), GDAL fitting a polynomial between them.
+    Gcps { gcps: Vec<Gcp>, wkt: String },
+}
+
+/// An image grid and its placement.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Frame {
+    pub rows: usize,
+    pub cols: usize,
+    pub placement: Placement,
+}
+
+impl Frame {
+    /// A grid with no georeference.
+    pub fn none((rows, cols): (usize, usize)) -> Self {
+        Self {
+            rows,
+            cols,
+            placement: Placement::None,
+        }
+    }
+
+    /// The placement GDAL reads from a dataset: its geotransform when it has a CRS or a
+    /// geotransform other than the identity, else its GCPs, else none.
+    pub fn of_dataset(dataset: &Dataset) -> Self {
+        let (cols, rows) = dataset.raster_size();
+        let wkt = dataset.projection();
+        let transform = dataset.geo_transform().ok();
+        let identity = [0.0, 1.0, 0.0, 0.0, 0.0, 1.0];
+        let placement = match transform {
+            Some(t) if !wkt.is_empty() || t != identity => Placement::Transform { transform: t, wkt },
+            _ => {
+                let gcps: Vec<Gcp> = dataset.gcps().iter().map(gcp_of).collect();
+                if gcps.is_empty() {
+                    Placement::None
+                } else {
+                    Placement::Gcps {
+                        gcps,
+                        wkt: dataset.gcp_projection().unwrap_or_default(),
+                    }
+                }
+            }
+        };
+        Self { rows, cols, placement }
+    }
+
+    /// (rows, columns).
+    pub fn rows_cols(&self) -> (usize, usize) {
+        (self.rows, self.cols)
+    }
+
+    pub fn is_georeferenced(&self) -> bool {
+        !matches!(self.placement, Placement::None)
+    }
+
+    /// The frame of a grid whose pixel spans `row_factor` x `col_factor` pixels of this one
+    /// (`rows` x `cols` of them).
+    pub fn scaled(&self, row_factor: f64, col_factor: f64, (rows, cols): (usize, usize)) -> Self {
+        let placement = match &self.placement {
+            Placement::None => Placement::None,
+            Placement::Transform { transform: t, wkt } => Placement::Transform {
+                transform: [
+                    t[0],
+                    t[1] * col_factor,
+                    t[2] * row_factor,
+                    t[3],
+                    t[4] * col_factor,
+                    t[5] * row_factor,
+                ],
+                wkt: wkt.clone(),
+            },
+            Placement::Gcps { gcps, wkt } => Placement::Gcps {
+                gcps: gcps
+                    .iter()
+                    .map(|g| Gcp {
+                        pixel: g.pixel / col_factor,
+                        line: g.line / row_factor,
+                        ..*g
+                    })
+                    .collect(),
+                wkt: wkt.clone(),
+            },
+        };
+        Self { rows, cols, placement }
+    }
+
+    /// Give `dataset` (of this frame's size) this placement.
+    pub fn apply(&self, dataset: &mut Dataset) -> gdal::errors::Result<()> {
+        match &self.placement {
+            Placement::None => Ok(()),
+            Placement::Transform { transform, wkt } => {
+                dataset.set_geo_transform(transform)?;
+                if !wkt.is_empty() {
+                    dataset.set_projection(wkt)?;
+                }
+                Ok(())
+            }
+            Placement::Gcps { gcps, wkt } => {
+                let mut srs = SpatialRef::from_wkt(wkt)?;
+                // GCPs hold x = longitude, y = latitude whatever the CRS's axis order
+                srs.set_axis_mapping_strategy(gdal::spatial_ref::AxisMappingStrategy::TraditionalGisOrder);
+                let list = gcps
+                    .iter()
+                    .enumerate()
+                    .map(|(i, g)| gdal::Gcp {
+                        id: (i + 1).to_string(),
+                        info: String::new(),
+                        pixel: g.pixel,
+                        line: g.line,
+                        x: g.x,
+                        y: g.y,
+                        z: g.z,
+                    })
+                    .collect();
+                dataset.set_gcps(list, &srs)
+            }
+        }
+    }
+
+    /// Longitude and latitude (degrees, WGS 84) of pixel coordinates (column, row) by GDAL's
+    /// transformer; None without a georeference, or where GDAL cannot place the frame on the
+    /// Earth (a local engineering CRS) or a point.
+    pub fn lonlat(&self, points: &[(f64, f64)]) -> Option<Vec<(f64, f64)>> {
+        if !self.is_georeferenced() || points.is_empty() {
+            return None;
+        }
+        let driver = DriverManager::get_driver_by_name("MEM").ok()?;
+        let mut dataset = driver
+            .create_with_band_type::<u8, _>("", self.cols.max(1), self.rows.max(1), 0)
+            .ok()?;
+        self.apply(&mut dataset).ok()?;
+        let (mut x, mut y): (Vec<f64>, Vec<f64>) = points.iter().copied().unzip();
+        let mut z = vec![0.0; points.len()];
+        let mut success = vec![0i32; points.len()];
+        let option = CString::new("DST_SRS=EPSG:4326").expect("no NUL");
+        let mut options = [option.as_ptr() as *mut std::ffi::c_char, std::ptr::null_mut()];
+        // SAFETY: the dataset outlives the transformer, which is destroyed before return; the
+        // option list is NULL-terminated; the point arrays hold points.len() values each.
+        let ok = unsafe {
+            let transformer = gdal_sys::GDALCreateGenImgProjTransformer2(
+                dataset.c_dataset(),
+                std::ptr::null_mut(),
+                options.as_mut_ptr(),
+            );
+            if transformer.is_null() {
+                return None;
+            }
+            let ok = gdal_sys::GDALGenImgProjTransform(
+                transformer,
+                0,
+                points.len() as i32,
+                x.as_mut_ptr(),
+                y.as_mut_ptr(),
+                z.as_mut_ptr(),
+                success.as_mut_ptr(),
+            );
+            gdal_sys::GDALDestroyGenImgProjTransformer(transformer);
+            ok
+        };
+        (ok != 0 && success.iter().all(|&s| s != 0)).then(|| x.into_iter().zip(y).collect())
+    }
+
+    /// Ground distance (m) between neighbouring pixels at the image's centre: along a row
+    /// (columns) and down a column (rows); None without a place on the Earth.
+    pub fn ground_spacing(&self) -> Option<(f64, f64)> {
+        let (r, c) = (self.rows as f64 / 2.0, self.cols as f64 / 2.0);
+        let p = self.lonlat(&[(c, r), (c + 1.0, r), (c, r + 1.0)])?;
+        Some((ground_distance(p[0], p[1]), ground_distance(p[0], p[2])))
+    }
+}
+
+fn gcp_of(g: &GcpRef) -> Gcp {
+    Gcp {
+        pixel: g.pixel(),
+        line: g.line(),
+        x: g.x(),
+        y: g.y(),
+        z: g.z(),
+    }
+}
+
+/// Ground distance (m) between two nearby (longitude, latitude) points on the WGS 84
+/// ellipsoid: the latitude difference times the meridian radius of curvature M and the
+/// longitude difference times N cos(latitude), N the prime-vertical radius, both at the mean
+/// latitude (exact to first order in the separation; Snyder 1987, Eqs. 4-18, 4-20).
+pub fn ground_distance(a: (f64, f64), b: (f64, f64)) -> f64 {
+    const SEMI_MAJOR: f64 = 6_378_137.0;
+    const FLATTENING: f64 = 1.0 / 298.257_223_563;
+    let e2 = FLATTENING * (2.0 - FLATTENING);
+    let lat = (0.5 * (a.1 + b.1)).to_radians();
+    let w = 1.0 - e2 * lat.sin().powi(2);
+    let n = SEMI_MAJOR / w.sqrt();
+    let m = SEMI_MAJOR * (1.0 - e2) / w.powf(1.5);
+    let dy = m * (b.1 - a.1).to_radians();
+    let dx = n * lat.cos() * (b.0 - a.0).to_radians();
+    dx.hypot(dy)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// UTM zone 33N (EPSG:32633): its central meridian is 15 E, so a point on it at northing
+    /// 5,000,000 m lies at 15 E, and 1 km east of it lies 1 km of ground away.
+    #[test]
+    fn a_utm_frame_is_placed_where_the_projection_puts_it() {
+        let wkt = SpatialRef::from_epsg(32633).unwrap().to_wkt().unwrap();
+        let frame = Frame {
+            rows: 100,
+            cols: 100,
+            placement: Placement::Transform {
+                transform: [500_000.0, 10.0, 0.0, 5_000_000.0, 0.0, -10.0],
+                wkt,
+            },
+        };
+        let p = frame.lonlat(&[(0.0, 0.0)]).unwrap()[0];
+        assert!((p.0 - 15.0).abs() < 1e-9, "{p:?}");
+        // northing 5,000 km on the central meridian: the footpoint latitude of the meridian arc
+        // 5,000,000 / 0.9996 m on WGS 84, 45.15348 N (Snyder 1987, Eqs. 3-21, 8-18)
+        assert!((p.1 - 45.15348).abs() < 1e-4, "{p:?}");
+        let (dx, dy) = frame.ground_spacing().unwrap();
+        // 10 m of grid on the central meridian is 10 / k0 = 10 / 0.9996 m of ground
+        assert!(
+            (dx - 10.0 / 0.9996).abs() < 1e-3 && (dy - 10.0 / 0.9996).abs() < 1e-3,
+            "{dx} {dy}"
+        );
+        let coarse = frame.scaled(4.0, 4.0, (25, 25));
+        let q = coarse.lonlat(&[(1.0, 1.0)]).unwrap()[0];
+        let r = frame.lonlat(&[(4.0, 4.0)]).unwrap()[0];
+        assert!((q.0 - r.0).abs() < 1e-12 && (q.1 - r.1).abs() < 1e-12);
+        assert!(Frame::none((5, 5)).lonlat(&[(0.0, 0.0)]).is_none());
+    }
+
+    /// The published lengths of a degree on WGS 84 at 45 N: 111,132.09 m of latitude and
+    /// 78,846.81 m of longitude (NGA's table), here over one arc-second.
+    #[test]
+    fn ground_distance_of_an_arc_second() {
+        let s = 1.0 / 3600.0;
+        let north = ground_distance((10.0, 45.0 - s / 2.0), (10.0, 45.0 + s / 2.0));
+        let east = ground_distance((10.0, 45.0), (10.0 + s, 45.0));
+        assert!((north - 111_132.09 * s).abs() < 1e-3, "{north}");
+        assert!((east - 78_846.81 * s).abs() < 1e-3, "{east}");
+    }
+}

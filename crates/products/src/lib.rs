@@ -1,0 +1,248 @@
+//! Real SAR products in: a Sentinel-1 GRD product (`.SAFE` directory, its `manifest.safe` or
+//! the `.zip`), a RADARSAT-2 product (GDAL's calibrated subdataset), any GeoTIFF or
+//! Cloud-Optimised GeoTIFF of sigma0 or brightness temperature (linear, dB, amplitude or
+//! display-stretched; any CRS or GCPs; its nodata value and mask band honoured), or a bare `.npy`
+//! array, read through GDAL into one [`Product`]: the image in linear sigma0 (or kelvin), NaN
+//! where it holds no data, with its georeferencing ([`Frame`]) and what the product says of its
+//! acquisition ([`ProductMeta`]). wakelab's detectors and `calibrate` read every input through
+//! [`open`]; nothing here knows physics or networks.
+
+pub mod cog;
+pub mod frame;
+pub mod geojson;
+pub mod mask;
+pub mod npy;
+pub mod raster;
+pub mod resample;
+pub mod scale;
+pub mod sentinel1;
+
+pub use frame::Frame;
+pub use scale::InputScale;
+
+use ndarray::Array2;
+use serde::Serialize;
+use std::path::{Path, PathBuf};
+use wakelab_core::WakelabError;
+
+/// What the image's pixels are.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Quantity {
+    /// Radar backscatter: read in the input's scale and turned into linear sigma0.
+    Sigma0,
+    /// Infrared brightness temperature (K): read as it is.
+    BrightnessTemperature,
+}
+
+/// How to read an input.
+#[derive(Debug, Clone)]
+pub struct ReadOptions {
+    pub quantity: Quantity,
+    /// The scale the user states (`--scale`); None: the metadata's, else linear.
+    pub scale: Option<InputScale>,
+    /// Polarisation of a multi-polarisation product (`--pol`); None: VV, else HH.
+    pub polarisation: Option<String>,
+    /// Keep the thermal noise in (`--keep-noise`); removed by default.
+    pub keep_noise: bool,
+    /// Pixels to ignore (`--exclude`): a raster of the input's size, non-zero where excluded.
+    pub exclude: Option<PathBuf>,
+    /// Pixel spacing of a bare array (`--pixel-spacing`, metres).
+    pub pixel_spacing: Option<f64>,
+}
+
+impl Default for ReadOptions {
+    fn default() -> Self {
+        Self {
+            quantity: Quantity::Sigma0,
+            scale: None,
+            polarisation: None,
+            keep_noise: false,
+            exclude: None,
+            pixel_spacing: None,
+        }
+    }
+}
+
+/// Where a pixel spacing came from.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum SpacingSource {
+    /// The product's annotation.
+    Annotation,
+    /// The georeferencing (ground distance between neighbouring pixels at the image centre).
+    Georeference,
+    /// `--pixel-spacing`.
+    User,
+}
+
+/// Ground distance between pixels (metres).
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+pub struct PixelSpacing {
+    /// Along a row (range, for a product in radar geometry).
+    pub columns: f64,
+    /// Down a column (azimuth).
+    pub rows: f64,
+    pub source: SpacingSource,
+}
+
+/// Incidence angle over the image: a bilinear fit to the product's geolocation grid.
+#[derive(Debug, Clone, Serialize)]
+pub struct Incidence {
+    /// Its value at the near, middle and far range of the first line (degrees).
+    pub near_deg: f64,
+    pub mid_deg: f64,
+    pub far_deg: f64,
+    #[serde(skip)]
+    pub grid: Vec<(f64, f64, f64)>,
+}
+
+impl Incidence {
+    /// The grid's value at (line, pixel): linear in pixel along the two grid lines around
+    /// `line`, then linear between them (the grid is regular in every product).
+    pub fn at(&self, line: f64, pixel: f64) -> f64 {
+        let mut lines: Vec<f64> = self.grid.iter().map(|g| g.0).collect();
+        lines.sort_by(f64::total_cmp);
+        lines.dedup();
+        let along = |grid_line: f64| {
+            let mut row: Vec<(f64, f64)> = self
+                .grid
+                .iter()
+                .filter(|g| g.0 == grid_line)
+                .map(|g| (g.1, g.2))
+                .collect();
+            row.sort_by(|a, b| a.0.total_cmp(&b.0));
+            let pixels: Vec<f64> = row.iter().map(|r| r.0).collect();
+            let (j, t) = sentinel1::lut::bracket(&pixels, pixel);
+            if t == 0.0 {
+                row[j].1
+            } else {
+                row[j].1 * (1.0 - t) + row[j + 1].1 * t
+            }
+        };
+        let (i, t) = sentinel1::lut::bracket(&lines, line);
+        if t == 0.0 {
+            along(lines[i])
+        } else {
+            along(lines[i]) * (1.0 - t) + along(lines[i + 1]) * t
+        }
+    }
+}
+
+/// What a product says of its acquisition (absent fields: the input does not say).
+#[derive(Debug, Clone, Default, Serialize)]
+pub struct ProductMeta {
+    /// What read it: "Sentinel-1 SAFE", "GeoTIFF", "npy", ...
+    pub format: String,
+    /// The product's identifier (a SAFE's name, else the file's stem).
+    pub product_id: String,
+    pub mission: Option<String>,
+    pub acquisition_time: Option<String>,
+    pub polarisation: Option<String>,
+    /// The polarisations the product holds.
+    pub polarisations: Vec<String>,
+    pub pixel_spacing: Option<PixelSpacing>,
+    pub looks: Option<f64>,
+    /// The scale the file's values were in.
+    pub scale: Option<InputScale>,
+    /// Whether the values are calibrated (a display-stretched image is not).
+    pub calibrated: bool,
+    pub incidence: Option<Incidence>,
+    /// ASCENDING or DESCENDING.
+    pub orbit_direction: Option<String>,
+    /// Side the radar looks to (Sentinel-1: right).
+    pub look_side: Option<String>,
+    /// Slant range at mid swath (m).
+    pub slant_range_mid: Option<f64>,
+    /// Platform speed (m/s).
+    pub platform_velocity: Option<f64>,
+    /// Thermal noise removed from the values: Some(format) when it was.
+    pub noise_removed: Option<String>,
+}
+
+/// What reading did to the pixels.
+#[derive(Debug, Clone, Default, Serialize)]
+pub struct ReadReport {
+    /// Pixels with no data (NaN in the image): border zeros, NaN, the nodata value, the mask
+    /// band and `--exclude`.
+    pub masked: usize,
+    /// Pixels slightly below zero (after noise removal) raised to `floor`.
+    pub floored: usize,
+    /// The floor they were raised to (linear sigma0): the noise-equivalent sigma0 where the
+    /// product gives it, else [`scale::MIN_SIGMA0`].
+    pub floor: Option<f64>,
+    /// Anything the user should know (shown by the commands).
+    pub notes: Vec<String>,
+}
+
+/// A product read: the image (linear sigma0 or kelvin; NaN where masked) on its ground.
+#[derive(Debug)]
+pub struct Product {
+    pub path: PathBuf,
+    pub image: Array2<f32>,
+    pub frame: Frame,
+    pub meta: ProductMeta,
+    pub report: ReadReport,
+}
+
+fn product_error(path: &Path, message: impl ToString) -> WakelabError {
+    WakelabError::Image {
+        path: path.display().to_string(),
+        message: message.to_string(),
+    }
+}
+
+/// Read any supported input (module doc) into a [`Product`].
+pub fn open(path: &Path, options: &ReadOptions) -> Result<Product, WakelabError> {
+    if !path.exists() {
+        return Err(product_error(path, "no such file or directory"));
+    }
+    let mut product = if let Some(safe) = sentinel1::SafeLocation::find(path)? {
+        if options.quantity != Quantity::Sigma0 {
+            return Err(product_error(
+                path,
+                "a Sentinel-1 product holds radar backscatter: use a radar (S, C or X band) detector",
+            ));
+        }
+        sentinel1::read(&safe, options)?
+    } else if extension(path) == "npy" {
+        npy::read(path, options)?
+    } else {
+        raster::read(path, options)?
+    };
+    if let Some(exclude) = &options.exclude {
+        let excluded = mask::exclude(&mut product.image, exclude)?;
+        product
+            .report
+            .notes
+            .push(format!("{excluded} pixel(s) excluded by {}", exclude.display()));
+    }
+    product.report.masked = product.image.iter().filter(|v| v.is_nan()).count();
+    if product.report.masked == product.image.len() {
+        return Err(product_error(
+            path,
+            "every pixel is masked (no data, nodata value, mask band or --exclude): nothing to scan",
+        ));
+    }
+    if product.meta.pixel_spacing.is_none() {
+        product.meta.pixel_spacing = options.pixel_spacing.map(|d| PixelSpacing {
+            columns: d,
+            rows: d,
+            source: SpacingSource::User,
+        });
+    }
+    Ok(product)
+}
+
+/// A path's extension in lower case ("" without one).
+pub fn extension(path: &Path) -> String {
+    path.extension()
+        .and_then(|e| e.to_str())
+        .unwrap_or("")
+        .to_ascii_lowercase()
+}
+
+/// GDAL's error as text for a message.
+pub(crate) fn gdal_error(path: &Path, what: &str, e: gdal::errors::GdalError) -> WakelabError {
+    product_error(path, format!("{what}: {e}"))
+}

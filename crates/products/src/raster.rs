@@ -1,0 +1,210 @@
+//! Any single-band raster GDAL reads (GeoTIFF, Cloud-Optimised GeoTIFF, PNG, ...) and
+//! RADARSAT-2 products through GDAL's calibrated subdataset: the band's values, its nodata
+//! value and mask band, the scale its unit states, and its georeference.
+
+use crate::scale::{from_unit, to_linear_sigma0, InputScale, MIN_SIGMA0};
+use crate::{gdal_error, Frame, PixelSpacing, Product, ProductMeta, Quantity, ReadOptions, ReadReport, SpacingSource};
+use gdal::raster::GdalDataType;
+use gdal::{Dataset, Metadata};
+use ndarray::Array2;
+use std::path::Path;
+use wakelab_core::{ConfigError, WakelabError};
+
+fn raster_error(path: &Path, message: impl ToString) -> WakelabError {
+    WakelabError::Image {
+        path: path.display().to_string(),
+        message: message.to_string(),
+    }
+}
+
+/// Open a raster with GDAL; a file GDAL does not recognise is "not an image GDAL reads", and
+/// a product GDAL recognises but wakelab does not calibrate names GDAL's driver.
+pub fn open_dataset(path: &Path) -> Result<Dataset, WakelabError> {
+    let dataset = Dataset::open(path).map_err(|e| {
+        raster_error(
+            path,
+            format!("not an image GDAL reads (npy, GeoTIFF, COG, PNG, a Sentinel-1 SAFE, ...): {e}"),
+        )
+    })?;
+    let driver = dataset.driver().short_name();
+    let unsupported = match driver.as_str() {
+        "SAFE" => None, // reached only through manifest.safe, handled by the Sentinel-1 reader
+        "TSX" => Some("TerraSAR-X: GDAL gives digital numbers and wakelab does not apply its calFactor yet; calibrate the product to sigma0 (e.g. SNAP's Calibration) and pass the GeoTIFF"),
+        "HDF5" | "HDF5Image" | "CSK" => Some("COSMO-SkyMed / HDF5: wakelab does not apply its rescaling factor yet; calibrate the product to sigma0 (e.g. SNAP's Calibration) and pass the GeoTIFF"),
+        "RS2" if !path.to_string_lossy().starts_with("RADARSAT_2_CALIB:") => {
+            Some("RADARSAT-2: pass GDAL's calibrated subdataset, RADARSAT_2_CALIB:SIGMA0:<product.xml>")
+        }
+        "RCM" => Some("RADARSAT Constellation: pass GDAL's calibrated subdataset (RCM_CALIB:SIGMA0:<product.xml>, GDAL >= 3.11)"),
+        _ => None,
+    };
+    if let Some(why) = unsupported {
+        return Err(raster_error(
+            path,
+            format!("GDAL's {driver} driver reads it, but {why}"),
+        ));
+    }
+    Ok(dataset)
+}
+
+/// The first band of a one-band raster as f32, with its nodata mask (true = no data) from the
+/// nodata value and the mask band, and its unit. Several bands are refused (which band?).
+pub fn read_band(path: &Path, options: &ReadOptions) -> Result<(Array2<f32>, Array2<bool>, Dataset), WakelabError> {
+    let dataset = open_dataset(path)?;
+    let count = dataset.raster_count();
+    if count == 0 {
+        let subdatasets = dataset.metadata_domain("SUBDATASETS").unwrap_or_default();
+        let names: Vec<&str> = subdatasets
+            .iter()
+            .filter_map(|s| s.split_once("_NAME=").map(|(_, v)| v))
+            .collect();
+        return Err(raster_error(
+            path,
+            if names.is_empty() {
+                "holds no raster band".to_string()
+            } else {
+                format!("holds subdatasets; pass one of: {}", names.join(", "))
+            },
+        ));
+    }
+    if count > 1 && options.quantity == Quantity::Sigma0 {
+        return Err(raster_error(
+            path,
+            format!("has {count} bands; wakelab reads single-band images: write one band (gdal_translate -b N)"),
+        ));
+    }
+    let band = dataset.rasterband(1).map_err(|e| gdal_error(path, "band 1", e))?;
+    let (cols, rows) = band.size();
+    let buffer = band
+        .read_as::<f32>((0, 0), (cols, rows), (cols, rows), None)
+        .map_err(|e| gdal_error(path, "reading band 1", e))?;
+    let values = Array2::from_shape_vec((rows, cols), buffer.data().to_vec()).map_err(|e| raster_error(path, e))?;
+    let mut masked = Array2::from_elem((rows, cols), false);
+    if let Some(nodata) = band.no_data_value() {
+        masked.zip_mut_with(&values, |m, &v| {
+            *m |= v == nodata as f32 || (nodata.is_nan() && v.is_nan())
+        });
+    }
+    let flags = band.mask_flags().map_err(|e| gdal_error(path, "mask flags", e))?;
+    if !flags.is_all_valid() && !flags.is_nodata() {
+        let mask = band.open_mask_band().map_err(|e| gdal_error(path, "mask band", e))?;
+        let m = mask
+            .read_as::<u8>((0, 0), (cols, rows), (cols, rows), None)
+            .map_err(|e| gdal_error(path, "reading the mask band", e))?;
+        for (flag, &v) in masked.iter_mut().zip(m.data()) {
+            *flag |= v == 0;
+        }
+    }
+    Ok((values, masked, dataset))
+}
+
+/// Mask (NaN) the no-data pixels of `raw` (`masked` from the file, plus NaN, infinities and
+/// zeros reaching the border), then, for radar values, convert from `scale` to linear sigma0
+/// with the scale's checks, floored at `floor` (or [`MIN_SIGMA0`]).
+#[allow(clippy::too_many_arguments)]
+pub(crate) fn mask_and_scale(
+    mut raw: Array2<f32>,
+    masked: Option<Array2<bool>>,
+    floor: Option<&(dyn Fn(usize, usize) -> f64 + Sync)>,
+    options: &ReadOptions,
+    scale: InputScale,
+    is_byte: bool,
+    report: &mut ReadReport,
+    path: &Path,
+) -> Result<Array2<f32>, WakelabError> {
+    let mut masked = masked.unwrap_or_else(|| Array2::from_elem(raw.dim(), false));
+    crate::mask::border_zeros(&raw, &mut masked);
+    raw.zip_mut_with(&masked, |v, &m| {
+        if m || !v.is_finite() {
+            *v = f32::NAN;
+        }
+    });
+    if options.quantity == Quantity::Sigma0 {
+        if is_byte && scale != InputScale::Display {
+            return Err(ConfigError::new(
+                "--scale",
+                scale.name(),
+                format!("{} holds 8-bit grey levels, a display stretch, not {scale} sigma0: pass --scale display (its probabilities are then uncalibrated)", path.display()),
+            )
+            .into());
+        }
+        let constant = |_: usize, _: usize| MIN_SIGMA0;
+        let floor = floor.unwrap_or(&constant);
+        report.floored = to_linear_sigma0(&mut raw, scale, floor)?;
+        if report.floored > 0 {
+            report.floor = Some(floor(0, 0));
+            report.notes.push(format!(
+                "{} pixel(s) at or below zero (noise subtraction) raised to a floor of {:.1} dB",
+                report.floored,
+                10.0 * floor(0, 0).log10()
+            ));
+        }
+        if scale == InputScale::Display {
+            report.notes.push(
+                "a display-stretched image: read as dB up to an unknown gain and offset; its probabilities are uncalibrated".into(),
+            );
+        }
+    }
+    Ok(raw)
+}
+
+/// Any GDAL raster as a product: its scale from its band's unit (or `--scale`, refused where
+/// the two disagree; linear when neither says), its georeference and ground spacing.
+pub fn read(path: &Path, options: &ReadOptions) -> Result<Product, WakelabError> {
+    let (raw, masked, dataset) = read_band(path, options)?;
+    let band = dataset.rasterband(1).map_err(|e| gdal_error(path, "band 1", e))?;
+    let stated = from_unit(&band.unit())
+        .or_else(|| band.metadata_item("units", "").as_deref().and_then(from_unit))
+        .or_else(|| dataset.metadata_item("units", "").as_deref().and_then(from_unit));
+    let is_byte = band.band_type() == GdalDataType::UInt8;
+    let scale = match (stated, options.scale) {
+        (Some(s), Some(u)) if s != u && options.quantity == Quantity::Sigma0 => {
+            return Err(ConfigError::new(
+                "--scale",
+                u.name(),
+                format!(
+                    "{}'s band unit says {s}: drop --scale or pass --scale {s}",
+                    path.display()
+                ),
+            )
+            .into())
+        }
+        (Some(s), _) => s,
+        (None, Some(u)) => u,
+        (None, None) => InputScale::Linear,
+    };
+    let mut report = ReadReport::default();
+    if stated.is_none() && options.scale.is_none() && options.quantity == Quantity::Sigma0 {
+        report
+            .notes
+            .push("the file states no scale (band unit): read as linear sigma0".into());
+    }
+    let image = mask_and_scale(raw, Some(masked), None, options, scale, is_byte, &mut report, path)?;
+    let frame = Frame::of_dataset(&dataset);
+    let spacing = frame.ground_spacing().map(|(columns, rows)| PixelSpacing {
+        columns,
+        rows,
+        source: SpacingSource::Georeference,
+    });
+    let stem = path
+        .file_stem()
+        .map(|s| s.to_string_lossy().into_owned())
+        .unwrap_or_default();
+    let driver = dataset.driver();
+    Ok(Product {
+        path: path.to_path_buf(),
+        image,
+        frame,
+        meta: ProductMeta {
+            format: driver.long_name(),
+            product_id: stem,
+            acquisition_time: dataset
+                .metadata_item("TIFFTAG_DATETIME", "")
+                .or_else(|| dataset.metadata_item("ACQUISITION_START_TIME", "")),
+            scale: (options.quantity == Quantity::Sigma0).then_some(scale),
+            calibrated: scale != InputScale::Display,
+            pixel_spacing: spacing,
+            ..Default::default()
+        },
+        report,
+    })
+}

@@ -1,0 +1,253 @@
+//! A small Sentinel-1 GRD product in ESA's SAFE layout (S1-RS-MDA-52-7441: manifest.safe,
+//! product, calibration and noise annotation, measurement TIFF in one-row strips), written by
+//! the tests themselves. Its look-up tables sample functions that bilinear interpolation
+//! reproduces exactly (a + b l + c p + d l p), so the expected sigma0 of every pixel is known in
+//! closed form, independently of the reader's interpolation.
+
+#![allow(dead_code)]
+
+use gdal::raster::Buffer;
+use gdal::DriverManager;
+use std::fmt::Write;
+use std::path::{Path, PathBuf};
+
+pub const LINES: usize = 48;
+pub const SAMPLES: usize = 64;
+pub const STEM: &str = "s1a-iw-grd-vv-20200101t000000-20200101t000001-000001-000001-001";
+pub const SAFE: &str = "S1A_IW_GRDH_1SDV_20200101T000000_20200101T000001_000001_000001_0001.SAFE";
+
+/// The calibration's sigmaNought A(line, pixel).
+pub fn gain(l: f64, p: f64) -> f64 {
+    400.0 + 2.0 * l + 1.5 * p + 0.02 * l * p
+}
+
+/// The noise range LUT.
+pub fn noise_range(l: f64, p: f64) -> f64 {
+    1000.0 + 10.0 * l + 20.0 * p + 0.1 * l * p
+}
+
+/// The azimuth noise factor: two blocks split at sample 32, linear in line.
+pub fn noise_azimuth(l: f64, p: f64) -> f64 {
+    if p < 32.0 {
+        1.0 + 0.01 * l
+    } else {
+        2.0 - 0.01 * l
+    }
+}
+
+/// The digital number at (line, pixel): zero left of pixel 4 (no data), and right of pixel 61
+/// on the last 8 lines; 10 at (20, 30), below the noise there; else a scrambled level.
+pub fn dn(l: usize, p: usize) -> u16 {
+    if p < 4 || (l >= LINES - 8 && p > 61) {
+        return 0;
+    }
+    if (l, p) == (20, 30) {
+        return 10;
+    }
+    let h = (l * 7919 + p * 104_729) as u64;
+    (200 + (h.wrapping_mul(2_654_435_761) >> 7) % 2800) as u16
+}
+
+/// Knots of the LUT vectors.
+const LUT_LINES: [usize; 4] = [0, 16, 32, 47];
+const LUT_PIXELS: [usize; 4] = [0, 21, 42, 63];
+
+/// The geolocation grid: latitude and longitude affine in line and pixel.
+pub fn latitude(l: f64) -> f64 {
+    45.0 + 1e-4 * l
+}
+pub fn longitude(p: f64) -> f64 {
+    7.0 + 2e-4 * p
+}
+pub fn incidence(p: f64) -> f64 {
+    30.0 + 0.2 * p
+}
+
+fn list(values: impl Iterator<Item = f64>) -> String {
+    values.map(|v| format!("{v:e}")).collect::<Vec<_>>().join(" ")
+}
+
+fn header(root: &str) -> String {
+    format!(
+        "<?xml version=\"1.0\" encoding=\"UTF-8\"?>\n<{root}>\n  <adsHeader>\n    <missionId>S1A</missionId>\n    <productType>GRD</productType>\n    <polarisation>VV</polarisation>\n    <mode>IW</mode>\n    <swath>IW</swath>\n    <startTime>2020-01-01T00:00:00.000000</startTime>\n    <stopTime>2020-01-01T00:00:01.175000</stopTime>\n    <absoluteOrbitNumber>1</absoluteOrbitNumber>\n    <missionDataTakeId>1</missionDataTakeId>\n    <imageNumber>001</imageNumber>\n  </adsHeader>\n"
+    )
+}
+
+fn vectors(list_name: &str, vector: &str, values: &str, f: &dyn Fn(f64, f64) -> f64) -> String {
+    let mut x = format!("  <{list_name} count=\"{}\">\n", LUT_LINES.len());
+    for &l in &LUT_LINES {
+        let pixels = list(LUT_PIXELS.iter().map(|&p| p as f64));
+        let v = list(LUT_PIXELS.iter().map(|&p| f(l as f64, p as f64)));
+        writeln!(
+            x,
+            "    <{vector}>\n      <azimuthTime>2020-01-01T00:00:00.000000</azimuthTime>\n      <line>{l}</line>\n      <pixel count=\"4\">{pixels}</pixel>\n      <{values} count=\"4\">{v}</{values}>\n    </{vector}>"
+        )
+        .unwrap();
+    }
+    x + &format!("  </{list_name}>\n")
+}
+
+pub fn calibration_xml() -> String {
+    header("calibration")
+        + &vectors("calibrationVectorList", "calibrationVector", "sigmaNought", &gain)
+        + "</calibration>\n"
+}
+
+/// The noise annotation, in IPF >= 2.9's form (range and azimuth) or the older one.
+pub fn noise_xml(since_2_9: bool) -> String {
+    if !since_2_9 {
+        return header("noise") + &vectors("noiseVectorList", "noiseVector", "noiseLut", &noise_range) + "</noise>\n";
+    }
+    let mut x = header("noise")
+        + &vectors(
+            "noiseRangeVectorList",
+            "noiseRangeVector",
+            "noiseRangeLut",
+            &noise_range,
+        );
+    x += "  <noiseAzimuthVectorList count=\"2\">\n";
+    for (first, last) in [(0, 31), (32, SAMPLES - 1)] {
+        let lines = [0.0, (LINES - 1) as f64];
+        write!(
+            x,
+            "    <noiseAzimuthVector>\n      <swath>IW1</swath>\n      <firstAzimuthLine>0</firstAzimuthLine>\n      <firstRangeSample>{first}</firstRangeSample>\n      <lastAzimuthLine>{}</lastAzimuthLine>\n      <lastRangeSample>{last}</lastRangeSample>\n      <line count=\"2\">{}</line>\n      <noiseAzimuthLut count=\"2\">{}</noiseAzimuthLut>\n    </noiseAzimuthVector>\n",
+            LINES - 1,
+            list(lines.iter().copied()),
+            list(lines.iter().map(|&l| noise_azimuth(l, first as f64)))
+        )
+        .unwrap();
+    }
+    x + "  </noiseAzimuthVectorList>\n</noise>\n"
+}
+
+pub fn product_xml() -> String {
+    let mut grid = String::new();
+    let grid_lines = [0usize, 24, 47];
+    for &l in &grid_lines {
+        for &p in &LUT_PIXELS {
+            write!(
+                grid,
+                "      <geolocationGridPoint>\n        <azimuthTime>2020-01-01T00:00:00.000000</azimuthTime>\n        <slantRangeTime>{:e}</slantRangeTime>\n        <line>{l}</line>\n        <pixel>{p}</pixel>\n        <latitude>{}</latitude>\n        <longitude>{}</longitude>\n        <height>0</height>\n        <incidenceAngle>{}</incidenceAngle>\n        <elevationAngle>30.0</elevationAngle>\n      </geolocationGridPoint>\n",
+                5.3e-3 + 1e-7 * p as f64,
+                latitude(l as f64),
+                longitude(p as f64),
+                incidence(p as f64)
+            )
+            .unwrap();
+        }
+    }
+    header("product")
+        + "  <generalAnnotation>\n    <productInformation>\n      <pass>Ascending</pass>\n    </productInformation>\n"
+        + "    <orbitList count=\"1\">\n      <orbit>\n        <time>2020-01-01T00:00:00.000000</time>\n        <frame>Earth Fixed</frame>\n        <position><x>1</x><y>2</y><z>3</z></position>\n        <velocity><x>7000</x><y>2000</y><z>1000</z></velocity>\n      </orbit>\n    </orbitList>\n  </generalAnnotation>\n"
+        + &format!("  <imageAnnotation>\n    <imageInformation>\n      <rangePixelSpacing>1.0e+01</rangePixelSpacing>\n      <azimuthPixelSpacing>1.0e+01</azimuthPixelSpacing>\n      <outputPixels>16 bit Unsigned Integer</outputPixels>\n      <numberOfSamples>{SAMPLES}</numberOfSamples>\n      <numberOfLines>{LINES}</numberOfLines>\n    </imageInformation>\n")
+        + "    <processingInformation>\n      <ellipsoidName>WGS84</ellipsoidName>\n      <ellipsoidSemiMajorAxis>6.378137e+06</ellipsoidSemiMajorAxis>\n      <ellipsoidSemiMinorAxis>6.356752314245179e+06</ellipsoidSemiMinorAxis>\n      <swathProcParamsList count=\"1\"><swathProcParams><rangeProcessing><numberOfLooks>5</numberOfLooks></rangeProcessing><azimuthProcessing><numberOfLooks>1</numberOfLooks></azimuthProcessing></swathProcParams></swathProcParamsList>\n    </processingInformation>\n  </imageAnnotation>\n"
+        + &format!("  <geolocationGrid>\n    <geolocationGridPointList count=\"{}\">\n{grid}    </geolocationGridPointList>\n  </geolocationGrid>\n</product>\n", grid_lines.len() * LUT_PIXELS.len())
+}
+
+/// The manifest: the XFDU structure GDAL's SAFE driver walks (a measurement data unit whose
+/// dmdID names the annotation, calibration and noise metadata objects).
+pub fn manifest_xml() -> String {
+    let object = |id: &str, rep: &str, href: &str, mime: &str| {
+        format!("    <dataObject ID=\"{id}\" repID=\"{rep}\"><byteStream mimeType=\"{mime}\"><fileLocation locatorType=\"URL\" href=\"./{href}\"/></byteStream></dataObject>\n")
+    };
+    let meta = |id: &str, data: &str| {
+        format!("    <metadataObject ID=\"{id}\" classification=\"DESCRIPTION\" category=\"DMD\"><dataObjectPointer dataObjectID=\"{data}\"/></metadataObject>\n")
+    };
+    "<?xml version=\"1.0\" encoding=\"UTF-8\"?>\n<xfdu:XFDU xmlns:xfdu=\"urn:ccsds:schema:xfdu:1\" xmlns:safe=\"http://www.esa.int/safe/sentinel-1.0\" version=\"esa/safe/sentinel-1.0/sentinel-1/sar/level-1/grd/standard/iwdp\">\n  <informationPackageMap>\n    <xfdu:contentUnit unitType=\"SAFE Archive Information Package\">\n      <xfdu:contentUnit unitType=\"Measurement Data Unit\" repID=\"s1Level1MeasurementSchema\" dmdID=\"productAnnotationVV calibrationAnnotationVV noiseAnnotationVV\">\n        <dataObjectPointer dataObjectID=\"measurementVV\"/>\n      </xfdu:contentUnit>\n    </xfdu:contentUnit>\n  </informationPackageMap>\n  <metadataSection>\n".to_string()
+        + &meta("productAnnotationVV", "productVV")
+        + &meta("calibrationAnnotationVV", "calibrationVV")
+        + &meta("noiseAnnotationVV", "noiseVV")
+        + "  </metadataSection>\n  <dataObjectSection>\n"
+        + &object("productVV", "s1Level1ProductSchema", &format!("annotation/{STEM}.xml"), "text/xml")
+        + &object("calibrationVV", "s1Level1CalibrationSchema", &format!("annotation/calibration/calibration-{STEM}.xml"), "text/xml")
+        + &object("noiseVV", "s1Level1NoiseSchema", &format!("annotation/calibration/noise-{STEM}.xml"), "text/xml")
+        + &object("measurementVV", "s1Level1MeasurementSchema", &format!("measurement/{STEM}.tiff"), "application/octet-stream")
+        + "  </dataObjectSection>\n</xfdu:XFDU>\n"
+}
+
+/// The measurement TIFF's bytes: uint16 in one-row strips, written by GDAL's GTiff driver.
+fn measurement_bytes(dir: &Path) -> Vec<u8> {
+    let path = dir.join("measurement.tmp.tiff");
+    let driver = DriverManager::get_driver_by_name("GTiff").unwrap();
+    let mut options = gdal::cpl::CslStringList::new();
+    options.add_name_value("BLOCKYSIZE", "1").unwrap();
+    {
+        let dataset = driver
+            .create_with_band_type_with_options::<u16, _>(&path, SAMPLES, LINES, 1, &options)
+            .unwrap();
+        let mut band = dataset.rasterband(1).unwrap();
+        let data: Vec<u16> = (0..LINES).flat_map(|l| (0..SAMPLES).map(move |p| dn(l, p))).collect();
+        band.write((0, 0), (SAMPLES, LINES), &mut Buffer::new((SAMPLES, LINES), data))
+            .unwrap();
+    }
+    let bytes = std::fs::read(&path).unwrap();
+    std::fs::remove_file(&path).unwrap();
+    bytes
+}
+
+/// The product's files: (path inside the SAFE folder, contents).
+pub fn files(dir: &Path, since_2_9: bool) -> Vec<(String, Vec<u8>)> {
+    vec![
+        ("manifest.safe".into(), manifest_xml().into_bytes()),
+        (format!("annotation/{STEM}.xml"), product_xml().into_bytes()),
+        (
+            format!("annotation/calibration/calibration-{STEM}.xml"),
+            calibration_xml().into_bytes(),
+        ),
+        (
+            format!("annotation/calibration/noise-{STEM}.xml"),
+            noise_xml(since_2_9).into_bytes(),
+        ),
+        (format!("measurement/{STEM}.tiff"), measurement_bytes(dir)),
+    ]
+}
+
+/// Write the product as a `.SAFE` directory under `dir`; returns its path.
+pub fn write_safe(dir: &Path, since_2_9: bool) -> PathBuf {
+    let root = dir.join(SAFE);
+    for (name, bytes) in files(dir, since_2_9) {
+        let path = root.join(name);
+        std::fs::create_dir_all(path.parent().unwrap()).unwrap();
+        std::fs::write(path, bytes).unwrap();
+    }
+    root
+}
+
+/// Write the product as a `.zip` (the SAFE folder inside, as ESA distributes it), through
+/// GDAL's /vsizip/ writer.
+pub fn write_zip(dir: &Path) -> PathBuf {
+    let zip = dir.join(SAFE.replace(".SAFE", ".zip"));
+    for (name, bytes) in files(dir, true) {
+        let inner = std::ffi::CString::new(format!("/vsizip/{}/{SAFE}/{name}", zip.display())).unwrap();
+        let mode = std::ffi::CString::new("wb").unwrap();
+        // SAFETY: plain C calls on a file handle checked for NULL, closed before the next.
+        unsafe {
+            let f = gdal_sys::VSIFOpenL(inner.as_ptr(), mode.as_ptr());
+            assert!(!f.is_null(), "cannot write {name} into the zip");
+            let written = gdal_sys::VSIFWriteL(bytes.as_ptr() as *const std::ffi::c_void, 1, bytes.len(), f);
+            assert_eq!(written, bytes.len());
+            gdal_sys::VSIFCloseL(f);
+        }
+    }
+    zip
+}
+
+/// The expected sigma0 of (line, pixel): (DN^2 - eta) / A^2, eta from the closed forms, the
+/// noise-equivalent sigma0 where that is not positive, None on no-data.
+pub fn expected_sigma0(l: usize, p: usize, remove_noise: bool, since_2_9: bool) -> Option<f64> {
+    let d = dn(l, p) as f64;
+    if d == 0.0 {
+        return None;
+    }
+    let (lf, pf) = (l as f64, p as f64);
+    let eta = if !remove_noise {
+        0.0
+    } else if since_2_9 {
+        noise_range(lf, pf) * noise_azimuth(lf, pf)
+    } else {
+        noise_range(lf, pf)
+    };
+    let a2 = gain(lf, pf).powi(2);
+    let s = (d * d - eta) / a2;
+    Some(if s > 0.0 { s } else { eta / a2 })
+}

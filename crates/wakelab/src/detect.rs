@@ -1,0 +1,101 @@
+//! `wakelab detect` and `wakelab calibrate`: a user's own image or SAR product, read by the
+//! products crate; detect scans a saved detector over it.
+
+use crate::cli::{CalibrateArgs, DetectArgs};
+use crate::Result;
+use wakelab_learn::detect::ScanOptions;
+use wakelab_learn::device::parse_device;
+use wakelab_learn::store::load_detector;
+use wakelab_products::{Quantity, ReadOptions};
+use wakelab_study::product_scan::scan_product;
+use wakelab_study::scan::{default_scan_dir, write_asked_mask, write_scan, Scanned};
+
+/// `wakelab detect`: a saved single-band detector scanned over a product of any size.
+pub fn run_detect(args: &DetectArgs) -> Result<()> {
+    let device = parse_device(&args.device)?;
+    let (detector, info) = load_detector(&args.model, None, &device)?;
+    let options = ScanOptions {
+        stride: args.stride,
+        threshold: args.threshold,
+        ..ScanOptions::default()
+    };
+    let template = "{spinner} detect [{bar:30}] {pos}/{len} windows | {elapsed_precise}, {eta} left";
+    let bar = wakelab_study::progress_bar(args.quiet, 0, template);
+    let read = args.read.options(args.scale, args.pixel_spacing);
+    let scan = scan_product(
+        &args.image,
+        &read,
+        &detector,
+        &info,
+        options,
+        &device,
+        &mut |done, total| {
+            bar.set_length(total as u64);
+            bar.set_position(done as u64);
+        },
+    )?;
+    bar.finish_and_clear();
+    let dir = args.out.clone().unwrap_or_else(|| default_scan_dir(&args.image));
+    let scanned = Scanned {
+        product: &scan.product,
+        image: &scan.image,
+        frame: &scan.frame,
+        factor: scan.factor,
+        band: scan.band,
+        model: &args.model,
+        notes: &scan.notes,
+    };
+    let files = write_scan(&dir, &scanned, &scan.detection)?;
+    if let Some(path) = &args.mask {
+        let architecture = info.architecture.to_string();
+        if let Some(note) = write_asked_mask(path, &scan.detection, &args.model, &architecture)? {
+            eprintln!("{note}");
+        }
+    }
+    if args.json {
+        println!("{}", serde_json::to_string_pretty(&scan.detection)?);
+    } else {
+        for note in &scan.notes {
+            eprintln!("note: {note}");
+        }
+        println!("{}: {}", args.image.display(), scan.detection.describe());
+        println!(
+            "wrote {} (map), {}, {} and {}",
+            files.map.display(),
+            files.geojson.display(),
+            files.overlay.display(),
+            files.detections.display()
+        );
+    }
+    Ok(())
+}
+
+/// `wakelab calibrate`: a product's calibrated, masked sigma0 as a COG.
+pub fn run_calibrate(args: &CalibrateArgs) -> Result<()> {
+    let read = ReadOptions {
+        quantity: Quantity::Sigma0,
+        ..args.read.options(args.scale, None)
+    };
+    let product = wakelab_products::open(&args.product, &read)?;
+    let path = wakelab_products::cog::write_sigma0(&product, &args.out, args.db)?;
+    if args.json {
+        let out = serde_json::json!({ "out": path, "product": product.meta, "read": product.report });
+        println!("{}", serde_json::to_string_pretty(&out)?);
+    } else {
+        for note in &product.report.notes {
+            eprintln!("note: {note}");
+        }
+        let (rows, cols) = product.frame.rows_cols();
+        println!(
+            "{}: {} {} x {} px, {} no-data, {} floored; wrote {}",
+            args.product.display(),
+            product.meta.format,
+            rows,
+            cols,
+            product.report.masked,
+            product.report.floored,
+            path.display()
+        );
+    }
+    Ok(())
+}

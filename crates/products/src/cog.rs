@@ -32,19 +32,36 @@ fn cog_error(path: &Path, e: impl std::fmt::Display) -> WakelabError {
 
 /// Write `values` (NaN = nodata) on `frame` as a single-band float32 COG at `path`.
 pub fn write_cog(path: &Path, values: &Array2<f32>, frame: &Frame, band: &BandInfo) -> Result<PathBuf, WakelabError> {
+    crate::quiet_gdal();
     let (rows, cols) = values.dim();
     let err = |e: gdal::errors::GdalError| cog_error(path, e);
+    if !values.is_standard_layout() {
+        return Err(cog_error(path, "the image is not in row-major order"));
+    }
     let mem = DriverManager::get_driver_by_name("MEM").map_err(err)?;
-    let mut dataset = mem.create_with_band_type::<f32, _>("", cols, rows, 1).map_err(err)?;
+    let mut dataset = mem.create_with_band_type::<f32, _>("", cols, rows, 0).map_err(err)?;
+    // the band reads `values` in place (MEM's DATAPOINTER): a whole product is not copied
+    let mut band_options = CslStringList::new();
+    band_options
+        .add_name_value("DATAPOINTER", &format!("{:p}", values.as_ptr()))
+        .map_err(err)?;
+    // SAFETY: `values` (rows x cols f32, row-major) outlives `dataset`, which only reads it
+    let added = unsafe {
+        gdal_sys::GDALAddBand(
+            dataset.c_dataset(),
+            gdal_sys::GDALDataType::GDT_Float32,
+            band_options.as_ptr(),
+        )
+    };
+    if added != gdal_sys::CPLErr::CE_None {
+        return Err(cog_error(path, "GDAL's MEM driver could not wrap the image"));
+    }
     frame.apply(&mut dataset).map_err(err)?;
     for (key, value) in &band.metadata {
         dataset.set_metadata_item(key, value, "").map_err(err)?;
     }
     {
         let mut raster = dataset.rasterband(1).map_err(err)?;
-        let data: Vec<f32> = values.iter().copied().collect();
-        let mut buffer = gdal::raster::Buffer::new((cols, rows), data);
-        raster.write((0, 0), (cols, rows), &mut buffer).map_err(err)?;
         raster.set_no_data_value(Some(f64::NAN)).map_err(err)?;
         raster.set_description(band.description).map_err(err)?;
         let unit = CString::new(band.unit).map_err(|e| cog_error(path, e))?;
@@ -74,8 +91,8 @@ pub fn write_cog(path: &Path, values: &Array2<f32>, frame: &Frame, band: &BandIn
 
 /// `wakelab calibrate`: the product's calibrated, masked sigma0 (linear, or dB with `db`) as a
 /// COG on its ground, with what the product says of itself in the file's metadata.
-pub fn write_sigma0(product: &crate::Product, path: &Path, db: bool) -> Result<PathBuf, WakelabError> {
-    let meta = &product.meta;
+pub fn write_sigma0(mut product: crate::Product, path: &Path, db: bool) -> Result<PathBuf, WakelabError> {
+    let meta = product.meta.clone();
     if !meta.calibrated {
         return Err(cog_error(
             path,
@@ -85,11 +102,9 @@ pub fn write_sigma0(product: &crate::Product, path: &Path, db: bool) -> Result<P
             ),
         ));
     }
-    let values = if db {
-        product.image.mapv(|v| 10.0 * v.log10())
-    } else {
-        product.image.clone()
-    };
+    if db {
+        product.image.par_mapv_inplace(|v| 10.0 * v.log10());
+    }
     let pol = meta.polarisation.clone().unwrap_or_default();
     let noise = match &meta.noise_removed {
         Some(format) => format!("thermal noise removed ({format})"),
@@ -111,7 +126,7 @@ pub fn write_sigma0(product: &crate::Product, path: &Path, db: bool) -> Result<P
     metadata.extend(optional.into_iter().filter_map(|(k, v)| v.map(|v| (k.to_string(), v))));
     write_cog(
         path,
-        &values,
+        &product.image,
         &product.frame,
         &BandInfo {
             description: &description,

@@ -72,11 +72,6 @@ impl Frame {
         Self { rows, cols, placement }
     }
 
-    /// (rows, columns).
-    pub fn rows_cols(&self) -> (usize, usize) {
-        (self.rows, self.cols)
-    }
-
     pub fn is_georeferenced(&self) -> bool {
         !matches!(self.placement, Placement::None)
     }

@@ -192,8 +192,24 @@ fn product_error(path: &Path, message: impl ToString) -> WakelabError {
     }
 }
 
+/// GDAL's messages go to its quiet handler: every failure reaches the user once, in wakelab's
+/// error naming the file, and GDAL's "ERROR 4: ..." lines on stderr would say it twice.
+pub(crate) fn quiet_gdal() {
+    static QUIET: std::sync::Once = std::sync::Once::new();
+    // SAFETY: installs GDAL's own quiet handler, once, before any other GDAL call of wakelab
+    QUIET.call_once(|| {
+        unsafe { gdal_sys::CPLSetErrorHandler(Some(gdal_sys::CPLQuietErrorHandler)) };
+        // GDAL's block cache defaults to 5 % of the machine's memory; wakelab holds its images
+        // itself, so GDAL's blocks only pass through (a whole product's write stays bounded)
+        if std::env::var_os("GDAL_CACHEMAX").is_none() {
+            let _ = gdal::config::set_config_option("GDAL_CACHEMAX", "32");
+        }
+    });
+}
+
 /// Read any supported input (module doc) into a [`Product`].
 pub fn open(path: &Path, options: &ReadOptions) -> Result<Product, WakelabError> {
+    quiet_gdal();
     if !path.exists() {
         return Err(product_error(path, "no such file or directory"));
     }
@@ -205,10 +221,23 @@ pub fn open(path: &Path, options: &ReadOptions) -> Result<Product, WakelabError>
             ));
         }
         sentinel1::read(&safe, options)?
-    } else if extension(path) == "npy" {
-        npy::read(path, options)?
     } else {
-        raster::read(path, options)?
+        if let Some(pol) = &options.polarisation {
+            return Err(wakelab_core::ConfigError::new(
+                "--pol",
+                pol,
+                format!(
+                    "a polarisation of a multi-polarisation product (a Sentinel-1 SAFE); {} holds one band: drop --pol",
+                    path.display()
+                ),
+            )
+            .into());
+        }
+        if extension(path) == "npy" {
+            npy::read(path, options)?
+        } else {
+            raster::read(path, options)?
+        }
     };
     if let Some(exclude) = &options.exclude {
         let excluded = mask::exclude(&mut product.image, exclude)?;

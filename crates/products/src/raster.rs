@@ -112,9 +112,20 @@ pub(crate) fn mask_and_scale(
     path: &Path,
 ) -> Result<Array2<f32>, WakelabError> {
     let mut masked = masked.unwrap_or_else(|| Array2::from_elem(raw.dim(), false));
+    let infinite = raw
+        .iter()
+        .zip(masked.iter())
+        .filter(|(v, &m)| v.is_infinite() && !m)
+        .count();
+    if infinite > 0 {
+        return Err(raster_error(
+            path,
+            format!("{infinite} infinite pixel(s): an overflow, not a value (NaN or the nodata value mark no-data)"),
+        ));
+    }
     crate::mask::border_zeros(&raw, &mut masked);
     raw.zip_mut_with(&masked, |v, &m| {
-        if m || !v.is_finite() {
+        if m {
             *v = f32::NAN;
         }
     });

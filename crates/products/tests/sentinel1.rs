@@ -3,9 +3,7 @@
 //! directory, its manifest and the zip alike, in both noise formats; GDAL's SAFE driver opens
 //! the same product; the reader's failures name what is wrong.
 
-mod common;
-
-use common::*;
+use wakelab_products::sentinel1::synthetic::*;
 use wakelab_products::{open, ReadOptions};
 
 fn read(path: &std::path::Path, keep_noise: bool) -> wakelab_products::Product {
@@ -21,12 +19,13 @@ fn read(path: &std::path::Path, keep_noise: bool) -> wakelab_products::Product {
 
 /// Every pixel against the closed form, to float precision (f32: relative 1e-6).
 fn assert_calibrated(product: &wakelab_products::Product, remove_noise: bool, since_2_9: bool) {
+    let s = Synthetic::small(since_2_9);
     assert_eq!(product.image.dim(), (LINES, SAMPLES));
     let mut checked = 0;
     for l in 0..LINES {
         for p in 0..SAMPLES {
             let got = product.image[[l, p]];
-            match expected_sigma0(l, p, remove_noise, since_2_9) {
+            match expected_sigma0(&s, l, p, remove_noise) {
                 None => assert!(got.is_nan(), "({l}, {p}) is no-data, read {got}"),
                 Some(want) => {
                     assert!(
@@ -44,7 +43,7 @@ fn assert_calibrated(product: &wakelab_products::Product, remove_noise: bool, si
 #[test]
 fn sigma0_is_dn_squared_less_noise_over_a_squared_at_every_pixel() {
     let dir = tempfile::tempdir().unwrap();
-    let safe = write_safe(dir.path(), true);
+    let safe = write_safe(dir.path(), &Synthetic::small(true));
     let product = read(&safe, false);
     assert_calibrated(&product, true, true);
     // the left border (4 columns) and the lower right corner (8 rows x 2 columns) are no data
@@ -72,7 +71,7 @@ fn sigma0_is_dn_squared_less_noise_over_a_squared_at_every_pixel() {
     assert_calibrated(&read(&safe, true), false, true);
     // the manifest and the zip give the same bytes as the directory
     let via_manifest = read(&safe.join("manifest.safe"), false);
-    let zip = write_zip(dir.path());
+    let zip = write_zip(dir.path(), &Synthetic::small(true));
     let via_zip = read(&zip, false);
     for other in [&via_manifest, &via_zip] {
         assert!(product
@@ -91,7 +90,7 @@ fn incidence_at(p: usize) -> f64 {
 #[test]
 fn products_before_ipf_2_9_remove_their_range_noise() {
     let dir = tempfile::tempdir().unwrap();
-    let safe = write_safe(dir.path(), false);
+    let safe = write_safe(dir.path(), &Synthetic::small(false));
     let product = read(&safe, false);
     assert_calibrated(&product, true, false);
     assert_eq!(product.meta.noise_removed.as_deref(), Some("range LUT (IPF < 2.9)"));
@@ -102,7 +101,7 @@ fn products_before_ipf_2_9_remove_their_range_noise() {
 #[test]
 fn pixels_are_placed_by_the_geolocation_grid() {
     let dir = tempfile::tempdir().unwrap();
-    let product = read(&write_safe(dir.path(), true), false);
+    let product = read(&write_safe(dir.path(), &Synthetic::small(true)), false);
     let points = [(0.5, 0.5), (30.5, 20.5), (63.5, 47.5)];
     let lonlat = product.frame.lonlat(&points).unwrap();
     for ((col, row), (lon, lat)) in points.iter().zip(lonlat) {
@@ -118,7 +117,7 @@ fn pixels_are_placed_by_the_geolocation_grid() {
 #[test]
 fn gdal_reads_the_same_product() {
     let dir = tempfile::tempdir().unwrap();
-    let safe = write_safe(dir.path(), true);
+    let safe = write_safe(dir.path(), &Synthetic::small(true));
     let manifest = safe.join("manifest.safe");
     let uncalibrated = format!("SENTINEL1_CALIB:UNCALIB:{}:IW_VV:AMPLITUDE", manifest.display());
     let dataset = gdal::Dataset::open(&uncalibrated).expect("GDAL's SAFE driver opens the product");
@@ -159,7 +158,7 @@ fn gdal_reads_the_same_product() {
 #[test]
 fn a_product_without_its_files_or_polarisation_says_which() {
     let dir = tempfile::tempdir().unwrap();
-    let safe = write_safe(dir.path(), true);
+    let safe = write_safe(dir.path(), &Synthetic::small(true));
     let err = open(
         &safe,
         &ReadOptions {
@@ -191,7 +190,7 @@ fn a_product_without_its_files_or_polarisation_says_which() {
 
     std::fs::write(
         safe.join(format!("annotation/calibration/calibration-{STEM}.xml")),
-        calibration_xml(),
+        calibration_xml(&Synthetic::small(true)),
     )
     .unwrap();
     std::fs::remove_file(safe.join(format!("measurement/{STEM}.tiff"))).unwrap();

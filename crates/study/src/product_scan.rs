@@ -17,6 +17,11 @@ use wakelab_schema::band::Band;
 /// Spacing ratios (detector / input) within this of 1 are scanned as they are.
 const SAME_SPACING: f64 = 0.05;
 
+/// Ratios within this share of a whole number are that number: a map projection's scale factor
+/// (UTM's 0.9996-1.0010) changes the ground spacing of a grid without changing its resolution,
+/// and whole factors keep the averaged pixels aligned with the product's.
+const WHOLE_FACTOR: f64 = 0.01;
+
 /// The coarsest input accepted against the detector's spacing (input pixels at most 25 %
 /// larger): a coarser image would have to be interpolated, which invents texture the detector
 /// never saw.
@@ -73,6 +78,8 @@ fn spacing_factor(product: &Product, info: &ModelInfo) -> Result<((f64, f64), Ve
     let snap = |f: f64| {
         if (f - 1.0).abs() <= SAME_SPACING || f < 1.0 {
             1.0
+        } else if (f - f.round()).abs() <= WHOLE_FACTOR * f {
+            f.round()
         } else {
             f
         }

@@ -77,23 +77,23 @@ pub fn run_calibrate(args: &CalibrateArgs) -> Result<()> {
         ..args.read.options(args.scale, None)
     };
     let product = wakelab_products::open(&args.product, &read)?;
-    let path = wakelab_products::cog::write_sigma0(&product, &args.out, args.db)?;
+    let (meta, report, (rows, cols)) = (product.meta.clone(), product.report.clone(), product.image.dim());
+    let path = wakelab_products::cog::write_sigma0(product, &args.out, args.db)?;
     if args.json {
-        let out = serde_json::json!({ "out": path, "product": product.meta, "read": product.report });
+        let out = serde_json::json!({ "out": path, "product": meta, "read": report });
         println!("{}", serde_json::to_string_pretty(&out)?);
     } else {
-        for note in &product.report.notes {
+        for note in &report.notes {
             eprintln!("note: {note}");
         }
-        let (rows, cols) = product.frame.rows_cols();
         println!(
             "{}: {} {} x {} px, {} no-data, {} floored; wrote {}",
             args.product.display(),
-            product.meta.format,
+            meta.format,
             rows,
             cols,
-            product.report.masked,
-            product.report.floored,
+            report.masked,
+            report.floored,
             path.display()
         );
     }

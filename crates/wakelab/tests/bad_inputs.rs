@@ -119,6 +119,15 @@ fn every_bad_input_is_refused_by_name_without_a_panic_or_leftovers() {
     image::RgbImage::from_pixel(48, 48, image::Rgb([10, 200, 30]))
         .save(dir.join("rgb.png"))
         .unwrap();
+    // the silent wrong answers: the scene in dB under the default linear scale, a 3-D
+    // array, a truncated array, a file that is no image
+    let sea = scene.mapv(|v| if v.is_finite() { v } else { 0.01 });
+    ndarray_npy::write_npy(dir.join("db.npy"), &sea.mapv(|v| 10.0 * v.log10())).unwrap();
+    ndarray_npy::write_npy(dir.join("cube.npy"), &ndarray::Array3::<f32>::zeros((3, 48, 48))).unwrap();
+    ndarray_npy::write_npy(dir.join("full.npy"), &sea).unwrap();
+    let bytes = std::fs::read(dir.join("full.npy")).unwrap();
+    std::fs::write(dir.join("cut.npy"), &bytes[..bytes.len() - 1000]).unwrap();
+    std::fs::write(dir.join("text.tif"), "plain text, not a TIFF").unwrap();
     // bad studies
     let study_with = |name: &str, axes: &str| {
         let path = dir.join(name);
@@ -170,7 +179,7 @@ fn every_bad_input_is_refused_by_name_without_a_panic_or_leftovers() {
             "infinite pixel in detect",
             "detect {dir}/inf.npy --model {dir}/models/S_base.safetensors --out {out}",
             1,
-            &["inf.npy", "NaN or infinite"],
+            &["inf.npy", "1 infinite pixel(s)"],
         ),
         case(
             "constant image in detect",
@@ -182,7 +191,37 @@ fn every_bad_input_is_refused_by_name_without_a_panic_or_leftovers() {
             "colour image in detect",
             "detect {dir}/rgb.png --model {dir}/models/S_base.safetensors --out {out}",
             1,
-            &["rgb.png", "3 channels"],
+            &["rgb.png", "has 3 bands"],
+        ),
+        case(
+            "dB image read as linear",
+            "detect {dir}/db.npy --model {dir}/models/S_base.safetensors --out {out}",
+            1,
+            &["--scale", "2304 of 2304 valid pixels are negative", "--scale db"],
+        ),
+        case(
+            "3-D array in detect",
+            "detect {dir}/cube.npy --model {dir}/models/S_base.safetensors --out {out}",
+            1,
+            &["cube.npy", "a 3-D array of shape [3, 48, 48]"],
+        ),
+        case(
+            "truncated array in detect",
+            "detect {dir}/cut.npy --model {dir}/models/S_base.safetensors --out {out}",
+            1,
+            &["cut.npy", "needs 9216 bytes of data, the file holds 8216: truncated"],
+        ),
+        case(
+            "a file that is no image",
+            "detect {dir}/text.tif --model {dir}/models/S_base.safetensors --out {out}",
+            1,
+            &["text.tif", "not an image GDAL reads"],
+        ),
+        case(
+            "a polarisation the input lacks",
+            "calibrate {dir}/full.npy --pol VH --out {out}",
+            1,
+            &["--pol", "VH", "full.npy holds one band"],
         ),
         case(
             "metadata that does not fit the weights",

@@ -117,10 +117,9 @@ fn train_eval_and_detect_on_a_small_dataset() {
     assert!((0.0..=1.0).contains(&p));
     assert_eq!((det["window"].as_u64(), det["stride"].as_u64()), (Some(32), Some(8)));
     assert!(image::open(&mask).unwrap().width() == 32);
-    // a 32 px image in 8 px cells: a 4 x 4 map, on the image's pixel grid scaled by the cell
+    // a 32 px image in 8 px cells: a 4 x 4 map, with no georeference (a bare array has none)
     let map = scan.join("probability.tif");
-    let geo = wakelab_core::io::geotiff::Georeference::read(&map).unwrap().unwrap();
-    assert_eq!(geo.model_xy(1.0, 1.0), Some((8.0, -8.0)));
+    assert!(wakelab_core::io::geotiff::Georeference::read(&map).unwrap().is_none());
     // read as any TIFF reader does (`detect`'s own reader refuses a constant image, which this
     // map is)
     let mut decoder = tiff::decoder::Decoder::new(std::fs::File::open(&map).unwrap()).unwrap();
@@ -135,7 +134,13 @@ fn train_eval_and_detect_on_a_small_dataset() {
     assert_eq!(written["probability"].as_f64(), Some(p));
     assert!(written["detections"].is_array() && written["georeferenced"] == false);
     assert!(scan.join("overlay.png").exists() && scan.join("mask.tif").exists());
-    assert!(scan.join("probability.json").exists());
+    // GeoJSON of a bare array: features without a place on the Earth (RFC 7946's null geometry)
+    let geojson: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(scan.join("detections.geojson")).unwrap()).unwrap();
+    assert_eq!(geojson["type"], "FeatureCollection");
+    for feature in geojson["features"].as_array().unwrap() {
+        assert!(feature["geometry"].is_null() && feature["properties"]["kind"] == "window");
+    }
 
     let small = dir.path().join("small.npy");
     std::fs::write(&small, npy_f32_2x2()).unwrap();

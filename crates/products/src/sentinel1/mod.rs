@@ -17,6 +17,7 @@
 
 pub mod annotation;
 pub mod lut;
+pub mod synthetic;
 
 use crate::frame::{Gcp, Placement};
 use crate::{

@@ -1,16 +1,18 @@
-//! A small Sentinel-1 GRD product in ESA's SAFE layout (S1-RS-MDA-52-7441: manifest.safe,
-//! product, calibration and noise annotation, measurement TIFF in one-row strips), written by
-//! the tests themselves. Its look-up tables sample functions that bilinear interpolation
-//! reproduces exactly (a + b l + c p + d l p), so the expected sigma0 of every pixel is known in
-//! closed form, independently of the reader's interpolation.
-
-#![allow(dead_code)]
+//! A Sentinel-1 GRD product in ESA's SAFE layout (S1-RS-MDA-52-7441: manifest.safe, product,
+//! calibration and noise annotation, measurement TIFF in one-row strips), of any size and with
+//! any digital numbers, for tests, benchmarks and examples: GDAL's SAFE driver opens it. Its
+//! look-up tables sample functions that bilinear interpolation reproduces exactly
+//! (a + b l + c p + d l p), so the sigma0 of every pixel is known in closed form
+//! ([`expected_sigma0`]), independently of the reader's interpolation. Writing panics on an
+//! I/O error (it serves tests and benchmarks).
 
 use gdal::raster::Buffer;
 use gdal::DriverManager;
+use rayon::prelude::*;
 use std::fmt::Write;
 use std::path::{Path, PathBuf};
 
+/// The size of the small product of the tests.
 pub const LINES: usize = 48;
 pub const SAMPLES: usize = 64;
 pub const STEM: &str = "s1a-iw-grd-vv-20200101t000000-20200101t000001-000001-000001-001";
@@ -35,7 +37,7 @@ pub fn noise_azimuth(l: f64, p: f64) -> f64 {
     }
 }
 
-/// The digital number at (line, pixel): zero left of pixel 4 (no data), and right of pixel 61
+/// The small product's digital number at (line, pixel): zero left of pixel 4 (no data), and right of pixel 61
 /// on the last 8 lines; 10 at (20, 30), below the noise there; else a scrambled level.
 pub fn dn(l: usize, p: usize) -> u16 {
     if p < 4 || (l >= LINES - 8 && p > 61) {
@@ -48,9 +50,31 @@ pub fn dn(l: usize, p: usize) -> u16 {
     (200 + (h.wrapping_mul(2_654_435_761) >> 7) % 2800) as u16
 }
 
-/// Knots of the LUT vectors.
-const LUT_LINES: [usize; 4] = [0, 16, 32, 47];
-const LUT_PIXELS: [usize; 4] = [0, 21, 42, 63];
+/// A product to write: its size and its digital numbers.
+pub struct Synthetic<'a> {
+    pub lines: usize,
+    pub samples: usize,
+    /// IPF >= 2.9's noise annotation (range and azimuth), else the older range LUT.
+    pub since_2_9: bool,
+    pub dn: &'a (dyn Fn(usize, usize) -> u16 + Sync),
+}
+
+impl Synthetic<'static> {
+    /// The tests' small product ([`LINES`] x [`SAMPLES`], [`dn`]).
+    pub fn small(since_2_9: bool) -> Self {
+        Self {
+            lines: LINES,
+            samples: SAMPLES,
+            since_2_9,
+            dn: &dn,
+        }
+    }
+}
+
+/// Knots (four, at the first and last line or pixel and between) of the LUT vectors.
+fn knots(n: usize) -> [usize; 4] {
+    [0, (n - 1) / 3, 2 * (n - 1) / 3, n - 1]
+}
 
 /// The geolocation grid: latitude and longitude affine in line and pixel.
 pub fn latitude(l: f64) -> f64 {
@@ -73,11 +97,11 @@ fn header(root: &str) -> String {
     )
 }
 
-fn vectors(list_name: &str, vector: &str, values: &str, f: &dyn Fn(f64, f64) -> f64) -> String {
-    let mut x = format!("  <{list_name} count=\"{}\">\n", LUT_LINES.len());
-    for &l in &LUT_LINES {
-        let pixels = list(LUT_PIXELS.iter().map(|&p| p as f64));
-        let v = list(LUT_PIXELS.iter().map(|&p| f(l as f64, p as f64)));
+fn vectors(s: &Synthetic, list_name: &str, vector: &str, values: &str, f: &dyn Fn(f64, f64) -> f64) -> String {
+    let mut x = format!("  <{list_name} count=\"4\">\n");
+    for l in knots(s.lines) {
+        let pixels = list(knots(s.samples).iter().map(|&p| p as f64));
+        let v = list(knots(s.samples).iter().map(|&p| f(l as f64, p as f64)));
         writeln!(
             x,
             "    <{vector}>\n      <azimuthTime>2020-01-01T00:00:00.000000</azimuthTime>\n      <line>{l}</line>\n      <pixel count=\"4\">{pixels}</pixel>\n      <{values} count=\"4\">{v}</{values}>\n    </{vector}>"
@@ -87,31 +111,34 @@ fn vectors(list_name: &str, vector: &str, values: &str, f: &dyn Fn(f64, f64) -> 
     x + &format!("  </{list_name}>\n")
 }
 
-pub fn calibration_xml() -> String {
+pub fn calibration_xml(s: &Synthetic) -> String {
     header("calibration")
-        + &vectors("calibrationVectorList", "calibrationVector", "sigmaNought", &gain)
+        + &vectors(s, "calibrationVectorList", "calibrationVector", "sigmaNought", &gain)
         + "</calibration>\n"
 }
 
 /// The noise annotation, in IPF >= 2.9's form (range and azimuth) or the older one.
-pub fn noise_xml(since_2_9: bool) -> String {
-    if !since_2_9 {
-        return header("noise") + &vectors("noiseVectorList", "noiseVector", "noiseLut", &noise_range) + "</noise>\n";
+pub fn noise_xml(s: &Synthetic) -> String {
+    if !s.since_2_9 {
+        return header("noise")
+            + &vectors(s, "noiseVectorList", "noiseVector", "noiseLut", &noise_range)
+            + "</noise>\n";
     }
     let mut x = header("noise")
         + &vectors(
+            s,
             "noiseRangeVectorList",
             "noiseRangeVector",
             "noiseRangeLut",
             &noise_range,
         );
     x += "  <noiseAzimuthVectorList count=\"2\">\n";
-    for (first, last) in [(0, 31), (32, SAMPLES - 1)] {
-        let lines = [0.0, (LINES - 1) as f64];
+    for (first, last) in [(0, 31), (32, s.samples - 1)] {
+        let lines = [0.0, (s.lines - 1) as f64];
         write!(
             x,
             "    <noiseAzimuthVector>\n      <swath>IW1</swath>\n      <firstAzimuthLine>0</firstAzimuthLine>\n      <firstRangeSample>{first}</firstRangeSample>\n      <lastAzimuthLine>{}</lastAzimuthLine>\n      <lastRangeSample>{last}</lastRangeSample>\n      <line count=\"2\">{}</line>\n      <noiseAzimuthLut count=\"2\">{}</noiseAzimuthLut>\n    </noiseAzimuthVector>\n",
-            LINES - 1,
+            s.lines - 1,
             list(lines.iter().copied()),
             list(lines.iter().map(|&l| noise_azimuth(l, first as f64)))
         )
@@ -120,11 +147,11 @@ pub fn noise_xml(since_2_9: bool) -> String {
     x + "  </noiseAzimuthVectorList>\n</noise>\n"
 }
 
-pub fn product_xml() -> String {
+pub fn product_xml(s: &Synthetic) -> String {
     let mut grid = String::new();
-    let grid_lines = [0usize, 24, 47];
+    let grid_lines = [0, (s.lines - 1) / 2, s.lines - 1];
     for &l in &grid_lines {
-        for &p in &LUT_PIXELS {
+        for p in knots(s.samples) {
             write!(
                 grid,
                 "      <geolocationGridPoint>\n        <azimuthTime>2020-01-01T00:00:00.000000</azimuthTime>\n        <slantRangeTime>{:e}</slantRangeTime>\n        <line>{l}</line>\n        <pixel>{p}</pixel>\n        <latitude>{}</latitude>\n        <longitude>{}</longitude>\n        <height>0</height>\n        <incidenceAngle>{}</incidenceAngle>\n        <elevationAngle>30.0</elevationAngle>\n      </geolocationGridPoint>\n",
@@ -139,9 +166,9 @@ pub fn product_xml() -> String {
     header("product")
         + "  <generalAnnotation>\n    <productInformation>\n      <pass>Ascending</pass>\n    </productInformation>\n"
         + "    <orbitList count=\"1\">\n      <orbit>\n        <time>2020-01-01T00:00:00.000000</time>\n        <frame>Earth Fixed</frame>\n        <position><x>1</x><y>2</y><z>3</z></position>\n        <velocity><x>7000</x><y>2000</y><z>1000</z></velocity>\n      </orbit>\n    </orbitList>\n  </generalAnnotation>\n"
-        + &format!("  <imageAnnotation>\n    <imageInformation>\n      <rangePixelSpacing>1.0e+01</rangePixelSpacing>\n      <azimuthPixelSpacing>1.0e+01</azimuthPixelSpacing>\n      <outputPixels>16 bit Unsigned Integer</outputPixels>\n      <numberOfSamples>{SAMPLES}</numberOfSamples>\n      <numberOfLines>{LINES}</numberOfLines>\n    </imageInformation>\n")
+        + &format!("  <imageAnnotation>\n    <imageInformation>\n      <rangePixelSpacing>1.0e+01</rangePixelSpacing>\n      <azimuthPixelSpacing>1.0e+01</azimuthPixelSpacing>\n      <outputPixels>16 bit Unsigned Integer</outputPixels>\n      <numberOfSamples>{}</numberOfSamples>\n      <numberOfLines>{}</numberOfLines>\n    </imageInformation>\n", s.samples, s.lines)
         + "    <processingInformation>\n      <ellipsoidName>WGS84</ellipsoidName>\n      <ellipsoidSemiMajorAxis>6.378137e+06</ellipsoidSemiMajorAxis>\n      <ellipsoidSemiMinorAxis>6.356752314245179e+06</ellipsoidSemiMinorAxis>\n      <swathProcParamsList count=\"1\"><swathProcParams><rangeProcessing><numberOfLooks>5</numberOfLooks></rangeProcessing><azimuthProcessing><numberOfLooks>1</numberOfLooks></azimuthProcessing></swathProcParams></swathProcParamsList>\n    </processingInformation>\n  </imageAnnotation>\n"
-        + &format!("  <geolocationGrid>\n    <geolocationGridPointList count=\"{}\">\n{grid}    </geolocationGridPointList>\n  </geolocationGrid>\n</product>\n", grid_lines.len() * LUT_PIXELS.len())
+        + &format!("  <geolocationGrid>\n    <geolocationGridPointList count=\"{}\">\n{grid}    </geolocationGridPointList>\n  </geolocationGrid>\n</product>\n", grid_lines.len() * 4)
 }
 
 /// The manifest: the XFDU structure GDAL's SAFE driver walks (a measurement data unit whose
@@ -165,59 +192,71 @@ pub fn manifest_xml() -> String {
         + "  </dataObjectSection>\n</xfdu:XFDU>\n"
 }
 
-/// The measurement TIFF's bytes: uint16 in one-row strips, written by GDAL's GTiff driver.
-fn measurement_bytes(dir: &Path) -> Vec<u8> {
-    let path = dir.join("measurement.tmp.tiff");
+/// The measurement TIFF: uint16 in one-row strips, written by GDAL's GTiff driver, a strip of
+/// rows at a time (a full-size product is not held in memory).
+fn write_measurement(s: &Synthetic, path: &Path) {
     let driver = DriverManager::get_driver_by_name("GTiff").unwrap();
     let mut options = gdal::cpl::CslStringList::new();
     options.add_name_value("BLOCKYSIZE", "1").unwrap();
-    {
-        let dataset = driver
-            .create_with_band_type_with_options::<u16, _>(&path, SAMPLES, LINES, 1, &options)
-            .unwrap();
-        let mut band = dataset.rasterband(1).unwrap();
-        let data: Vec<u16> = (0..LINES).flat_map(|l| (0..SAMPLES).map(move |p| dn(l, p))).collect();
-        band.write((0, 0), (SAMPLES, LINES), &mut Buffer::new((SAMPLES, LINES), data))
-            .unwrap();
+    let dataset = driver
+        .create_with_band_type_with_options::<u16, _>(path, s.samples, s.lines, 1, &options)
+        .unwrap();
+    let mut band = dataset.rasterband(1).unwrap();
+    for start in (0..s.lines).step_by(1024) {
+        let n = 1024.min(s.lines - start);
+        let data: Vec<u16> = (start..start + n)
+            .into_par_iter()
+            .flat_map_iter(|l| (0..s.samples).map(move |p| (s.dn)(l, p)))
+            .collect();
+        band.write(
+            (0, start as isize),
+            (s.samples, n),
+            &mut Buffer::new((s.samples, n), data),
+        )
+        .unwrap();
     }
-    let bytes = std::fs::read(&path).unwrap();
-    std::fs::remove_file(&path).unwrap();
-    bytes
 }
 
-/// The product's files: (path inside the SAFE folder, contents).
-pub fn files(dir: &Path, since_2_9: bool) -> Vec<(String, Vec<u8>)> {
+/// The product's annotation files: (path inside the SAFE folder, contents).
+fn annotation_files(s: &Synthetic) -> Vec<(String, Vec<u8>)> {
     vec![
         ("manifest.safe".into(), manifest_xml().into_bytes()),
-        (format!("annotation/{STEM}.xml"), product_xml().into_bytes()),
+        (format!("annotation/{STEM}.xml"), product_xml(s).into_bytes()),
         (
             format!("annotation/calibration/calibration-{STEM}.xml"),
-            calibration_xml().into_bytes(),
+            calibration_xml(s).into_bytes(),
         ),
         (
             format!("annotation/calibration/noise-{STEM}.xml"),
-            noise_xml(since_2_9).into_bytes(),
+            noise_xml(s).into_bytes(),
         ),
-        (format!("measurement/{STEM}.tiff"), measurement_bytes(dir)),
     ]
 }
 
 /// Write the product as a `.SAFE` directory under `dir`; returns its path.
-pub fn write_safe(dir: &Path, since_2_9: bool) -> PathBuf {
+pub fn write_safe(dir: &Path, s: &Synthetic) -> PathBuf {
     let root = dir.join(SAFE);
-    for (name, bytes) in files(dir, since_2_9) {
+    for (name, bytes) in annotation_files(s) {
         let path = root.join(name);
         std::fs::create_dir_all(path.parent().unwrap()).unwrap();
         std::fs::write(path, bytes).unwrap();
     }
+    let measurement = root.join(format!("measurement/{STEM}.tiff"));
+    std::fs::create_dir_all(measurement.parent().unwrap()).unwrap();
+    write_measurement(s, &measurement);
     root
 }
 
 /// Write the product as a `.zip` (the SAFE folder inside, as ESA distributes it), through
 /// GDAL's /vsizip/ writer.
-pub fn write_zip(dir: &Path) -> PathBuf {
+pub fn write_zip(dir: &Path, s: &Synthetic) -> PathBuf {
     let zip = dir.join(SAFE.replace(".SAFE", ".zip"));
-    for (name, bytes) in files(dir, true) {
+    let tiff = dir.join("measurement.tmp.tiff");
+    write_measurement(s, &tiff);
+    let mut files = annotation_files(s);
+    files.push((format!("measurement/{STEM}.tiff"), std::fs::read(&tiff).unwrap()));
+    std::fs::remove_file(&tiff).unwrap();
+    for (name, bytes) in files {
         let inner = std::ffi::CString::new(format!("/vsizip/{}/{SAFE}/{name}", zip.display())).unwrap();
         let mode = std::ffi::CString::new("wb").unwrap();
         // SAFETY: plain C calls on a file handle checked for NULL, closed before the next.
@@ -234,8 +273,9 @@ pub fn write_zip(dir: &Path) -> PathBuf {
 
 /// The expected sigma0 of (line, pixel): (DN^2 - eta) / A^2, eta from the closed forms, the
 /// noise-equivalent sigma0 where that is not positive, None on no-data.
-pub fn expected_sigma0(l: usize, p: usize, remove_noise: bool, since_2_9: bool) -> Option<f64> {
-    let d = dn(l, p) as f64;
+pub fn expected_sigma0(s: &Synthetic, l: usize, p: usize, remove_noise: bool) -> Option<f64> {
+    let since_2_9 = s.since_2_9;
+    let d = (s.dn)(l, p) as f64;
     if d == 0.0 {
         return None;
     }

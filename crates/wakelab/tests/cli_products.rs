@@ -1,0 +1,268 @@
+//! `wakelab detect` and `wakelab calibrate` on the products users have: a Sentinel-1 SAFE
+//! product, GeoTIFFs in UTM (linear, dB, at another pixel spacing), an array with a no-data
+//! border. The same sea scores the same whatever its file's scale or spacing; findings come back
+//! where GDAL places their pixels; no-data is never scored.
+
+mod common;
+
+use common::*;
+use gdal::spatial_ref::{AxisMappingStrategy, CoordTransform, SpatialRef};
+use ndarray::Array2;
+use std::path::{Path, PathBuf};
+use wakelab_products::cog::{write_cog, BandInfo};
+use wakelab_products::frame::{Frame, Placement};
+use wakelab_products::sentinel1::synthetic::{expected_sigma0, write_safe, Synthetic};
+
+const SIDE: usize = 160;
+/// UTM zone 33N, 10 m pixels.
+const TRANSFORM: [f64; 6] = [400_000.0, 10.0, 0.0, 6_100_000.0, 0.0, -10.0];
+
+/// Fully developed 1-look speckle over a mean sigma0 of 0.01 (-20 dB): exponential, from a
+/// fixed-seed generator.
+fn sea() -> Array2<f32> {
+    let mut x = 0x9E37_79B9_7F4A_7C15u64;
+    Array2::from_shape_fn((SIDE, SIDE), |_| {
+        x ^= x << 13;
+        x ^= x >> 7;
+        x ^= x << 17;
+        let u = (x >> 11) as f64 / (1u64 << 53) as f64;
+        (-(1.0 - u).ln() * 0.01).max(1e-6) as f32
+    })
+}
+
+fn utm(transform: [f64; 6], (rows, cols): (usize, usize)) -> Frame {
+    Frame {
+        rows,
+        cols,
+        placement: Placement::Transform {
+            transform,
+            wkt: SpatialRef::from_epsg(32633).unwrap().to_wkt().unwrap(),
+        },
+    }
+}
+
+fn write_tif(path: &Path, values: &Array2<f32>, frame: &Frame, unit: &str) {
+    let band = BandInfo {
+        description: "sigma0",
+        unit,
+        metadata: Vec::new(),
+    };
+    write_cog(path, values, frame, &band).unwrap();
+}
+
+/// A C-band detector trained briefly on a small dataset at 10 m.
+fn detector(dir: &Path) -> PathBuf {
+    let study = dir.join("study.toml");
+    let axes = "wind_speed = [5.0, 8.0]\nimage_size = [32]\npixel_spacing = [10.0]\nalong_track = [2000.0]";
+    std::fs::write(&study, study_text("p", 2, 0.34, "[\"C\"]", axes)).unwrap();
+    let data = dir.join("data");
+    let o = dataset(&study, &data, &["--quiet"]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let model = dir.join("c_base.safetensors");
+    let o = wakelab(&[
+        "train",
+        data.to_str().unwrap(),
+        "--bands",
+        "C",
+        "--epochs",
+        "1",
+        "--model",
+        model.to_str().unwrap(),
+        "--quiet",
+    ]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    model
+}
+
+/// `detect IMAGE --model MODEL --out DIR more...`: its detections.json.
+fn detect(image: &Path, model: &Path, out: &Path, more: &[&str]) -> serde_json::Value {
+    let mut args = vec![
+        "detect",
+        image.to_str().unwrap(),
+        "--model",
+        model.to_str().unwrap(),
+        "--out",
+        out.to_str().unwrap(),
+        "--quiet",
+    ];
+    args.extend_from_slice(more);
+    let o = wakelab(&args);
+    assert!(o.status.success(), "{}: {}", image.display(), stderr(&o));
+    serde_json::from_str(&std::fs::read_to_string(out.join("detections.json")).unwrap()).unwrap()
+}
+
+fn probability(v: &serde_json::Value) -> f64 {
+    v["probability"].as_f64().unwrap()
+}
+
+/// GDAL's coordinate transformation of a product pixel position (column, row) on `TRANSFORM`.
+fn gdal_lonlat(col: f64, row: f64) -> (f64, f64) {
+    let mut wgs = SpatialRef::from_epsg(4326).unwrap();
+    wgs.set_axis_mapping_strategy(AxisMappingStrategy::TraditionalGisOrder);
+    let t = CoordTransform::new(&SpatialRef::from_epsg(32633).unwrap(), &wgs).unwrap();
+    let (mut x, mut y, mut z) = (
+        [TRANSFORM[0] + col * TRANSFORM[1]],
+        [TRANSFORM[3] + row * TRANSFORM[5]],
+        [0.0],
+    );
+    t.transform_coords(&mut x, &mut y, &mut z).unwrap();
+    (x[0], y[0])
+}
+
+#[test]
+fn real_inputs_score_the_same_sea_alike_and_land_where_gdal_puts_them() {
+    let root = tempfile::tempdir().unwrap();
+    let dir = root.path();
+    let model = detector(dir);
+    let sea = sea();
+
+    // linear in UTM: every window a detection at threshold 0, each placed as GDAL places it
+    let linear = dir.join("sea.tif");
+    write_tif(&linear, &sea, &utm(TRANSFORM, sea.dim()), "1");
+    let scan = dir.join("scan_linear");
+    let base = detect(&linear, &model, &scan, &["--threshold", "0"]);
+    assert_eq!(base["georeferenced"], true);
+    let geojson: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(scan.join("detections.geojson")).unwrap()).unwrap();
+    let features = geojson["features"].as_array().unwrap();
+    assert!(features.len() >= 4, "{} features", features.len());
+    for f in features {
+        let p = &f["properties"];
+        let (want_lon, want_lat) = gdal_lonlat(p["col"].as_f64().unwrap(), p["row"].as_f64().unwrap());
+        let xy = f["geometry"]["coordinates"].as_array().unwrap();
+        assert!((xy[0].as_f64().unwrap() - want_lon).abs() < 1e-7, "{f}");
+        assert!((xy[1].as_f64().unwrap() - want_lat).abs() < 1e-7, "{f}");
+        assert_eq!(p["kind"], "window");
+        assert!(p["detector"].as_str().unwrap().ends_with("c_base.safetensors"));
+    }
+    // the map: a COG in the input's CRS, its cells the stride's multiple of the input's pixels
+    let map = gdal::Dataset::open(scan.join("probability.tif")).unwrap();
+    let stride = base["stride"].as_f64().unwrap();
+    let t = map.geo_transform().unwrap();
+    assert_eq!((t[0], t[1], t[5]), (TRANSFORM[0], 10.0 * stride, -10.0 * stride));
+    assert_eq!(map.spatial_ref().unwrap().auth_code().unwrap(), 32633);
+
+    // the same sea in dB, the file's unit saying so: the same probability
+    let db = dir.join("sea_db.tif");
+    write_tif(&db, &sea.mapv(|v| 10.0 * v.log10()), &utm(TRANSFORM, sea.dim()), "dB");
+    let in_db = detect(&db, &model, &dir.join("scan_db"), &[]);
+    assert!((probability(&in_db) - probability(&base)).abs() < 1e-4, "{in_db}");
+    assert_eq!(in_db["product"]["scale"], "db");
+
+    // the same sea at 5 m (each pixel split in four): averaged back to the detector's 10 m
+    let fine = sea.view().insert_axis(ndarray::Axis(1)).insert_axis(ndarray::Axis(3));
+    let fine = fine
+        .broadcast((SIDE, 2, SIDE, 2))
+        .unwrap()
+        .to_owned()
+        .into_shape_with_order((2 * SIDE, 2 * SIDE))
+        .unwrap();
+    let half = [TRANSFORM[0], 5.0, 0.0, TRANSFORM[3], 0.0, -5.0];
+    let five = dir.join("sea_5m.tif");
+    write_tif(&five, &fine, &utm(half, fine.dim()), "1");
+    let resampled = detect(&five, &model, &dir.join("scan_5m"), &[]);
+    let factor: Vec<f64> = serde_json::from_value(resampled["resampled"].clone()).unwrap();
+    assert!(factor.iter().all(|f| (f - 2.0).abs() < 1e-3), "{factor:?}");
+    assert!(
+        (probability(&resampled) - probability(&base)).abs() < 1e-4,
+        "{resampled}"
+    );
+    assert!(resampled["notes"].to_string().contains("area-averaged"));
+
+    // a no-data border (the left third zero): its windows are not scored, its cells are nodata
+    let mut border = sea.clone();
+    border.slice_mut(ndarray::s![.., ..SIDE / 3]).fill(0.0);
+    let npy = dir.join("border.npy");
+    ndarray_npy::write_npy(&npy, &border).unwrap();
+    let scan = dir.join("scan_border");
+    let masked = detect(&npy, &model, &scan, &["--pixel-spacing", "10"]);
+    let windows = masked["windows"].as_u64().unwrap();
+    assert!(windows < base["windows"].as_u64().unwrap());
+    let map = gdal::Dataset::open(scan.join("probability.tif")).unwrap();
+    let cells = map
+        .rasterband(1)
+        .unwrap()
+        .read_as::<f32>((0, 0), (1, 1), (1, 1), None)
+        .unwrap();
+    assert!(cells.data()[0].is_nan(), "the border's first cell was scored");
+    assert!(masked["notes"].to_string().contains("no-data pixel(s) masked"));
+    // a bare array without its spacing is taken at the detector's, and says so
+    let bare = detect(&npy, &model, &dir.join("scan_bare"), &[]);
+    assert!(bare["notes"].to_string().contains("taken at the detector's 10 m"));
+}
+
+#[test]
+fn a_sentinel1_product_is_calibrated_and_scanned_on_its_ground() {
+    let root = tempfile::tempdir().unwrap();
+    let dir = root.path();
+    let sea = sea();
+    // digital numbers whose calibrated sigma0 is the sea: DN = A sqrt(sigma0) (noise kept)
+    let dn = |l: usize, p: usize| -> u16 {
+        let a = wakelab_products::sentinel1::synthetic::gain(l as f64, p as f64);
+        (a * (sea[[l, p]] as f64).sqrt()).round().clamp(1.0, 65535.0) as u16
+    };
+    let product = Synthetic {
+        lines: SIDE,
+        samples: SIDE,
+        since_2_9: true,
+        dn: &dn,
+    };
+    let safe = write_safe(dir, &product);
+
+    // calibrate: the COG holds (DN^2 - eta) / A^2 on the product's GCPs
+    let out = dir.join("sigma0.tif");
+    let o = wakelab(&["calibrate", safe.to_str().unwrap(), "--out", out.to_str().unwrap()]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let cog = gdal::Dataset::open(&out).unwrap();
+    assert_eq!(cog.gcps().len(), 12);
+    let values = cog
+        .rasterband(1)
+        .unwrap()
+        .read_as::<f32>((0, 0), (SIDE, SIDE), (SIDE, SIDE), None)
+        .unwrap();
+    for (k, &v) in values.data().iter().enumerate() {
+        let want = expected_sigma0(&product, k / SIDE, k % SIDE, true).unwrap();
+        assert!(
+            ((v as f64) - want).abs() <= 1e-6 * want,
+            "pixel {k}: {v} against {want}"
+        );
+    }
+    let o = wakelab(&[
+        "calibrate",
+        safe.to_str().unwrap(),
+        "--out",
+        out.to_str().unwrap(),
+        "--db",
+        "--json",
+    ]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let said = json_of(&o);
+    assert_eq!(said["product"]["polarisation"], "VV");
+    assert_eq!(gdal::Dataset::open(&out).unwrap().rasterband(1).unwrap().unit(), "dB");
+
+    // detect: findings in longitude and latitude from the geolocation grid
+    let model = detector(dir);
+    let scan = dir.join("scan");
+    let found = detect(&safe, &model, &scan, &["--threshold", "0", "--keep-noise"]);
+    assert_eq!(found["product"]["format"], "Sentinel-1 SAFE");
+    let geojson: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(scan.join("detections.geojson")).unwrap()).unwrap();
+    let first = &geojson["features"][0];
+    let xy = first["geometry"]["coordinates"].as_array().unwrap();
+    let col = first["properties"]["col"].as_f64().unwrap();
+    let row = first["properties"]["row"].as_f64().unwrap();
+    // the synthetic grid: longitude 7 + 2e-4 pixel, latitude 45 + 1e-4 line (pixel centres)
+    assert!(
+        (xy[0].as_f64().unwrap() - (7.0 + 2e-4 * (col - 0.5))).abs() < 1e-7,
+        "{first}"
+    );
+    assert!(
+        (xy[1].as_f64().unwrap() - (45.0 + 1e-4 * (row - 0.5))).abs() < 1e-7,
+        "{first}"
+    );
+    assert_eq!(first["properties"]["acquisition_time"], "2020-01-01T00:00:00.000000");
+    assert_eq!(
+        gdal::Dataset::open(scan.join("probability.tif")).unwrap().gcps().len(),
+        12
+    );
+}

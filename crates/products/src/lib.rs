@@ -209,8 +209,17 @@ pub(crate) fn quiet_gdal() {
 
 /// Read any supported input (module doc) into a [`Product`].
 pub fn open(path: &Path, options: &ReadOptions) -> Result<Product, WakelabError> {
+    open_with_progress(path, options, &mut |_, _| {})
+}
+
+/// [`open`], calling `progress(rows done, rows)` as a whole product's rows are read.
+pub fn open_with_progress(
+    path: &Path,
+    options: &ReadOptions,
+    progress: &mut dyn FnMut(usize, usize),
+) -> Result<Product, WakelabError> {
     quiet_gdal();
-    if !path.exists() {
+    if !path.exists() && !is_subdataset(path) {
         return Err(product_error(path, "no such file or directory"));
     }
     let mut product = if let Some(safe) = sentinel1::SafeLocation::find(path)? {
@@ -220,7 +229,7 @@ pub fn open(path: &Path, options: &ReadOptions) -> Result<Product, WakelabError>
                 "a Sentinel-1 product holds radar backscatter: use a radar (S, C or X band) detector",
             ));
         }
-        sentinel1::read(&safe, options)?
+        sentinel1::read(&safe, options, progress)?
     } else {
         if let Some(pol) = &options.polarisation {
             return Err(wakelab_core::ConfigError::new(
@@ -261,6 +270,19 @@ pub fn open(path: &Path, options: &ReadOptions) -> Result<Product, WakelabError>
         });
     }
     Ok(product)
+}
+
+/// Whether `path` names a GDAL subdataset (`RADARSAT_2_CALIB:SIGMA0:product.xml`): an
+/// upper-case driver prefix before a colon.
+fn is_subdataset(path: &Path) -> bool {
+    path.to_str()
+        .and_then(|s| s.split_once(':'))
+        .is_some_and(|(prefix, _)| {
+            prefix.len() > 1
+                && prefix
+                    .chars()
+                    .all(|c| c.is_ascii_uppercase() || c.is_ascii_digit() || c == '_')
+        })
 }
 
 /// A path's extension in lower case ("" without one).

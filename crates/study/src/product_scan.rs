@@ -101,6 +101,12 @@ fn spacing_factor(product: &Product, info: &ModelInfo) -> Result<((f64, f64), Ve
     Ok((factor, notes))
 }
 
+/// How a scan reports progress: rows of the product read, then windows scored (done, total).
+pub struct ScanProgress<'a> {
+    pub reading: &'a mut dyn FnMut(usize, usize),
+    pub scanning: &'a mut dyn FnMut(usize, usize),
+}
+
 /// Read the product at `path` and scan `detector` over it.
 pub fn scan_product(
     path: &Path,
@@ -109,7 +115,7 @@ pub fn scan_product(
     info: &ModelInfo,
     options: ScanOptions,
     device: &Device,
-    progress: &mut dyn FnMut(usize, usize),
+    progress: ScanProgress,
 ) -> Result<ProductScan> {
     let Some(band) = info.bands.as_single() else {
         return Err(ConfigError::new(
@@ -127,7 +133,7 @@ pub fn scan_product(
         },
         ..read.clone()
     };
-    let mut product = wakelab_products::open(path, &read)?;
+    let mut product = wakelab_products::open_with_progress(path, &read, progress.reading)?;
     let (factor, mut notes) = spacing_factor(&product, info)?;
     notes.splice(0..0, product.report.notes.iter().cloned());
     if product.report.masked > 0 {
@@ -150,7 +156,7 @@ pub fn scan_product(
         scale: RadarScale::Linear,
         ..options
     };
-    let detection = detect_image(detector, info, &image, options, device, progress)?;
+    let detection = detect_image(detector, info, &image, options, device, progress.scanning)?;
     Ok(ProductScan {
         product,
         image,

@@ -7,7 +7,7 @@ use wakelab_learn::detect::ScanOptions;
 use wakelab_learn::device::parse_device;
 use wakelab_learn::store::load_detector;
 use wakelab_products::{Quantity, ReadOptions};
-use wakelab_study::product_scan::scan_product;
+use wakelab_study::product_scan::{scan_product, ScanProgress};
 use wakelab_study::scan::{default_scan_dir, write_asked_mask, write_scan, Scanned};
 
 /// `wakelab detect`: a saved single-band detector scanned over a product of any size.
@@ -19,21 +19,26 @@ pub fn run_detect(args: &DetectArgs) -> Result<()> {
         threshold: args.threshold,
         ..ScanOptions::default()
     };
-    let template = "{spinner} detect [{bar:30}] {pos}/{len} windows | {elapsed_precise}, {eta} left";
+    // one bar: the product's rows as they are read and calibrated, then the windows scored
+    let template = "{spinner} detect: {msg} [{bar:30}] {pos}/{len} | {elapsed_precise}, {eta} left";
     let bar = wakelab_study::progress_bar(args.quiet, 0, template);
-    let read = args.read.options(args.scale, args.pixel_spacing);
-    let scan = scan_product(
-        &args.image,
-        &read,
-        &detector,
-        &info,
-        options,
-        &device,
-        &mut |done, total| {
+    let follow = |what: &'static str| {
+        let bar = bar.clone();
+        move |done: usize, total: usize| {
+            if bar.message() != what {
+                bar.set_message(what);
+                bar.reset();
+            }
             bar.set_length(total as u64);
             bar.set_position(done as u64);
-        },
-    )?;
+        }
+    };
+    let progress = ScanProgress {
+        reading: &mut follow("rows read"),
+        scanning: &mut follow("windows scored"),
+    };
+    let read = args.read.options(args.scale, args.pixel_spacing);
+    let scan = scan_product(&args.image, &read, &detector, &info, options, &device, progress)?;
     bar.finish_and_clear();
     let dir = args.out.clone().unwrap_or_else(|| default_scan_dir(&args.image));
     let scanned = Scanned {

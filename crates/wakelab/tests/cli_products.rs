@@ -197,16 +197,17 @@ fn a_sentinel1_product_is_calibrated_and_scanned_on_its_ground() {
     let dir = root.path();
     let sea = sea();
     // digital numbers whose calibrated sigma0 is the sea: DN = A sqrt(sigma0) (noise kept)
-    let dn = |l: usize, p: usize| -> u16 {
-        let a = wakelab_products::sentinel1::synthetic::gain(l as f64, p as f64);
-        (a * (sea[[l, p]] as f64).sqrt()).round().clamp(1.0, 65535.0) as u16
-    };
-    let product = Synthetic {
+    let luts = Synthetic {
         lines: SIDE,
         samples: SIDE,
         since_2_9: true,
-        dn: &dn,
+        dn: &|_, _| 0,
     };
+    let dn = |l: usize, p: usize| -> u16 {
+        let a = luts.gain(l as f64, p as f64);
+        (a * (sea[[l, p]] as f64).sqrt()).round().clamp(1.0, 65535.0) as u16
+    };
+    let product = Synthetic { dn: &dn, ..luts };
     let safe = write_safe(dir, &product);
 
     // calibrate: the COG holds (DN^2 - eta) / A^2 on the product's GCPs

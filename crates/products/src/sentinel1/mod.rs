@@ -304,7 +304,12 @@ fn grid_frame(annotation: &ProductAnnotation, rows: usize, cols: usize) -> Frame
 }
 
 /// Read a Sentinel-1 GRD product as calibrated sigma0 (module doc).
-pub fn read(safe: &SafeLocation, options: &ReadOptions) -> Result<Product, WakelabError> {
+/// `progress(rows done, rows)` follows the measurement's strips.
+pub fn read(
+    safe: &SafeLocation,
+    options: &ReadOptions,
+    progress: &mut dyn FnMut(usize, usize),
+) -> Result<Product, WakelabError> {
     let files = choose_files(safe, options.polarisation.as_deref())?;
     let at = |relative: String| -> Result<String, WakelabError> { safe.read_text(&relative) };
     let xml_error = |file: &str, e: String| safe_error(&safe.input, format!("{file}: {e}"));
@@ -367,6 +372,7 @@ pub fn read(safe: &SafeLocation, options: &ReadOptions) -> Result<Product, Wakel
                 calibration.row(start + i, &dn[i * cols..(i + 1) * cols], row)
             })
             .sum::<usize>();
+        progress(start + n, rows);
     }
     let mut report = ReadReport {
         floored,

@@ -18,22 +18,38 @@ pub const SAMPLES: usize = 64;
 pub const STEM: &str = "s1a-iw-grd-vv-20200101t000000-20200101t000001-000001-000001-001";
 pub const SAFE: &str = "S1A_IW_GRDH_1SDV_20200101T000000_20200101T000001_000001_000001_0001.SAFE";
 
-/// The calibration's sigmaNought A(line, pixel).
-pub fn gain(l: f64, p: f64) -> f64 {
-    400.0 + 2.0 * l + 1.5 * p + 0.02 * l * p
-}
+impl Synthetic<'_> {
+    /// (line, pixel) as fractions of the image, u and v in [0, 1].
+    fn uv(&self, l: f64, p: f64) -> (f64, f64) {
+        (l / (self.lines - 1) as f64, p / (self.samples - 1) as f64)
+    }
 
-/// The noise range LUT.
-pub fn noise_range(l: f64, p: f64) -> f64 {
-    1000.0 + 10.0 * l + 20.0 * p + 0.1 * l * p
-}
+    /// The calibration's sigmaNought A(line, pixel): 400 to 700, bilinear.
+    pub fn gain(&self, l: f64, p: f64) -> f64 {
+        let (u, v) = self.uv(l, p);
+        400.0 + 100.0 * u + 150.0 * v + 50.0 * u * v
+    }
 
-/// The azimuth noise factor: two blocks split at sample 32, linear in line.
-pub fn noise_azimuth(l: f64, p: f64) -> f64 {
-    if p < 32.0 {
-        1.0 + 0.01 * l
-    } else {
-        2.0 - 0.01 * l
+    /// The noise range LUT (DN^2): with the gain, a noise-equivalent sigma0 near -22 dB.
+    pub fn noise_range(&self, l: f64, p: f64) -> f64 {
+        let (u, v) = self.uv(l, p);
+        1000.0 + 300.0 * u + 600.0 * v + 100.0 * u * v
+    }
+
+    /// The first sample of the second azimuth noise block (the blocks split the swath in two).
+    fn split(&self) -> usize {
+        self.samples / 2
+    }
+
+    /// The azimuth noise factor: linear in line, rising in the first block, falling in the
+    /// second.
+    pub fn noise_azimuth(&self, l: f64, p: f64) -> f64 {
+        let (u, _) = self.uv(l, p);
+        if (p as usize) < self.split() {
+            1.0 + 0.5 * u
+        } else {
+            1.5 - 0.5 * u
+        }
     }
 }
 
@@ -113,7 +129,13 @@ fn vectors(s: &Synthetic, list_name: &str, vector: &str, values: &str, f: &dyn F
 
 pub fn calibration_xml(s: &Synthetic) -> String {
     header("calibration")
-        + &vectors(s, "calibrationVectorList", "calibrationVector", "sigmaNought", &gain)
+        + &vectors(
+            s,
+            "calibrationVectorList",
+            "calibrationVector",
+            "sigmaNought",
+            &|l, p| s.gain(l, p),
+        )
         + "</calibration>\n"
 }
 
@@ -121,7 +143,9 @@ pub fn calibration_xml(s: &Synthetic) -> String {
 pub fn noise_xml(s: &Synthetic) -> String {
     if !s.since_2_9 {
         return header("noise")
-            + &vectors(s, "noiseVectorList", "noiseVector", "noiseLut", &noise_range)
+            + &vectors(s, "noiseVectorList", "noiseVector", "noiseLut", &|l, p| {
+                s.noise_range(l, p)
+            })
             + "</noise>\n";
     }
     let mut x = header("noise")
@@ -130,17 +154,17 @@ pub fn noise_xml(s: &Synthetic) -> String {
             "noiseRangeVectorList",
             "noiseRangeVector",
             "noiseRangeLut",
-            &noise_range,
+            &|l, p| s.noise_range(l, p),
         );
     x += "  <noiseAzimuthVectorList count=\"2\">\n";
-    for (first, last) in [(0, 31), (32, s.samples - 1)] {
+    for (first, last) in [(0, s.split() - 1), (s.split(), s.samples - 1)] {
         let lines = [0.0, (s.lines - 1) as f64];
         write!(
             x,
             "    <noiseAzimuthVector>\n      <swath>IW1</swath>\n      <firstAzimuthLine>0</firstAzimuthLine>\n      <firstRangeSample>{first}</firstRangeSample>\n      <lastAzimuthLine>{}</lastAzimuthLine>\n      <lastRangeSample>{last}</lastRangeSample>\n      <line count=\"2\">{}</line>\n      <noiseAzimuthLut count=\"2\">{}</noiseAzimuthLut>\n    </noiseAzimuthVector>\n",
             s.lines - 1,
             list(lines.iter().copied()),
-            list(lines.iter().map(|&l| noise_azimuth(l, first as f64)))
+            list(lines.iter().map(|&l| s.noise_azimuth(l, first as f64)))
         )
         .unwrap();
     }
@@ -274,7 +298,6 @@ pub fn write_zip(dir: &Path, s: &Synthetic) -> PathBuf {
 /// The expected sigma0 of (line, pixel): (DN^2 - eta) / A^2, eta from the closed forms, the
 /// noise-equivalent sigma0 where that is not positive, None on no-data.
 pub fn expected_sigma0(s: &Synthetic, l: usize, p: usize, remove_noise: bool) -> Option<f64> {
-    let since_2_9 = s.since_2_9;
     let d = (s.dn)(l, p) as f64;
     if d == 0.0 {
         return None;
@@ -282,12 +305,12 @@ pub fn expected_sigma0(s: &Synthetic, l: usize, p: usize, remove_noise: bool) ->
     let (lf, pf) = (l as f64, p as f64);
     let eta = if !remove_noise {
         0.0
-    } else if since_2_9 {
-        noise_range(lf, pf) * noise_azimuth(lf, pf)
+    } else if s.since_2_9 {
+        s.noise_range(lf, pf) * s.noise_azimuth(lf, pf)
     } else {
-        noise_range(lf, pf)
+        s.noise_range(lf, pf)
     };
-    let a2 = gain(lf, pf).powi(2);
-    let s = (d * d - eta) / a2;
-    Some(if s > 0.0 { s } else { eta / a2 })
+    let a2 = s.gain(lf, pf).powi(2);
+    let sigma0 = (d * d - eta) / a2;
+    Some(if sigma0 > 0.0 { sigma0 } else { eta / a2 })
 }

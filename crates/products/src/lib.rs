@@ -262,6 +262,16 @@ pub fn open_with_progress(
             "every pixel is masked (no data, nodata value, mask band or --exclude): nothing to scan",
         ));
     }
+    let mut valid = product.image.iter().filter(|v| !v.is_nan());
+    let first = valid.next().copied().unwrap_or_default();
+    if valid.all(|&v| v == first) {
+        return Err(product_error(
+            path,
+            format!(
+                "every valid pixel is {first}: a constant image holds no wake to find (a blank or masked product?)"
+            ),
+        ));
+    }
     if product.meta.pixel_spacing.is_none() {
         product.meta.pixel_spacing = options.pixel_spacing.map(|d| PixelSpacing {
             columns: d,

@@ -91,6 +91,17 @@ fn detect(image: &Path, model: &Path, out: &Path, more: &[&str]) -> serde_json::
     serde_json::from_str(&std::fs::read_to_string(out.join("detections.json")).unwrap()).unwrap()
 }
 
+/// GDAL's COG validator (python3-gdal) passes the file.
+fn assert_valid_cog(path: &Path) {
+    let check = std::process::Command::new("/usr/bin/python3")
+        .args(["-m", "osgeo_utils.samples.validate_cloud_optimized_geotiff"])
+        .arg(path)
+        .output()
+        .expect("python3-gdal's COG validator (apt-get install python3-gdal)");
+    let said = String::from_utf8_lossy(&check.stdout).to_string() + &String::from_utf8_lossy(&check.stderr);
+    assert!(check.status.success(), "{}: {said}", path.display());
+}
+
 fn probability(v: &serde_json::Value) -> f64 {
     v["probability"].as_f64().unwrap()
 }
@@ -135,7 +146,9 @@ fn real_inputs_score_the_same_sea_alike_and_land_where_gdal_puts_them() {
         assert_eq!(p["kind"], "window");
         assert!(p["detector"].as_str().unwrap().ends_with("c_base.safetensors"));
     }
-    // the map: a COG in the input's CRS, its cells the stride's multiple of the input's pixels
+    // the map: a COG (GDAL's validator says so) in the input's CRS, its cells the stride's
+    // multiple of the input's pixels
+    assert_valid_cog(&scan.join("probability.tif"));
     let map = gdal::Dataset::open(scan.join("probability.tif")).unwrap();
     let stride = base["stride"].as_f64().unwrap();
     let t = map.geo_transform().unwrap();
@@ -214,6 +227,7 @@ fn a_sentinel1_product_is_calibrated_and_scanned_on_its_ground() {
     let out = dir.join("sigma0.tif");
     let o = wakelab(&["calibrate", safe.to_str().unwrap(), "--out", out.to_str().unwrap()]);
     assert!(o.status.success(), "{}", stderr(&o));
+    assert_valid_cog(&out);
     let cog = gdal::Dataset::open(&out).unwrap();
     assert_eq!(cog.gcps().len(), 12);
     let values = cog

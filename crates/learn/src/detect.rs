@@ -19,6 +19,7 @@ use rayon::prelude::*;
 use serde::Serialize;
 
 use wakelab_core::{ConfigError, WakelabError};
+use wakelab_schema::band::Band;
 
 pub use crate::image_file::read_single_band;
 
@@ -165,112 +166,241 @@ pub fn detect_image(
     device: &Device,
     progress: &mut dyn FnMut(usize, usize),
 ) -> Result<Detection, WakelabError> {
-    let n = info.input_size;
-    let Some(band) = info.bands.as_single() else {
-        return Err(ConfigError::new(
-            "--model",
-            format!("a detector of {} bands ({})", info.image_channels(), info.bands),
-            "a single-band detector",
-        )
-        .into());
-    };
-    let (h, w) = image.dim();
-    if h < n || w < n {
-        return Err(ConfigError::new(
-            "IMAGE",
-            format!("{h} x {w} pixels"),
-            format!("at least the detector's input, {n} x {n} pixels"),
-        )
-        .into());
-    }
-    let stride = options.stride.unwrap_or((n / 2).max(1));
-    if stride == 0 || stride > n {
-        return Err(ConfigError::new("--stride", stride, format!("an integer in [1, {n}] (the window side)")).into());
-    }
-    let threshold = options.threshold.unwrap_or(info.threshold);
-    if !(0.0..=1.0).contains(&threshold) {
-        return Err(ConfigError::new("--threshold", threshold, "in [0, 1]").into());
-    }
-    let (rows, cols) = (tile_starts(h, n, stride), tile_starts(w, n, stride));
-    let origins: Vec<(usize, usize)> = rows.iter().flat_map(|&r| cols.iter().map(move |&c| (r, c))).collect();
-    let cells = (h.div_ceil(stride), w.div_ceil(stride));
-    let mut sum = Array2::<f32>::zeros(cells);
-    let mut count = Array2::<f32>::zeros(cells);
-    let with_mask = detector.segmenter.is_some() && info.architecture == Architecture::Unet;
-    let mut mask_sum = with_mask.then(|| Array2::<f32>::zeros((h, w)));
-    let mut mask_count = with_mask.then(|| Array2::<f32>::zeros((h, w)));
-    // windows more than half no-data (NaN) are not scored
-    let origins: Vec<(usize, usize)> = origins
-        .into_iter()
-        .filter(|&(r, c)| {
-            let missing = image
-                .slice(s![r..r + n, c..c + n])
-                .iter()
-                .filter(|v| v.is_nan())
-                .count();
-            2 * missing <= n * n
+    let mut scan = Scan::new(detector, info, image.dim(), options)?;
+    scan.feed(0, image.view(), device, progress);
+    scan.finish()
+}
+
+/// A scan fed a band of image rows at a time, so that a whole product need not be held: each
+/// band scores the windows whose rows it holds and that no earlier band scored
+/// ([`Scan::next_rows`] says which rows the next band must start with). Fed the whole image
+/// at once it is [`detect_image`]; fed in bands it scores the same windows with the same
+/// inputs, so it gives the same map.
+pub struct Scan<'a> {
+    detector: &'a Detector,
+    info: &'a ModelInfo,
+    band: Band,
+    options: ScanOptions,
+    n: usize,
+    stride: usize,
+    threshold: f64,
+    rows: Vec<usize>,
+    cols: Vec<usize>,
+    /// Index into `rows` of the first window row not yet scored.
+    next_row: usize,
+    sum: Array2<f32>,
+    count: Array2<f32>,
+    mask_sum: Option<Array2<f32>>,
+    mask_count: Option<Array2<f32>>,
+    tiles: Vec<Tile>,
+    considered: usize,
+}
+
+impl<'a> Scan<'a> {
+    /// A scan of an image of `size` (rows, columns); the detector, stride and threshold are
+    /// checked here.
+    pub fn new(
+        detector: &'a Detector,
+        info: &'a ModelInfo,
+        size: (usize, usize),
+        options: ScanOptions,
+    ) -> Result<Self, WakelabError> {
+        let n = info.input_size;
+        let Some(band) = info.bands.as_single() else {
+            return Err(ConfigError::new(
+                "--model",
+                format!("a detector of {} bands ({})", info.image_channels(), info.bands),
+                "a single-band detector",
+            )
+            .into());
+        };
+        let (h, w) = size;
+        if h < n || w < n {
+            return Err(ConfigError::new(
+                "IMAGE",
+                format!("{h} x {w} pixels"),
+                format!("at least the detector's input, {n} x {n} pixels"),
+            )
+            .into());
+        }
+        let stride = options.stride.unwrap_or((n / 2).max(1));
+        if stride == 0 || stride > n {
+            return Err(
+                ConfigError::new("--stride", stride, format!("an integer in [1, {n}] (the window side)")).into(),
+            );
+        }
+        let threshold = options.threshold.unwrap_or(info.threshold);
+        if !(0.0..=1.0).contains(&threshold) {
+            return Err(ConfigError::new("--threshold", threshold, "in [0, 1]").into());
+        }
+        let cells = (h.div_ceil(stride), w.div_ceil(stride));
+        let with_mask = detector.segmenter.is_some() && info.architecture == Architecture::Unet;
+        Ok(Self {
+            detector,
+            info,
+            band,
+            options,
+            n,
+            stride,
+            threshold,
+            rows: tile_starts(h, n, stride),
+            cols: tile_starts(w, n, stride),
+            next_row: 0,
+            sum: Array2::zeros(cells),
+            count: Array2::zeros(cells),
+            mask_sum: with_mask.then(|| Array2::zeros(size)),
+            mask_count: with_mask.then(|| Array2::zeros(size)),
+            tiles: Vec::new(),
+            considered: 0,
         })
-        .collect();
-    if origins.is_empty() {
-        return Err(WakelabError::Image {
-            path: "IMAGE".into(),
-            message: format!("every {n} x {n} window is more than half no-data: nothing to scan"),
-        });
     }
-    let mut tiles = Vec::with_capacity(origins.len());
-    // batches scored side by side, PARALLEL_BATCHES at a time (burn's small convolutions keep
-    // about one core busy each), their results gathered in order
-    let batch_size = options.batch.max(1);
-    let mut done = 0;
-    for group in origins.chunks(batch_size * PARALLEL_BATCHES) {
-        let scored: Vec<_> = group
-            .par_chunks(batch_size)
-            .map(|batch| {
-                let examples: Vec<Example> = batch
+
+    /// The window side and the step between windows (pixels).
+    pub fn window_and_stride(&self) -> (usize, usize) {
+        (self.n, self.stride)
+    }
+
+    /// The image rows the next band must begin with (the first unscored window's rows); None
+    /// when every window is scored.
+    pub fn next_rows(&self) -> Option<std::ops::Range<usize>> {
+        self.rows.get(self.next_row).map(|&r| r..r + self.n)
+    }
+
+    /// Score the windows held by `band`, image rows `start..start + band.nrows()` (every column),
+    /// that no earlier band scored. Windows more than half no-data (NaN) are not scored; the
+    /// rest have their no-data pixels set to their median. `progress(done, total)` follows
+    /// the windows considered.
+    pub fn feed(
+        &mut self,
+        start: usize,
+        band: ndarray::ArrayView2<f32>,
+        device: &Device,
+        progress: &mut dyn FnMut(usize, usize),
+    ) {
+        let n = self.n;
+        let end = start + band.nrows();
+        let mut origins = Vec::new();
+        while let Some(&r) = self.rows.get(self.next_row) {
+            if r < start || r + n > end {
+                break;
+            }
+            origins.extend(self.cols.iter().map(|&c| (r, c)));
+            self.next_row += 1;
+        }
+        let total = self.rows.len() * self.cols.len();
+        let considered = origins.len();
+        let origins: Vec<(usize, usize)> = origins
+            .into_iter()
+            .filter(|&(r, c)| {
+                let missing = band
+                    .slice(s![r - start..r - start + n, c..c + n])
                     .iter()
-                    .map(|&(r, c)| Example {
-                        image: detector_input(
-                            filled(image.slice(s![r..r + n, c..c + n]).to_owned()),
-                            band,
-                            options.scale,
-                        )
-                        .insert_axis(Axis(0)),
-                        label: 0,
-                        mask: None,
-                    })
-                    .collect();
-                detect_with_masks(detector, info.architecture, &examples, batch_size, device)
+                    .filter(|v| v.is_nan())
+                    .count();
+                2 * missing <= n * n
             })
             .collect();
-        for (batch, (p, masks)) in group.chunks(batch_size).zip(scored) {
-            for (i, (&(r, c), &probability)) in batch.iter().zip(&p).enumerate() {
-                let region = s![covered_cells(r, n, stride), covered_cells(c, n, stride)];
-                sum.slice_mut(region).mapv_inplace(|v| v + probability as f32);
-                count.slice_mut(region).mapv_inplace(|v| v + 1.0);
-                if let (Some(total), Some(times), Some(m)) = (mask_sum.as_mut(), mask_count.as_mut(), masks.as_ref()) {
-                    let window = s![r..r + n, c..c + n];
-                    total.slice_mut(window).zip_mut_with(&m[i], |a, b| *a += b);
-                    times.slice_mut(window).mapv_inplace(|v| v + 1.0);
+        // batches scored side by side, PARALLEL_BATCHES at a time (burn's small convolutions
+        // keep about one core busy each), their results gathered in order
+        let batch_size = self.options.batch.max(1);
+        let (detector, architecture, kind, scale) =
+            (self.detector, self.info.architecture, self.band, self.options.scale);
+        let (before, mut done) = (self.considered, 0);
+        for group in origins.chunks(batch_size * PARALLEL_BATCHES) {
+            let scored: Vec<_> = group
+                .par_chunks(batch_size)
+                .map(|batch| {
+                    let examples: Vec<Example> = batch
+                        .iter()
+                        .map(|&(r, c)| Example {
+                            image: detector_input(
+                                filled(band.slice(s![r - start..r - start + n, c..c + n]).to_owned()),
+                                kind,
+                                scale,
+                            )
+                            .insert_axis(Axis(0)),
+                            label: 0,
+                            mask: None,
+                        })
+                        .collect();
+                    detect_with_masks(detector, architecture, &examples, batch_size, device)
+                })
+                .collect();
+            for (batch, (p, masks)) in group.chunks(batch_size).zip(scored) {
+                for (i, (&(r, c), &probability)) in batch.iter().zip(&p).enumerate() {
+                    self.add(r, c, probability, masks.as_ref().map(|m| &m[i]));
                 }
-                tiles.push(Tile {
-                    row: r,
-                    col: c,
-                    probability,
-                });
             }
+            // progress in windows considered, the unscored no-data ones spread over the band
+            done += group.len();
+            progress(before + done * considered / origins.len(), total);
         }
-        done += group.len();
-        progress(done, origins.len());
+        self.considered += considered;
+        if origins.is_empty() {
+            progress(self.considered, total);
+        }
     }
-    // a cell no scored window covers is no-data
-    let map = ndarray::Zip::from(&sum)
-        .and(&count)
-        .map_collect(|&s, &c| if c > 0.0 { s / c } else { f32::NAN });
-    // each pixel's mask: the mean over the windows that covered it (no-data where none did)
-    let mask = mask_sum.zip(mask_count).map(|(mut total, times)| {
-        total.zip_mut_with(&times, |v, &t| *v = if t > 0.0 { *v / t } else { f32::NAN });
-        total
-    });
+
+    /// One scored window into the map, the mask and the tiles.
+    fn add(&mut self, r: usize, c: usize, probability: f64, mask: Option<&Array2<f32>>) {
+        let (n, stride) = (self.n, self.stride);
+        let region = s![covered_cells(r, n, stride), covered_cells(c, n, stride)];
+        self.sum.slice_mut(region).mapv_inplace(|v| v + probability as f32);
+        self.count.slice_mut(region).mapv_inplace(|v| v + 1.0);
+        if let (Some(total), Some(times), Some(m)) = (self.mask_sum.as_mut(), self.mask_count.as_mut(), mask) {
+            let window = s![r..r + n, c..c + n];
+            total.slice_mut(window).zip_mut_with(m, |a, b| *a += b);
+            times.slice_mut(window).mapv_inplace(|v| v + 1.0);
+        }
+        self.tiles.push(Tile {
+            row: r,
+            col: c,
+            probability,
+        });
+    }
+
+    /// The detection: the map, its peak and the detections. Refused when no window was scored
+    /// (every one more than half no-data).
+    pub fn finish(self) -> Result<Detection, WakelabError> {
+        let Self {
+            n,
+            stride,
+            threshold,
+            sum,
+            count,
+            mask_sum,
+            mask_count,
+            tiles,
+            ..
+        } = self;
+        if tiles.is_empty() {
+            return Err(WakelabError::Image {
+                path: "IMAGE".into(),
+                message: format!("every {n} x {n} window is more than half no-data: nothing to scan"),
+            });
+        }
+        // a cell no scored window covers is no-data
+        let map = ndarray::Zip::from(&sum)
+            .and(&count)
+            .map_collect(|&s, &c| if c > 0.0 { s / c } else { f32::NAN });
+        // each pixel's mask: the mean over the windows that covered it (no-data where none did)
+        let mask = mask_sum.zip(mask_count).map(|(mut total, times)| {
+            total.zip_mut_with(&times, |v, &t| *v = if t > 0.0 { *v / t } else { f32::NAN });
+            total
+        });
+        Ok(finish_detection(map, mask, tiles, n, stride, threshold))
+    }
+}
+
+/// The detection from the scan's map, mask and scored windows.
+fn finish_detection(
+    map: Array2<f32>,
+    mask: Option<Array2<f32>>,
+    tiles: Vec<Tile>,
+    n: usize,
+    stride: usize,
+    threshold: f64,
+) -> Detection {
     let probability = tiles.iter().map(|t| t.probability).fold(0.0, f64::max);
     let ((pr, pc), &top) = map
         .indexed_iter()
@@ -284,7 +414,7 @@ pub fn detect_image(
         probability: top as f64,
     };
     let detections = find_wakes(&map, &tiles, n, stride, threshold, mask.as_ref());
-    Ok(Detection {
+    Detection {
         probability,
         wake: probability > threshold,
         threshold,
@@ -295,7 +425,7 @@ pub fn detect_image(
         detections,
         map,
         mask,
-    })
+    }
 }
 
 /// The windows above `threshold` after non-maximum suppression: strongest first, a window is

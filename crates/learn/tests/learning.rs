@@ -286,7 +286,7 @@ fn saved_detector_reloads_with_the_same_outputs_and_refuses_the_wrong_architectu
 /// the windows over them) puts the map's peak on the one line in the scene, and finds it there.
 #[test]
 fn a_scan_of_a_large_scene_peaks_on_its_line() {
-    use wakelab_learn::detect::{detect_image, ScanOptions};
+    use wakelab_learn::detect::{detect_image, Scan, ScanOptions};
     let device = Device::flex();
     let train = examples(&line_versus_noise(128, 32, 3.0, 1));
     let detector = train_detector(Architecture::Base, &train, &quick_options(), 7, &device, &mut |_, _| {}).unwrap();
@@ -348,6 +348,26 @@ fn a_scan_of_a_large_scene_peaks_on_its_line() {
         scan.detections.first()
     );
     assert!(near <= 16.0, "peak cell {peak:?} is {near:.1} px from the line");
+    // fed in bands of rows (as a whole product is read), each starting at the first window row
+    // not yet scored: the same windows, the same map to the bit
+    for height in [32, 40, 100] {
+        let mut banded = Scan::new(&detector, &info, scene.dim(), options).unwrap();
+        while let Some(next) = banded.next_rows() {
+            let end = (next.start + height).min(scene.nrows());
+            let band = scene.slice(ndarray::s![next.start..end, ..]);
+            banded.feed(next.start, band, &device, &mut |_, _| {});
+        }
+        let banded = banded.finish().unwrap();
+        assert_eq!(banded.tiles.len(), 225, "bands of {height} rows");
+        assert!(
+            banded
+                .map
+                .iter()
+                .zip(scan.map.iter())
+                .all(|(a, b)| a.to_bits() == b.to_bits()),
+            "bands of {height} rows"
+        );
+    }
     let first = scan.detections.first().expect("a detection");
     assert!(first.score > 0.5);
     let d = ((first.row - r0).powi(2) + (first.col - c0).powi(2)).sqrt();

@@ -12,6 +12,11 @@ use std::path::{Path, PathBuf};
 use wakelab_core::io::atomic::AtomicFile;
 use wakelab_core::WakelabError;
 
+/// Metadata keys of the pixel spacing (m) `wakelab calibrate` writes and the raster reader
+/// takes before the georeference's ground distances.
+pub const SPACING_ROWS: &str = "WAKELAB_PIXEL_SPACING_ROWS";
+pub const SPACING_COLUMNS: &str = "WAKELAB_PIXEL_SPACING_COLUMNS";
+
 /// What a COG's one band holds.
 #[derive(Debug, Clone)]
 pub struct BandInfo<'a> {
@@ -124,6 +129,11 @@ pub fn write_sigma0(mut product: crate::Product, path: &Path, db: bool) -> Resul
         ("WAKELAB_ORBIT_DIRECTION", meta.orbit_direction.clone()),
     ];
     metadata.extend(optional.into_iter().filter_map(|(k, v)| v.map(|v| (k.to_string(), v))));
+    if let Some(spacing) = meta.pixel_spacing {
+        // the product's own spacing: a GCP grid's ground distances only approximate it
+        metadata.push((SPACING_ROWS.to_string(), spacing.rows.to_string()));
+        metadata.push((SPACING_COLUMNS.to_string(), spacing.columns.to_string()));
+    }
     write_cog(
         path,
         &product.image,

@@ -72,6 +72,8 @@ pub enum SpacingSource {
     Annotation,
     /// The georeferencing (ground distance between neighbouring pixels at the image centre).
     Georeference,
+    /// The file's metadata (a COG written by `wakelab calibrate` keeps its product's).
+    Metadata,
     /// `--pixel-spacing`.
     User,
 }
@@ -293,6 +295,81 @@ fn is_subdataset(path: &Path) -> bool {
                     .chars()
                     .all(|c| c.is_ascii_uppercase() || c.is_ascii_digit() || c == '_')
         })
+}
+
+/// A product that can be read a band of rows at a time (a whole Sentinel-1 product need not be
+/// held), or one read whole.
+pub enum Source {
+    Rows(Box<RowSource>),
+    Whole(Box<Product>),
+}
+
+/// A product read on demand: its metadata and placement now, its calibrated rows when asked.
+pub struct RowSource {
+    pub path: PathBuf,
+    pub meta: ProductMeta,
+    pub frame: Frame,
+    product: sentinel1::Sentinel1,
+}
+
+impl RowSource {
+    /// (rows, columns).
+    pub fn dim(&self) -> (usize, usize) {
+        (self.product.rows, self.product.cols)
+    }
+
+    /// sigma0 of rows `start..start + n` (NaN on no-data), and how many of each row's pixels
+    /// were floored at the noise-equivalent sigma0.
+    pub fn rows(&self, start: usize, n: usize) -> Result<(Array2<f32>, Vec<usize>), WakelabError> {
+        self.product.strip(start, n)
+    }
+
+    /// The whole product.
+    pub fn read_all(self, progress: &mut dyn FnMut(usize, usize)) -> Result<Product, WakelabError> {
+        let (rows, _) = self.dim();
+        let mut parts = Vec::new();
+        let mut floored = 0;
+        for start in (0..rows).step_by(1024) {
+            let n = 1024.min(rows - start);
+            let (strip, counts) = self.rows(start, n)?;
+            floored += counts.iter().sum::<usize>();
+            parts.push(strip);
+            progress(start + n, rows);
+        }
+        let views: Vec<_> = parts.iter().map(|p| p.view()).collect();
+        let image = ndarray::concatenate(ndarray::Axis(0), &views).map_err(|e| product_error(&self.path, e))?;
+        let mut report = sentinel1::floored_report(floored);
+        report.masked = image.iter().filter(|v| v.is_nan()).count();
+        Ok(Product {
+            path: self.path,
+            image,
+            frame: self.frame,
+            meta: self.meta,
+            report,
+        })
+    }
+}
+
+/// Open `path` for reading by rows where it can be (a Sentinel-1 product without `--exclude`),
+/// else read it whole ([`open`]).
+pub fn open_source(
+    path: &Path,
+    options: &ReadOptions,
+    progress: &mut dyn FnMut(usize, usize),
+) -> Result<Source, WakelabError> {
+    quiet_gdal();
+    if options.exclude.is_none() && options.quantity == Quantity::Sigma0 {
+        if let Some(safe) = sentinel1::SafeLocation::find(path)? {
+            let product = sentinel1::Sentinel1::open(&safe, options)?;
+            return Ok(Source::Rows(Box::new(RowSource {
+                path: path.to_path_buf(),
+                meta: product.meta(),
+                frame: product.frame(),
+                product,
+            })));
+        }
+    }
+    open_with_progress(path, options, progress).map(|p| Source::Whole(Box::new(p)))
 }
 
 /// A path's extension in lower case ("" without one).

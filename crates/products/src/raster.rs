@@ -191,11 +191,19 @@ pub fn read(path: &Path, options: &ReadOptions) -> Result<Product, WakelabError>
     }
     let image = mask_and_scale(raw, Some(masked), None, options, scale, is_byte, &mut report, path)?;
     let frame = Frame::of_dataset(&dataset);
-    let spacing = frame.ground_spacing().map(|(columns, rows)| PixelSpacing {
-        columns,
-        rows,
-        source: SpacingSource::Georeference,
-    });
+    let stated = |key| dataset.metadata_item(key, "").and_then(|v| v.parse::<f64>().ok());
+    let spacing = match (stated(crate::cog::SPACING_ROWS), stated(crate::cog::SPACING_COLUMNS)) {
+        (Some(rows), Some(columns)) => Some(PixelSpacing {
+            columns,
+            rows,
+            source: SpacingSource::Metadata,
+        }),
+        _ => frame.ground_spacing().map(|(columns, rows)| PixelSpacing {
+            columns,
+            rows,
+            source: SpacingSource::Georeference,
+        }),
+    };
     let stem = path
         .file_stem()
         .map(|s| s.to_string_lossy().into_owned())

@@ -1,17 +1,18 @@
-//! `wakelab detect` on a real product: read it ([`wakelab_products::open`]: calibrated, masked,
-//! on its ground), bring it to the pixel spacing the detector was trained on (area averaging,
-//! [`wakelab_products::resample`]), and scan it ([`wakelab_learn::detect::detect_image`]; no-data
-//! windows are not scored). What was assumed is said in the scan's notes.
+//! `wakelab detect` on a real product: read it ([`wakelab_products::open_source`]: calibrated,
+//! masked, on its ground), bring it to the pixel spacing the detector was trained on (area
+//! averaging, [`wakelab_products::resample`]), and scan it ([`wakelab_learn::detect::Scan`]; no-data
+//! windows are not scored). A Sentinel-1 product at the detector's spacing is read and scanned a
+//! band of rows at a time, so memory holds one band, not the product. What was assumed is said in
+//! the scan's notes.
 
 use anyhow::Result;
-use ndarray::Array2;
 use std::path::Path;
 use wakelab_core::ConfigError;
 use wakelab_learn::data::RadarScale;
-use wakelab_learn::detect::{detect_image, Detection, ScanOptions};
+use wakelab_learn::detect::{Detection, Scan, ScanOptions};
 use wakelab_learn::device::Device;
 use wakelab_learn::store::{Detector, ModelInfo};
-use wakelab_products::{Frame, Product, Quantity, ReadOptions, SpacingSource};
+use wakelab_products::{Frame, ProductMeta, Quantity, ReadOptions, ReadReport, RowSource, Source, SpacingSource};
 use wakelab_schema::band::Band;
 
 /// Spacing ratios (detector / input) within this of 1 are scanned as they are.
@@ -27,13 +28,23 @@ const WHOLE_FACTOR: f64 = 0.01;
 /// never saw.
 const MIN_RATIO: f64 = 0.8;
 
+/// Rows of a band read and scanned at once (beyond the window's own), when a product is read a
+/// band at a time: 1024 rows of an IW product are 100 MB of sigma0.
+const BAND_ROWS: usize = 1024;
+
 /// A scanned product.
 pub struct ProductScan {
-    /// The product read (its image moved to `image` when that is scanned as it is).
-    pub product: Product,
-    /// The image the detector saw, and its frame.
-    pub image: Array2<f32>,
+    pub path: std::path::PathBuf,
+    pub meta: ProductMeta,
+    pub report: ReadReport,
+    /// The product's placement, and that of the scanned grid (the product's, or the averaged
+    /// one).
+    pub product_frame: Frame,
     pub frame: Frame,
+    /// What the overlay shows: the scanned image's block means.
+    pub overlay: crate::scan::OverlayMeans,
+    /// Whether the product was read a band at a time.
+    pub streamed: bool,
     /// Product pixels per scanned pixel (rows, columns).
     pub factor: (f64, f64),
     pub band: Band,
@@ -42,7 +53,7 @@ pub struct ProductScan {
 }
 
 /// Product pixels per detector pixel along (rows, columns), and notes on what was assumed.
-fn spacing_factor(product: &Product, info: &ModelInfo) -> Result<((f64, f64), Vec<String>)> {
+fn spacing_factor(meta: &ProductMeta, info: &ModelInfo) -> Result<((f64, f64), Vec<String>)> {
     let mut notes = Vec::new();
     let Some(trained) = info.pixel_spacing else {
         notes.push(
@@ -51,7 +62,7 @@ fn spacing_factor(product: &Product, info: &ModelInfo) -> Result<((f64, f64), Ve
         );
         return Ok(((1.0, 1.0), notes));
     };
-    let Some(spacing) = product.meta.pixel_spacing else {
+    let Some(spacing) = meta.pixel_spacing else {
         notes.push(format!(
             "the input states no pixel spacing: taken at the detector's {trained} m (pass --pixel-spacing M for a bare array)"
         ));
@@ -60,6 +71,7 @@ fn spacing_factor(product: &Product, info: &ModelInfo) -> Result<((f64, f64), Ve
     let source = match spacing.source {
         SpacingSource::Annotation => "the product's annotation",
         SpacingSource::Georeference => "its georeference",
+        SpacingSource::Metadata => "its metadata",
         SpacingSource::User => "--pixel-spacing",
     };
     let ratio = |d: f64| trained / d;
@@ -133,34 +145,108 @@ pub fn scan_product(
         },
         ..read.clone()
     };
-    let mut product = wakelab_products::open_with_progress(path, &read, progress.reading)?;
-    let (factor, mut notes) = spacing_factor(&product, info)?;
-    notes.splice(0..0, product.report.notes.iter().cloned());
-    if product.report.masked > 0 {
-        notes.push(format!(
-            "{} no-data pixel(s) masked; windows more than half no-data are not scored",
-            product.report.masked
-        ));
-    }
-    // the scanned image is the product's own where no averaging is needed (a whole product is
-    // not held twice)
-    let (image, frame) = if factor == (1.0, 1.0) {
-        (std::mem::take(&mut product.image), product.frame.clone())
-    } else {
-        let image = wakelab_products::resample::area_average(&product.image, factor.0, factor.1);
-        let frame = product.frame.scaled(factor.0, factor.1, image.dim());
-        (image, frame)
-    };
     // the product's values are linear sigma0 (or kelvin) whatever the file's scale was
     let options = ScanOptions {
         scale: RadarScale::Linear,
         ..options
     };
-    let detection = detect_image(detector, info, &image, options, device, progress.scanning)?;
+    let source = wakelab_products::open_source(path, &read, progress.reading)?;
+    let meta = match &source {
+        Source::Rows(rows) => &rows.meta,
+        Source::Whole(product) => &product.meta,
+    };
+    let (factor, mut notes) = spacing_factor(meta, info)?;
+    let product = match source {
+        Source::Rows(rows) if factor == (1.0, 1.0) => {
+            return scan_by_bands(*rows, band, factor, notes, detector, info, options, device, progress)
+        }
+        Source::Rows(rows) => rows.read_all(progress.reading)?,
+        Source::Whole(product) => *product,
+    };
+    let masked = product.report.masked;
+    let (image, frame) = if factor == (1.0, 1.0) {
+        (product.image, product.frame.clone())
+    } else {
+        let image = wakelab_products::resample::area_average(&product.image, factor.0, factor.1);
+        let frame = product.frame.scaled(factor.0, factor.1, image.dim());
+        (image, frame)
+    };
+    let mut scan = Scan::new(detector, info, image.dim(), options)?;
+    scan.feed(0, image.view(), device, progress.scanning);
+    let mut overlay = crate::scan::OverlayMeans::new(image.dim(), band);
+    overlay.add(0, image.view());
+    notes.splice(0..0, product.report.notes.iter().cloned());
+    masked_note(&mut notes, masked);
     Ok(ProductScan {
-        product,
-        image,
+        path: product.path,
+        meta: product.meta,
+        report: product.report,
+        product_frame: product.frame,
         frame,
+        overlay,
+        streamed: false,
+        factor,
+        band,
+        notes,
+        detection: scan.finish()?,
+    })
+}
+
+fn masked_note(notes: &mut Vec<String>, masked: usize) {
+    if masked > 0 {
+        notes.push(format!(
+            "{masked} no-data pixel(s) masked; windows more than half no-data are not scored"
+        ));
+    }
+}
+
+/// Scan a product read a band of rows at a time: each band starts at the first window row not
+/// yet scored and holds [`BAND_ROWS`] more rows (the window's rows past the stride are read
+/// twice), so memory holds one band.
+#[allow(clippy::too_many_arguments)]
+fn scan_by_bands(
+    source: RowSource,
+    band: Band,
+    factor: (f64, f64),
+    mut notes: Vec<String>,
+    detector: &Detector,
+    info: &ModelInfo,
+    options: ScanOptions,
+    device: &Device,
+    progress: ScanProgress,
+) -> Result<ProductScan> {
+    let (rows, cols) = source.dim();
+    let mut scan = Scan::new(detector, info, (rows, cols), options)?;
+    let (n, stride) = scan.window_and_stride();
+    let height = n + BAND_ROWS.div_ceil(stride) * stride;
+    let mut overlay = crate::scan::OverlayMeans::new((rows, cols), band);
+    // rows counted (masked, floored, overlay) so far: a band's overlap with the last is not
+    let (mut counted, mut masked, mut floored) = (0, 0, 0);
+    while let Some(next) = scan.next_rows() {
+        let (start, end) = (next.start, (next.start + height).min(rows));
+        let (strip, floored_per_row) = source.rows(start, end - start)?;
+        let fresh = counted.max(start) - start;
+        let new_rows = strip.slice(ndarray::s![fresh.., ..]);
+        masked += new_rows.iter().filter(|v| v.is_nan()).count();
+        floored += floored_per_row[fresh..].iter().sum::<usize>();
+        overlay.add(start + fresh, new_rows);
+        counted = end;
+        (progress.reading)(end, rows);
+        scan.feed(start, strip.view(), device, progress.scanning);
+    }
+    let mut report = wakelab_products::sentinel1::floored_report(floored);
+    report.masked = masked;
+    notes.splice(0..0, report.notes.iter().cloned());
+    masked_note(&mut notes, masked);
+    let detection = scan.finish()?;
+    Ok(ProductScan {
+        frame: source.frame.clone(),
+        product_frame: source.frame,
+        path: source.path,
+        meta: source.meta,
+        report,
+        overlay,
+        streamed: true,
         factor,
         band,
         notes,

@@ -8,7 +8,6 @@
 
 use anyhow::Result;
 use image::{Rgb, RgbImage};
-use ndarray::Array2;
 use rayon::prelude::*;
 use serde::Serialize;
 use serde_json::{json, Map, Value};
@@ -20,7 +19,7 @@ use wakelab_learn::detect::{Detection, Found, Peak};
 use wakelab_products::cog::{write_cog, BandInfo};
 use wakelab_products::frame::Placement;
 use wakelab_products::geojson::{feature_collection, Finding, Kind};
-use wakelab_products::{Frame, Product, ProductMeta};
+use wakelab_products::{Frame, ProductMeta};
 use wakelab_schema::band::Band;
 
 /// Longest side of the overlay PNG; larger scenes are block-averaged down to it.
@@ -106,12 +105,14 @@ pub fn write_asked_mask(
     })
 }
 
-/// What was scanned: the product, the image the detector saw (the product's, averaged to the
-/// detector's spacing where they differ) and its frame.
+/// What was scanned: the product (its path, metadata and placement), the grid the detector saw
+/// (the product's, or the averaged one) and the overlay's block means of it.
 pub struct Scanned<'a> {
-    pub product: &'a Product,
-    pub image: &'a Array2<f32>,
+    pub path: &'a Path,
+    pub meta: &'a ProductMeta,
+    pub product_frame: &'a Frame,
     pub frame: &'a Frame,
+    pub overlay: &'a OverlayMeans,
     /// Product pixels per scanned pixel (rows, columns).
     pub factor: (f64, f64),
     pub band: Band,
@@ -130,7 +131,7 @@ impl Scanned<'_> {
 /// The scan `detection` of `scanned`, written into `dir`.
 pub fn write_scan(dir: &Path, scanned: &Scanned, detection: &Detection) -> Result<ScanFiles> {
     std::fs::create_dir_all(dir).map_err(|e| anyhow::anyhow!("cannot create {}: {e}", dir.display()))?;
-    let meta = &scanned.product.meta;
+    let meta = scanned.meta;
     let (rows, cols) = detection.map.dim();
     let files = ScanFiles {
         map: dir.join("probability.tif"),
@@ -142,7 +143,7 @@ pub fn write_scan(dir: &Path, scanned: &Scanned, detection: &Detection) -> Resul
     let stride = detection.stride as f64;
     let model = scanned.model.display().to_string();
     let metadata = vec![
-        ("WAKELAB_IMAGE".to_string(), scanned.product.path.display().to_string()),
+        ("WAKELAB_IMAGE".to_string(), scanned.path.display().to_string()),
         ("WAKELAB_PRODUCT_ID".to_string(), meta.product_id.clone()),
         ("WAKELAB_MODEL".to_string(), model.clone()),
         ("WAKELAB_WINDOW".to_string(), detection.window.to_string()),
@@ -171,7 +172,9 @@ pub fn write_scan(dir: &Path, scanned: &Scanned, detection: &Detection) -> Resul
         )?;
     }
     let picture = AtomicFile::new(&files.overlay)?;
-    overlay(scanned.image, scanned.band, detection)
+    scanned
+        .overlay
+        .picture(detection)
         .save_with_format(picture.temporary_path(), image::ImageFormat::Png)?;
     picture.commit()?;
 
@@ -179,7 +182,7 @@ pub fn write_scan(dir: &Path, scanned: &Scanned, detection: &Detection) -> Resul
     let mut points: Vec<(f64, f64)> = detection.detections.iter().map(|f| (f.row, f.col)).collect();
     points.push((detection.peak.row, detection.peak.col));
     let in_product: Vec<(f64, f64)> = points.iter().map(|&(r, c)| scanned.in_product(r, c)).collect();
-    let frame = &scanned.product.frame;
+    let frame = scanned.product_frame;
     let lonlat = frame.lonlat(&in_product.iter().map(|&(r, c)| (c, r)).collect::<Vec<_>>());
     let model_xy = |row: f64, col: f64| match &frame.placement {
         Placement::Transform { transform: t, .. } => {
@@ -212,7 +215,7 @@ pub fn write_scan(dir: &Path, scanned: &Scanned, detection: &Detection) -> Resul
         .collect();
     let (row, col, xy, ll) = place(points.len() - 1);
     let report = DetectionsFile {
-        image: scanned.product.path.display().to_string(),
+        image: scanned.path.display().to_string(),
         model: model.clone(),
         band: scanned.band,
         product: meta,
@@ -266,48 +269,92 @@ pub fn write_scan(dir: &Path, scanned: &Scanned, detection: &Detection) -> Resul
     Ok(files)
 }
 
-/// The image in grey (radar in dB; no-data black), stretched between its 2 % and 98 % quantiles and
-/// block-averaged to at most [`OVERLAY_SIDE`] pixels, with the probability map laid over it in
-/// red (opacity 0.6 p).
-fn overlay(image: &Array2<f32>, band: Band, detection: &Detection) -> RgbImage {
-    let scale = RadarScale::Linear;
-    let (h, w) = image.dim();
-    let factor = h.max(w).div_ceil(OVERLAY_SIDE).max(1);
-    let (oh, ow) = (h.div_ceil(factor), w.div_ceil(factor));
-    let display = |v: f32| if band.is_radar() { scale.decibels(v) } else { v };
-    // block means, a row of blocks per task; each block sums its pixels row by row
-    let means: Vec<f32> = (0..oh)
-        .into_par_iter()
-        .flat_map_iter(|block_row| {
-            let (mut grey, mut count) = (vec![0.0f64; ow], vec![0u32; ow]);
-            for r in block_row * factor..((block_row + 1) * factor).min(h) {
-                for (c, &v) in image.row(r).iter().enumerate() {
-                    let d = if v.is_nan() { f32::NAN } else { display(v) };
-                    if d.is_finite() {
-                        grey[c / factor] += d as f64;
-                        count[c / factor] += 1;
+/// The overlay's picture of the scanned image: the image in grey (radar in dB; no-data black)
+/// block-averaged to at most [`OVERLAY_SIDE`] pixels, gathered a band of rows at a time.
+pub struct OverlayMeans {
+    /// Image pixels per picture pixel along each side.
+    factor: usize,
+    size: (usize, usize),
+    out: (usize, usize),
+    sums: Vec<f64>,
+    counts: Vec<u32>,
+    radar: bool,
+}
+
+impl OverlayMeans {
+    /// For an image of `size` (rows, columns) in `band`.
+    pub fn new(size: (usize, usize), band: Band) -> Self {
+        let (h, w) = size;
+        let factor = h.max(w).div_ceil(OVERLAY_SIDE).max(1);
+        let out = (h.div_ceil(factor), w.div_ceil(factor));
+        Self {
+            factor,
+            size,
+            out,
+            sums: vec![0.0; out.0 * out.1],
+            counts: vec![0; out.0 * out.1],
+            radar: band.is_radar(),
+        }
+    }
+
+    /// Add image rows `start..start + rows.nrows()` (each row once).
+    pub fn add(&mut self, start: usize, rows: ndarray::ArrayView2<f32>) {
+        let scale = RadarScale::Linear;
+        let (factor, ow, radar) = (self.factor, self.out.1, self.radar);
+        // picture rows in parallel, each summing its image rows of this band
+        let first = start / factor;
+        let last = (start + rows.nrows()).div_ceil(factor);
+        let sums = &mut self.sums[first * ow..last * ow];
+        let counts = &mut self.counts[first * ow..last * ow];
+        sums.par_chunks_mut(ow)
+            .zip(counts.par_chunks_mut(ow))
+            .enumerate()
+            .for_each(|(k, (sum, count))| {
+                let block = (first + k) * factor;
+                let from = block.max(start) - start;
+                let to = (block + factor).min(start + rows.nrows()) - start;
+                for r in from..to {
+                    for (c, &v) in rows.row(r).iter().enumerate() {
+                        if v.is_nan() {
+                            continue;
+                        }
+                        let d = if radar { scale.decibels(v) } else { v };
+                        if d.is_finite() {
+                            sum[c / factor] += d as f64;
+                            count[c / factor] += 1;
+                        }
                     }
                 }
-            }
-            grey.into_iter()
-                .zip(count)
-                .map(|(s, n)| if n == 0 { f32::NAN } else { (s / n as f64) as f32 })
-        })
-        .collect();
-    let (lo, hi) = (quantile(&means, 0.02), quantile(&means, 0.98));
-    let span = (hi - lo).max(1e-12);
-    let mut out = RgbImage::new(ow as u32, oh as u32);
-    for (k, &m) in means.iter().enumerate() {
-        let (r, c) = (k / ow, k % ow);
-        let g = ((m as f64 - lo) / span).clamp(0.0, 1.0) * 255.0;
-        let cell = (
-            ((r * factor) / detection.stride).min(detection.map.nrows() - 1),
-            ((c * factor) / detection.stride).min(detection.map.ncols() - 1),
-        );
-        let p = detection.map[cell] as f64;
-        let a = if p.is_nan() { 0.0 } else { 0.6 * p.clamp(0.0, 1.0) };
-        let blend = |target: f64| (g * (1.0 - a) + target * a).round() as u8;
-        out.put_pixel(c as u32, r as u32, Rgb([blend(255.0), blend(0.0), blend(0.0)]));
+            });
     }
-    out
+
+    /// The block means stretched between their 2 % and 98 % quantiles, with the probability
+    /// map of `detection` laid over them in red (opacity 0.6 p).
+    pub fn picture(&self, detection: &Detection) -> RgbImage {
+        let (oh, ow) = self.out;
+        let means: Vec<f32> = self
+            .sums
+            .iter()
+            .zip(&self.counts)
+            .map(|(&s, &n)| if n == 0 { f32::NAN } else { (s / n as f64) as f32 })
+            .collect();
+        let (lo, hi) = (quantile(&means, 0.02), quantile(&means, 0.98));
+        let span = (hi - lo).max(1e-12);
+        let factor = self.factor;
+        debug_assert!(self.size.0 <= oh * factor && self.size.1 <= ow * factor);
+        let mut out = RgbImage::new(ow as u32, oh as u32);
+        for (k, &m) in means.iter().enumerate() {
+            let (r, c) = (k / ow, k % ow);
+            let g = ((m as f64 - lo) / span).clamp(0.0, 1.0) * 255.0;
+            let cell = (
+                ((r * factor) / detection.stride).min(detection.map.nrows() - 1),
+                ((c * factor) / detection.stride).min(detection.map.ncols() - 1),
+            );
+            let p = detection.map[cell] as f64;
+            let a = if p.is_nan() { 0.0 } else { 0.6 * p.clamp(0.0, 1.0) };
+            let blend = |target: f64| (g * (1.0 - a) + target * a).round() as u8;
+            out.put_pixel(c as u32, r as u32, Rgb([blend(255.0), blend(0.0), blend(0.0)]));
+        }
+        out
+    }
 }

@@ -42,9 +42,11 @@ pub fn run_detect(args: &DetectArgs) -> Result<()> {
     bar.finish_and_clear();
     let dir = args.out.clone().unwrap_or_else(|| default_scan_dir(&args.image));
     let scanned = Scanned {
-        product: &scan.product,
-        image: &scan.image,
+        path: &scan.path,
+        meta: &scan.meta,
+        product_frame: &scan.product_frame,
         frame: &scan.frame,
+        overlay: &scan.overlay,
         factor: scan.factor,
         band: scan.band,
         model: &args.model,

@@ -11,7 +11,7 @@ use ndarray::Array2;
 use std::path::{Path, PathBuf};
 use wakelab_products::cog::{write_cog, BandInfo};
 use wakelab_products::frame::{Frame, Placement};
-use wakelab_products::sentinel1::synthetic::{expected_sigma0, write_safe, Synthetic};
+use wakelab_products::sentinel1::synthetic::{expected_sigma0, latitude, longitude, write_safe, Synthetic};
 
 const SIDE: usize = 160;
 /// UTM zone 33N, 10 m pixels.
@@ -20,8 +20,13 @@ const TRANSFORM: [f64; 6] = [400_000.0, 10.0, 0.0, 6_100_000.0, 0.0, -10.0];
 /// Fully developed 1-look speckle over a mean sigma0 of 0.01 (-20 dB): exponential, from a
 /// fixed-seed generator.
 fn sea() -> Array2<f32> {
+    sea_of(SIDE)
+}
+
+/// [`sea`] of `rows` rows.
+fn sea_of(rows: usize) -> Array2<f32> {
     let mut x = 0x9E37_79B9_7F4A_7C15u64;
-    Array2::from_shape_fn((SIDE, SIDE), |_| {
+    Array2::from_shape_fn((rows, SIDE), |_| {
         x ^= x << 13;
         x ^= x >> 7;
         x ^= x << 17;
@@ -208,10 +213,12 @@ fn real_inputs_score_the_same_sea_alike_and_land_where_gdal_puts_them() {
 fn a_sentinel1_product_is_calibrated_and_scanned_on_its_ground() {
     let root = tempfile::tempdir().unwrap();
     let dir = root.path();
-    let sea = sea();
+    // tall enough to be read and scanned in three bands of rows
+    let lines = 2500;
+    let sea = sea_of(lines);
     // digital numbers whose calibrated sigma0 is the sea: DN = A sqrt(sigma0) (noise kept)
     let luts = Synthetic {
-        lines: SIDE,
+        lines,
         samples: SIDE,
         since_2_9: true,
         dn: &|_, _| 0,
@@ -233,7 +240,7 @@ fn a_sentinel1_product_is_calibrated_and_scanned_on_its_ground() {
     let values = cog
         .rasterband(1)
         .unwrap()
-        .read_as::<f32>((0, 0), (SIDE, SIDE), (SIDE, SIDE), None)
+        .read_as::<f32>((0, 0), (SIDE, lines), (SIDE, lines), None)
         .unwrap();
     for (k, &v) in values.data().iter().enumerate() {
         let want = expected_sigma0(&product, k / SIDE, k % SIDE, true).unwrap();
@@ -266,18 +273,37 @@ fn a_sentinel1_product_is_calibrated_and_scanned_on_its_ground() {
     let xy = first["geometry"]["coordinates"].as_array().unwrap();
     let col = first["properties"]["col"].as_f64().unwrap();
     let row = first["properties"]["row"].as_f64().unwrap();
-    // the synthetic grid: longitude 7 + 2e-4 pixel, latitude 45 + 1e-4 line (pixel centres)
-    assert!(
-        (xy[0].as_f64().unwrap() - (7.0 + 2e-4 * (col - 0.5))).abs() < 1e-7,
-        "{first}"
-    );
-    assert!(
-        (xy[1].as_f64().unwrap() - (45.0 + 1e-4 * (row - 0.5))).abs() < 1e-7,
-        "{first}"
-    );
+    // the synthetic grid, affine in line and pixel (its values at pixel centres)
+    assert!((xy[0].as_f64().unwrap() - longitude(col - 0.5)).abs() < 1e-7, "{first}");
+    assert!((xy[1].as_f64().unwrap() - latitude(row - 0.5)).abs() < 1e-7, "{first}");
     assert_eq!(first["properties"]["acquisition_time"], "2020-01-01T00:00:00.000000");
     assert_eq!(
         gdal::Dataset::open(scan.join("probability.tif")).unwrap().gcps().len(),
         12
     );
+
+    // the product read and scanned band by band scores as its calibrated image read whole
+    let kept = dir.join("sigma0_kept.tif");
+    let o = wakelab(&[
+        "calibrate",
+        safe.to_str().unwrap(),
+        "--out",
+        kept.to_str().unwrap(),
+        "--keep-noise",
+    ]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let whole = detect(&kept, &model, &dir.join("scan_whole"), &["--threshold", "0"]);
+    assert_eq!(found["windows"], whole["windows"]);
+    assert_eq!(found["probability"], whole["probability"]);
+    let read_map = |scan: &str| {
+        let map = gdal::Dataset::open(dir.join(scan).join("probability.tif")).unwrap();
+        let (cols, rows) = map.raster_size();
+        let band = map.rasterband(1).unwrap();
+        band.read_as::<f32>((0, 0), (cols, rows), (cols, rows), None)
+            .unwrap()
+            .data()
+            .to_vec()
+    };
+    let (banded, read_whole) = (read_map("scan"), read_map("scan_whole"));
+    assert!(banded.iter().zip(&read_whole).all(|(a, b)| a.to_bits() == b.to_bits()));
 }

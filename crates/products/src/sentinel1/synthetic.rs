@@ -93,11 +93,13 @@ fn knots(n: usize) -> [usize; 4] {
 }
 
 /// The geolocation grid: latitude and longitude affine in line and pixel.
+/// (10 m of latitude per line: 1 / 11,113.2 degrees at 45 N on WGS 84; 10 m of longitude per
+/// pixel: 1 / 7,884.7 degrees there, NGA's lengths of a degree.)
 pub fn latitude(l: f64) -> f64 {
-    45.0 + 1e-4 * l
+    45.0 + l / 11_113.209
 }
 pub fn longitude(p: f64) -> f64 {
-    7.0 + 2e-4 * p
+    7.0 + p / 7_884.681
 }
 pub fn incidence(p: f64) -> f64 {
     30.0 + 0.2 * p

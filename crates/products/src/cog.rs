@@ -5,7 +5,7 @@
 
 use crate::Frame;
 use gdal::cpl::CslStringList;
-use gdal::{DriverManager, Metadata};
+use gdal::{Dataset, DriverManager, Metadata};
 use ndarray::Array2;
 use std::ffi::CString;
 use std::path::{Path, PathBuf};
@@ -61,18 +61,28 @@ pub fn write_cog(path: &Path, values: &Array2<f32>, frame: &Frame, band: &BandIn
     if added != gdal_sys::CPLErr::CE_None {
         return Err(cog_error(path, "GDAL's MEM driver could not wrap the image"));
     }
-    frame.apply(&mut dataset).map_err(err)?;
+    describe(&mut dataset, frame, band).map_err(err)?;
+    copy_as_cog(&dataset, path)
+}
+
+/// Give a one-band dataset its placement, metadata, nodata (NaN), description and unit.
+fn describe(dataset: &mut Dataset, frame: &Frame, band: &BandInfo) -> gdal::errors::Result<()> {
+    frame.apply(dataset)?;
     for (key, value) in &band.metadata {
-        dataset.set_metadata_item(key, value, "").map_err(err)?;
+        dataset.set_metadata_item(key, value, "")?;
     }
-    {
-        let mut raster = dataset.rasterband(1).map_err(err)?;
-        raster.set_no_data_value(Some(f64::NAN)).map_err(err)?;
-        raster.set_description(band.description).map_err(err)?;
-        let unit = CString::new(band.unit).map_err(|e| cog_error(path, e))?;
-        // SAFETY: the band handle is valid while `raster` lives; GDAL copies the string.
-        unsafe { gdal_sys::GDALSetRasterUnitType(raster.c_rasterband(), unit.as_ptr()) };
-    }
+    let mut raster = dataset.rasterband(1)?;
+    raster.set_no_data_value(Some(f64::NAN))?;
+    raster.set_description(band.description)?;
+    let unit = CString::new(band.unit).unwrap_or_default();
+    // SAFETY: the band handle is valid while `raster` lives; GDAL copies the string.
+    unsafe { gdal_sys::GDALSetRasterUnitType(raster.c_rasterband(), unit.as_ptr()) };
+    Ok(())
+}
+
+/// `source` copied by GDAL's COG driver to `path` (through a temporary path).
+fn copy_as_cog(source: &Dataset, path: &Path) -> Result<PathBuf, WakelabError> {
+    let err = |e: gdal::errors::GdalError| cog_error(path, e);
     let mut options = CslStringList::new();
     for (k, v) in [
         ("COMPRESS", "DEFLATE"),
@@ -81,12 +91,13 @@ pub fn write_cog(path: &Path, values: &Array2<f32>, frame: &Frame, band: &BandIn
         ("OVERVIEWS", "AUTO"),
         ("RESAMPLING", "AVERAGE"),
         ("NUM_THREADS", "ALL_CPUS"),
+        ("BIGTIFF", "IF_SAFER"),
     ] {
         options.add_name_value(k, v).map_err(err)?;
     }
     let cog = DriverManager::get_driver_by_name("COG").map_err(err)?;
     let file = AtomicFile::new(path)?;
-    dataset
+    source
         .create_copy(&cog, file.temporary_path(), &options)
         .map_err(err)?
         .close()
@@ -94,22 +105,14 @@ pub fn write_cog(path: &Path, values: &Array2<f32>, frame: &Frame, band: &BandIn
     file.commit()
 }
 
-/// `wakelab calibrate`: the product's calibrated, masked sigma0 (linear, or dB with `db`) as a
-/// COG on its ground, with what the product says of itself in the file's metadata.
-pub fn write_sigma0(mut product: crate::Product, path: &Path, db: bool) -> Result<PathBuf, WakelabError> {
-    let meta = product.meta.clone();
-    if !meta.calibrated {
-        return Err(cog_error(
-            path,
-            format!(
-                "{} is a display-stretched image: it holds no sigma0 to write",
-                product.path.display()
-            ),
-        ));
-    }
-    if db {
-        product.image.par_mapv_inplace(|v| 10.0 * v.log10());
-    }
+/// The sigma0 COG's band description and metadata: what the product says of itself and what
+/// reading did.
+fn sigma0_band(
+    meta: &crate::ProductMeta,
+    path: &Path,
+    report: &crate::ReadReport,
+    db: bool,
+) -> (String, Vec<(String, String)>) {
     let pol = meta.polarisation.clone().unwrap_or_default();
     let noise = match &meta.noise_removed {
         Some(format) => format!("thermal noise removed ({format})"),
@@ -117,10 +120,10 @@ pub fn write_sigma0(mut product: crate::Product, path: &Path, db: bool) -> Resul
     };
     let description = format!("sigma0 {pol} ({}), {noise}", if db { "dB" } else { "linear" });
     let mut metadata = vec![
-        ("WAKELAB_INPUT".to_string(), product.path.display().to_string()),
+        ("WAKELAB_INPUT".to_string(), path.display().to_string()),
         ("WAKELAB_PRODUCT_ID".to_string(), meta.product_id.clone()),
-        ("WAKELAB_FLOORED_PIXELS".to_string(), product.report.floored.to_string()),
-        ("WAKELAB_MASKED_PIXELS".to_string(), product.report.masked.to_string()),
+        ("WAKELAB_FLOORED_PIXELS".to_string(), report.floored.to_string()),
+        ("WAKELAB_MASKED_PIXELS".to_string(), report.masked.to_string()),
     ];
     let optional = [
         ("WAKELAB_MISSION", meta.mission.clone()),
@@ -134,14 +137,82 @@ pub fn write_sigma0(mut product: crate::Product, path: &Path, db: bool) -> Resul
         metadata.push((SPACING_ROWS.to_string(), spacing.rows.to_string()));
         metadata.push((SPACING_COLUMNS.to_string(), spacing.columns.to_string()));
     }
-    write_cog(
-        path,
-        &product.image,
-        &product.frame,
-        &BandInfo {
-            description: &description,
-            unit: if db { "dB" } else { "1" },
-            metadata,
-        },
-    )
+    (description, metadata)
+}
+
+/// `wakelab calibrate`: the product's calibrated, masked sigma0 (linear, or dB with `db`) as a
+/// COG on its ground, with what the product says of itself in the file's metadata.
+pub fn write_sigma0(mut product: crate::Product, path: &Path, db: bool) -> Result<PathBuf, WakelabError> {
+    if !product.meta.calibrated {
+        return Err(cog_error(
+            path,
+            format!(
+                "{} is a display-stretched image: it holds no sigma0 to write",
+                product.path.display()
+            ),
+        ));
+    }
+    if db {
+        product.image.par_mapv_inplace(|v| 10.0 * v.log10());
+    }
+    let (description, metadata) = sigma0_band(&product.meta, &product.path, &product.report, db);
+    let band = BandInfo {
+        description: &description,
+        unit: if db { "dB" } else { "1" },
+        metadata,
+    };
+    write_cog(path, &product.image, &product.frame, &band)
+}
+
+/// [`write_sigma0`] of a product read a band of rows at a time: the bands go to an untiled
+/// float32 GeoTIFF beside `path` (removed afterwards), which GDAL's COG driver then copies, so
+/// memory holds one band. Returns what reading did; `progress(rows done, rows)`.
+pub fn write_sigma0_rows(
+    source: &crate::RowSource,
+    path: &Path,
+    db: bool,
+    progress: &mut dyn FnMut(usize, usize),
+) -> Result<(PathBuf, crate::ReadReport), WakelabError> {
+    crate::quiet_gdal();
+    let err = |e: gdal::errors::GdalError| cog_error(path, e);
+    let (rows, cols) = source.dim();
+    let mut name = path.file_name().unwrap_or_default().to_os_string();
+    name.push(".rows.tif");
+    let staging = AtomicFile::new(path.with_file_name(name))?;
+    let mut options = CslStringList::new();
+    options.add_name_value("BIGTIFF", "IF_SAFER").map_err(err)?;
+    let gtiff = DriverManager::get_driver_by_name("GTiff").map_err(err)?;
+    let mut dataset = gtiff
+        .create_with_band_type_with_options::<f32, _>(staging.temporary_path(), cols, rows, 1, &options)
+        .map_err(err)?;
+    let (mut floored, mut masked) = (0, 0);
+    for start in (0..rows).step_by(1024) {
+        let n = 1024.min(rows - start);
+        let (mut strip, counts) = source.rows(start, n)?;
+        floored += counts.iter().sum::<usize>();
+        masked += strip.iter().filter(|v| v.is_nan()).count();
+        if db {
+            strip.par_mapv_inplace(|v| 10.0 * v.log10());
+        }
+        let data: Vec<f32> = strip.into_raw_vec_and_offset().0;
+        let mut buffer = gdal::raster::Buffer::new((cols, n), data);
+        dataset
+            .rasterband(1)
+            .map_err(err)?
+            .write((0, start as isize), (cols, n), &mut buffer)
+            .map_err(err)?;
+        progress(start + n, rows);
+    }
+    let mut report = crate::sentinel1::floored_report(floored);
+    report.masked = masked;
+    let (description, metadata) = sigma0_band(&source.meta, &source.path, &report, db);
+    let band = BandInfo {
+        description: &description,
+        unit: if db { "dB" } else { "1" },
+        metadata,
+    };
+    describe(&mut dataset, &source.frame, &band).map_err(err)?;
+    dataset.flush_cache().map_err(err)?;
+    let written = copy_as_cog(&dataset, path)?;
+    Ok((written, report))
 }

@@ -388,6 +388,9 @@ pub struct CalibrateArgs {
     /// Print JSON (the product's metadata and what reading did).
     #[arg(long)]
     pub json: bool,
+    /// No progress bar.
+    #[arg(long)]
+    pub quiet: bool,
 }
 
 /// Options of `sar sigma0`.

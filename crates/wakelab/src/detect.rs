@@ -6,7 +6,8 @@ use crate::Result;
 use wakelab_learn::detect::ScanOptions;
 use wakelab_learn::device::parse_device;
 use wakelab_learn::store::load_detector;
-use wakelab_products::{Quantity, ReadOptions};
+use wakelab_products::cog::write_sigma0_rows;
+use wakelab_products::{Quantity, ReadOptions, Source};
 use wakelab_study::product_scan::{scan_product, ScanProgress};
 use wakelab_study::scan::{default_scan_dir, write_asked_mask, write_scan, Scanned};
 
@@ -83,9 +84,32 @@ pub fn run_calibrate(args: &CalibrateArgs) -> Result<()> {
         quantity: Quantity::Sigma0,
         ..args.read.options(args.scale, None)
     };
-    let product = wakelab_products::open(&args.product, &read)?;
-    let (meta, report, (rows, cols)) = (product.meta.clone(), product.report.clone(), product.image.dim());
-    let path = wakelab_products::cog::write_sigma0(product, &args.out, args.db)?;
+    let (meta, report, (rows, cols), path) = match wakelab_products::open_source(&args.product, &read, &mut |_, _| {})?
+    {
+        // a Sentinel-1 product: written a band of rows at a time
+        Source::Rows(source) => {
+            let bar = wakelab_study::progress_bar(
+                args.quiet,
+                0,
+                "{spinner} calibrate: rows [{bar:30}] {pos}/{len} | {elapsed_precise}, {eta} left",
+            );
+            let (path, report) = write_sigma0_rows(&source, &args.out, args.db, &mut |done, total| {
+                bar.set_length(total as u64);
+                bar.set_position(done as u64);
+            })?;
+            bar.finish_and_clear();
+            (source.meta.clone(), report, source.dim(), path)
+        }
+        Source::Whole(product) => {
+            let (meta, report, dim) = (product.meta.clone(), product.report.clone(), product.image.dim());
+            (
+                meta,
+                report,
+                dim,
+                wakelab_products::cog::write_sigma0(*product, &args.out, args.db)?,
+            )
+        }
+    };
     if args.json {
         let out = serde_json::json!({ "out": path, "product": meta, "read": report });
         println!("{}", serde_json::to_string_pretty(&out)?);

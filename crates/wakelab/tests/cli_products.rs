@@ -235,6 +235,13 @@ fn a_sentinel1_product_is_calibrated_and_scanned_on_its_ground() {
     let o = wakelab(&["calibrate", safe.to_str().unwrap(), "--out", out.to_str().unwrap()]);
     assert!(o.status.success(), "{}", stderr(&o));
     assert_valid_cog(&out);
+    // written a band of rows at a time through a staging file, which is gone
+    let leftovers: Vec<String> = std::fs::read_dir(dir)
+        .unwrap()
+        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+        .filter(|n| n.ends_with(".tmp") || n.contains(".rows."))
+        .collect();
+    assert!(leftovers.is_empty(), "{leftovers:?}");
     let cog = gdal::Dataset::open(&out).unwrap();
     assert_eq!(cog.gcps().len(), 12);
     let values = cog

@@ -206,14 +206,7 @@ impl<'a> Scan<'a> {
         options: ScanOptions,
     ) -> Result<Self, WakelabError> {
         let n = info.input_size;
-        let Some(band) = info.bands.as_single() else {
-            return Err(ConfigError::new(
-                "--model",
-                format!("a detector of {} bands ({})", info.image_channels(), info.bands),
-                "a single-band detector",
-            )
-            .into());
-        };
+        let band = info.single_band()?;
         let (h, w) = size;
         if h < n || w < n {
             return Err(ConfigError::new(

@@ -140,6 +140,18 @@ impl ModelInfo {
     pub fn image_channels(&self) -> usize {
         self.bands.bands().len()
     }
+
+    /// The band of a single-band detector (what `detect` scans); refused, naming `--model`,
+    /// for a detector of several bands.
+    pub fn single_band(&self) -> Result<wakelab_schema::band::Band, wakelab_core::ConfigError> {
+        self.bands.as_single().ok_or_else(|| {
+            wakelab_core::ConfigError::new(
+                "--model",
+                format!("a detector of {} bands ({})", self.image_channels(), self.bands),
+                "a single-band detector",
+            )
+        })
+    }
 }
 
 /// A number under `key` when the metadata has one (files written before it was recorded

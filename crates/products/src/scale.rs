@@ -60,10 +60,7 @@ impl std::fmt::Display for InputScale {
 impl std::str::FromStr for InputScale {
     type Err = String;
     fn from_str(s: &str) -> Result<Self, String> {
-        Self::ALL
-            .into_iter()
-            .find(|v| v.name().eq_ignore_ascii_case(s))
-            .ok_or_else(|| format!("unknown scale \"{s}\" (allowed: linear, db, amplitude, display)"))
+        wakelab_schema::recipe::parse_named(s, &Self::ALL, Self::name, "a scale")
     }
 }
 

@@ -129,14 +129,7 @@ pub fn scan_product(
     device: &Device,
     progress: ScanProgress,
 ) -> Result<ProductScan> {
-    let Some(band) = info.bands.as_single() else {
-        return Err(ConfigError::new(
-            "--model",
-            format!("a detector of {} bands ({})", info.image_channels(), info.bands),
-            "a single-band detector",
-        )
-        .into());
-    };
+    let band = info.single_band()?;
     let read = ReadOptions {
         quantity: if band.is_radar() {
             Quantity::Sigma0

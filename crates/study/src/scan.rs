@@ -42,6 +42,9 @@ struct Located<'a, T> {
     lat: Option<f64>,
 }
 
+/// A point's product pixel (row, column), model coordinates and longitude and latitude.
+type Place = (f64, f64, Option<(f64, f64)>, Option<(f64, f64)>);
+
 /// The detections file: the scene's verdict and every detection.
 #[derive(Debug, Serialize)]
 struct DetectionsFile<'a> {
@@ -196,24 +199,23 @@ pub fn write_scan(dir: &Path, scanned: &Scanned, detection: &Detection) -> Resul
         let ll = lonlat.as_ref().map(|l| l[k]);
         (row, col, xy, ll)
     };
-    let located: Vec<Located<Found>> = detection
+    fn located<T>(found: &T, (row, col, xy, ll): Place) -> Located<'_, T> {
+        Located {
+            found,
+            product_row: row,
+            product_col: col,
+            x: xy.map(|p| p.0),
+            y: xy.map(|p| p.1),
+            lon: ll.map(|p| p.0),
+            lat: ll.map(|p| p.1),
+        }
+    }
+    let detections: Vec<Located<Found>> = detection
         .detections
         .iter()
         .enumerate()
-        .map(|(k, found)| {
-            let (row, col, xy, ll) = place(k);
-            Located {
-                found,
-                product_row: row,
-                product_col: col,
-                x: xy.map(|p| p.0),
-                y: xy.map(|p| p.1),
-                lon: ll.map(|p| p.0),
-                lat: ll.map(|p| p.1),
-            }
-        })
+        .map(|(k, found)| located(found, place(k)))
         .collect();
-    let (row, col, xy, ll) = place(points.len() - 1);
     let report = DetectionsFile {
         image: scanned.path.display().to_string(),
         model: model.clone(),
@@ -228,16 +230,8 @@ pub fn write_scan(dir: &Path, scanned: &Scanned, detection: &Detection) -> Resul
         georeferenced: lonlat.is_some(),
         resampled: scanned.factor,
         notes: scanned.notes,
-        peak: Located {
-            found: &detection.peak,
-            product_row: row,
-            product_col: col,
-            x: xy.map(|p| p.0),
-            y: xy.map(|p| p.1),
-            lon: ll.map(|p| p.0),
-            lat: ll.map(|p| p.1),
-        },
-        detections: located,
+        peak: located(&detection.peak, place(points.len() - 1)),
+        detections,
     };
     write_atomically(&files.detections, serde_json::to_string_pretty(&report)?.as_bytes())?;
 

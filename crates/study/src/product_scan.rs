@@ -1,7 +1,8 @@
 //! `wakelab detect` on a real product: read it ([`wakelab_products::open_source`]: calibrated,
 //! masked, on its ground), bring it to the pixel spacing the detector was trained on (area
 //! averaging, [`wakelab_products::resample`]), and scan it ([`wakelab_learn::detect::Scan`]; no-data
-//! windows are not scored). A Sentinel-1 product at the detector's spacing is read and scanned a
+//! windows are not scored). A Sentinel-1 product at the detector's spacing, or at a whole
+//! fraction of it (averaged over whole blocks), is read and scanned a
 //! band of rows at a time, so memory holds one band, not the product. What was assumed is said in
 //! the scan's notes.
 
@@ -150,7 +151,7 @@ pub fn scan_product(
     };
     let (factor, mut notes) = spacing_factor(meta, info)?;
     let product = match source {
-        Source::Rows(rows) if factor == (1.0, 1.0) => {
+        Source::Rows(rows) if factor.0.fract() == 0.0 && factor.1.fract() == 0.0 => {
             return scan_by_bands(*rows, band, factor, notes, detector, info, options, device, progress)
         }
         Source::Rows(rows) => rows.read_all(progress.reading)?,
@@ -193,9 +194,10 @@ fn masked_note(notes: &mut Vec<String>, masked: usize) {
     }
 }
 
-/// Scan a product read a band of rows at a time: each band starts at the first window row not
-/// yet scored and holds [`BAND_ROWS`] more rows (the window's rows past the stride are read
-/// twice), so memory holds one band.
+/// Scan a product read a band of rows at a time, averaged over whole `factor`s to the
+/// detector's spacing: each band starts at the first window row not yet scored and holds about
+/// [`BAND_ROWS`] more product rows (the window's rows past the stride are read twice), so
+/// memory holds one band.
 #[allow(clippy::too_many_arguments)]
 fn scan_by_bands(
     source: RowSource,
@@ -208,24 +210,38 @@ fn scan_by_bands(
     device: &Device,
     progress: ScanProgress,
 ) -> Result<ProductScan> {
+    // whole factors: a band of product rows starting at a multiple of the row factor averages
+    // to exactly the rows the whole image's average has there
+    let (fr, fc) = (factor.0 as usize, factor.1 as usize);
     let (rows, cols) = source.dim();
-    let mut scan = Scan::new(detector, info, (rows, cols), options)?;
+    let scanned = ((rows / fr).max(1), (cols / fc).max(1));
+    let mut scan = Scan::new(detector, info, scanned, options)?;
     let (n, stride) = scan.window_and_stride();
-    let height = n + BAND_ROWS.div_ceil(stride) * stride;
-    let mut overlay = crate::scan::OverlayMeans::new((rows, cols), band);
-    // rows counted (masked, floored, overlay) so far: a band's overlap with the last is not
+    let height = n + BAND_ROWS.div_ceil(stride * fr) * stride;
+    let mut overlay = crate::scan::OverlayMeans::new(scanned, band);
+    // scanned rows counted (masked, floored, overlay) so far: a band's overlap with the last
+    // is not
     let (mut counted, mut masked, mut floored) = (0, 0, 0);
     while let Some(next) = scan.next_rows() {
-        let (start, end) = (next.start, (next.start + height).min(rows));
-        let (strip, floored_per_row) = source.rows(start, end - start)?;
+        let (start, end) = (next.start, (next.start + height).min(scanned.0));
+        // the product rows of the last scanned row run to the product's end, as in the whole
+        // image's average
+        let last = if end == scanned.0 { rows } else { end * fr };
+        let (strip, floored_per_row) = source.rows(start * fr, last - start * fr)?;
         let fresh = counted.max(start) - start;
-        let new_rows = strip.slice(ndarray::s![fresh.., ..]);
-        masked += new_rows.iter().filter(|v| v.is_nan()).count();
-        floored += floored_per_row[fresh..].iter().sum::<usize>();
-        overlay.add(start + fresh, new_rows);
+        let product_rows = strip.slice(ndarray::s![fresh * fr.., ..]);
+        masked += product_rows.iter().filter(|v| v.is_nan()).count();
+        floored += floored_per_row[fresh * fr..].iter().sum::<usize>();
+        let strip = if (fr, fc) == (1, 1) {
+            strip
+        } else {
+            wakelab_products::resample::area_average(&strip, fr as f64, fc as f64)
+        };
+        let strip = strip.slice(ndarray::s![..end - start, ..]);
+        overlay.add(start + fresh, strip.slice(ndarray::s![fresh.., ..]));
         counted = end;
-        (progress.reading)(end, rows);
-        scan.feed(start, strip.view(), device, progress.scanning);
+        (progress.reading)(last, rows);
+        scan.feed(start, strip, device, progress.scanning);
     }
     let mut report = wakelab_products::sentinel1::floored_report(floored);
     report.masked = masked;
@@ -233,7 +249,7 @@ fn scan_by_bands(
     masked_note(&mut notes, masked);
     let detection = scan.finish()?;
     Ok(ProductScan {
-        frame: source.frame.clone(),
+        frame: source.frame.scaled(factor.0, factor.1, scanned),
         product_frame: source.frame,
         path: source.path,
         meta: source.meta,

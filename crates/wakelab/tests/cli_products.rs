@@ -57,13 +57,19 @@ fn write_tif(path: &Path, values: &Array2<f32>, frame: &Frame, unit: &str) {
 
 /// A C-band detector trained briefly on a small dataset at 10 m.
 fn detector(dir: &Path) -> PathBuf {
-    let study = dir.join("study.toml");
-    let axes = "wind_speed = [5.0, 8.0]\nimage_size = [32]\npixel_spacing = [10.0]\nalong_track = [2000.0]";
-    std::fs::write(&study, study_text("p", 2, 0.34, "[\"C\"]", axes)).unwrap();
-    let data = dir.join("data");
+    detector_at(dir, 10.0)
+}
+
+/// A C-band detector trained briefly on a small dataset at `spacing` metres.
+fn detector_at(dir: &Path, spacing: f64) -> PathBuf {
+    let study = dir.join(format!("study_{spacing}.toml"));
+    let axes =
+        format!("wind_speed = [5.0, 8.0]\nimage_size = [32]\npixel_spacing = [{spacing:.1}]\nalong_track = [2000.0]");
+    std::fs::write(&study, study_text("p", 2, 0.34, "[\"C\"]", &axes)).unwrap();
+    let data = dir.join(format!("data_{spacing}"));
     let o = dataset(&study, &data, &["--quiet"]);
     assert!(o.status.success(), "{}", stderr(&o));
-    let model = dir.join("c_base.safetensors");
+    let model = dir.join(format!("c_base_{spacing}.safetensors"));
     let o = wakelab(&[
         "train",
         data.to_str().unwrap(),
@@ -149,7 +155,7 @@ fn real_inputs_score_the_same_sea_alike_and_land_where_gdal_puts_them() {
         assert!((xy[0].as_f64().unwrap() - want_lon).abs() < 1e-7, "{f}");
         assert!((xy[1].as_f64().unwrap() - want_lat).abs() < 1e-7, "{f}");
         assert_eq!(p["kind"], "window");
-        assert!(p["detector"].as_str().unwrap().ends_with("c_base.safetensors"));
+        assert!(p["detector"].as_str().unwrap().ends_with("c_base_10.safetensors"));
     }
     // the map: a COG (GDAL's validator says so) in the input's CRS, its cells the stride's
     // multiple of the input's pixels
@@ -312,5 +318,22 @@ fn a_sentinel1_product_is_calibrated_and_scanned_on_its_ground() {
             .to_vec()
     };
     let (banded, read_whole) = (read_map("scan"), read_map("scan_whole"));
+    assert!(banded.iter().zip(&read_whole).all(|(a, b)| a.to_bits() == b.to_bits()));
+
+    // a detector trained at 20 m: the product averaged over 2 x 2 band by band scores as its
+    // calibrated image averaged whole
+    let coarse = detector_at(dir, 20.0);
+    let banded = detect(
+        &safe,
+        &coarse,
+        &dir.join("scan_20"),
+        &["--threshold", "0", "--keep-noise"],
+    );
+    let whole = detect(&kept, &coarse, &dir.join("scan_20_whole"), &["--threshold", "0"]);
+    assert_eq!(banded["resampled"], serde_json::json!([2.0, 2.0]));
+    assert_eq!(banded["windows"], whole["windows"]);
+    assert_eq!(banded["probability"], whole["probability"]);
+    let (banded, read_whole) = (read_map("scan_20"), read_map("scan_20_whole"));
+    assert_eq!(banded.len(), (lines / 2).div_ceil(16) * (SIDE / 2).div_ceil(16));
     assert!(banded.iter().zip(&read_whole).all(|(a, b)| a.to_bits() == b.to_bits()));
 }

@@ -380,7 +380,16 @@ pub fn extension(path: &Path) -> String {
         .to_ascii_lowercase()
 }
 
+/// GDAL's own words on a failure, as ": <message>", or nothing where it said nothing.
+pub(crate) fn gdal_reason(e: &gdal::errors::GdalError) -> String {
+    match e {
+        gdal::errors::GdalError::NullPointer { msg, .. } if msg.trim().is_empty() => String::new(),
+        gdal::errors::GdalError::NullPointer { msg, .. } => format!(": {msg}"),
+        other => format!(": {other}"),
+    }
+}
+
 /// GDAL's error as text for a message.
 pub(crate) fn gdal_error(path: &Path, what: &str, e: gdal::errors::GdalError) -> WakelabError {
-    product_error(path, format!("{what}: {e}"))
+    product_error(path, format!("{what}{}", gdal_reason(&e)))
 }

@@ -23,7 +23,10 @@ pub fn open_dataset(path: &Path) -> Result<Dataset, WakelabError> {
     let dataset = Dataset::open(path).map_err(|e| {
         raster_error(
             path,
-            format!("not an image GDAL reads (npy, GeoTIFF, COG, PNG, a Sentinel-1 SAFE, ...): {e}"),
+            format!(
+                "not an image GDAL reads (npy, GeoTIFF, COG, PNG, a Sentinel-1 SAFE, ...){}",
+                crate::gdal_reason(&e)
+            ),
         )
     })?;
     let driver = dataset.driver().short_name();

@@ -348,7 +348,11 @@ impl Sentinel1 {
         let dataset = Dataset::open(&measurement).map_err(|e| {
             safe_error(
                 &safe.input,
-                format!("the product lacks its measurement measurement/{}.tiff: {e}", files.stem),
+                format!(
+                    "the product lacks its measurement measurement/{}.tiff{}",
+                    files.stem,
+                    crate::gdal_reason(&e)
+                ),
             )
         })?;
         let (cols, rows) = dataset.raster_size();

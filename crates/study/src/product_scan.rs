@@ -120,16 +120,18 @@ pub struct ScanProgress<'a> {
     pub scanning: &'a mut dyn FnMut(usize, usize),
 }
 
-/// Read the product at `path` and scan `detector` over it.
-pub fn scan_product(
-    path: &Path,
-    read: &ReadOptions,
-    detector: &Detector,
-    info: &ModelInfo,
-    options: ScanOptions,
-    device: &Device,
-    progress: ScanProgress,
-) -> Result<ProductScan> {
+/// A detector and how to run it.
+#[derive(Clone, Copy)]
+pub struct Scanner<'a> {
+    pub detector: &'a Detector,
+    pub info: &'a ModelInfo,
+    pub options: ScanOptions,
+    pub device: &'a Device,
+}
+
+/// Read the product at `path` and scan the detector over it.
+pub fn scan_product(path: &Path, read: &ReadOptions, scanner: Scanner, progress: ScanProgress) -> Result<ProductScan> {
+    let (info, device) = (scanner.info, scanner.device);
     let band = info.single_band()?;
     let read = ReadOptions {
         quantity: if band.is_radar() {
@@ -140,9 +142,12 @@ pub fn scan_product(
         ..read.clone()
     };
     // the product's values are linear sigma0 (or kelvin) whatever the file's scale was
-    let options = ScanOptions {
-        scale: RadarScale::Linear,
-        ..options
+    let scanner = Scanner {
+        options: ScanOptions {
+            scale: RadarScale::Linear,
+            ..scanner.options
+        },
+        ..scanner
     };
     let source = wakelab_products::open_source(path, &read, progress.reading)?;
     let meta = match &source {
@@ -152,7 +157,7 @@ pub fn scan_product(
     let (factor, mut notes) = spacing_factor(meta, info)?;
     let product = match source {
         Source::Rows(rows) if factor.0.fract() == 0.0 && factor.1.fract() == 0.0 => {
-            return scan_by_bands(*rows, band, factor, notes, detector, info, options, device, progress)
+            return scan_by_bands(*rows, band, factor, notes, scanner, progress)
         }
         Source::Rows(rows) => rows.read_all(progress.reading)?,
         Source::Whole(product) => *product,
@@ -165,7 +170,7 @@ pub fn scan_product(
         let frame = product.frame.scaled(factor.0, factor.1, image.dim());
         (image, frame)
     };
-    let mut scan = Scan::new(detector, info, image.dim(), options)?;
+    let mut scan = Scan::new(scanner.detector, info, image.dim(), scanner.options)?;
     scan.feed(0, image.view(), device, progress.scanning);
     let mut overlay = crate::scan::OverlayMeans::new(image.dim(), band);
     overlay.add(0, image.view());
@@ -198,24 +203,21 @@ fn masked_note(notes: &mut Vec<String>, masked: usize) {
 /// detector's spacing: each band starts at the first window row not yet scored and holds about
 /// [`BAND_ROWS`] more product rows (the window's rows past the stride are read twice), so
 /// memory holds one band.
-#[allow(clippy::too_many_arguments)]
 fn scan_by_bands(
     source: RowSource,
     band: Band,
     factor: (f64, f64),
     mut notes: Vec<String>,
-    detector: &Detector,
-    info: &ModelInfo,
-    options: ScanOptions,
-    device: &Device,
+    scanner: Scanner,
     progress: ScanProgress,
 ) -> Result<ProductScan> {
+    let (info, device) = (scanner.info, scanner.device);
     // whole factors: a band of product rows starting at a multiple of the row factor averages
     // to exactly the rows the whole image's average has there
     let (fr, fc) = (factor.0 as usize, factor.1 as usize);
     let (rows, cols) = source.dim();
     let scanned = ((rows / fr).max(1), (cols / fc).max(1));
-    let mut scan = Scan::new(detector, info, scanned, options)?;
+    let mut scan = Scan::new(scanner.detector, info, scanned, scanner.options)?;
     let (n, stride) = scan.window_and_stride();
     let height = n + BAND_ROWS.div_ceil(stride * fr) * stride;
     let mut overlay = crate::scan::OverlayMeans::new(scanned, band);

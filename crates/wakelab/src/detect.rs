@@ -8,7 +8,7 @@ use wakelab_learn::device::parse_device;
 use wakelab_learn::store::load_detector;
 use wakelab_products::cog::write_sigma0_rows;
 use wakelab_products::{Quantity, ReadOptions, Source};
-use wakelab_study::product_scan::{scan_product, ScanProgress};
+use wakelab_study::product_scan::{scan_product, ScanProgress, Scanner};
 use wakelab_study::scan::{default_scan_dir, write_asked_mask, write_scan, Scanned};
 
 /// `wakelab detect`: a saved single-band detector scanned over a product of any size.
@@ -39,7 +39,13 @@ pub fn run_detect(args: &DetectArgs) -> Result<()> {
         scanning: &mut follow("windows scored"),
     };
     let read = args.read.options(args.scale, args.pixel_spacing);
-    let scan = scan_product(&args.image, &read, &detector, &info, options, &device, progress)?;
+    let scanner = Scanner {
+        detector: &detector,
+        info: &info,
+        options,
+        device: &device,
+    };
+    let scan = scan_product(&args.image, &read, scanner, progress)?;
     bar.finish_and_clear();
     let dir = args.out.clone().unwrap_or_else(|| default_scan_dir(&args.image));
     let scanned = Scanned {

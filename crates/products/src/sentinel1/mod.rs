@@ -14,8 +14,8 @@
 //! [`Sentinel1::strip`] calibrates any band of rows from the measurement's digital numbers, so a
 //! scan can hold one band of a product ([`read`] assembles the whole image). The zeros outside
 //! the swath are no-data: each row's leading and trailing zeros (the swath edge of a GRD image
-//! is one run per row end). Files and polarisations: [`safe`]; one line's calibration:
-//! [`calibration`].
+//! is one run per row end). Files and polarisations: [`SafeLocation`]; one line's calibration:
+//! [`Calibration`].
 
 pub mod annotation;
 mod calibration;

@@ -1,5 +1,6 @@
 //! Real SAR products in: a Sentinel-1 GRD product (`.SAFE` directory, its `manifest.safe` or
-//! the `.zip`), a RADARSAT-2 product (GDAL's calibrated subdataset), any GeoTIFF or
+//! the `.zip`), a TerraSAR-X MGD product (its directory), a RADARSAT-2 product (GDAL's
+//! calibrated subdataset), any GeoTIFF or
 //! Cloud-Optimised GeoTIFF of sigma0 or brightness temperature (linear, dB, amplitude or
 //! display-stretched; any CRS or GCPs; its nodata value and mask band honoured), or a bare `.npy`
 //! array, read through GDAL into one [`Product`]: the image in linear sigma0 (or kelvin), NaN
@@ -16,6 +17,7 @@ pub mod raster;
 pub mod resample;
 pub mod scale;
 pub mod sentinel1;
+pub mod terrasar;
 
 pub use frame::Frame;
 pub use scale::InputScale;
@@ -232,6 +234,14 @@ pub fn open_with_progress(
             ));
         }
         sentinel1::read(&safe, options, progress)?
+    } else if let Some(xml) = terrasar::find(path) {
+        if options.quantity != Quantity::Sigma0 {
+            return Err(product_error(
+                path,
+                "a TerraSAR-X product holds radar backscatter: use a radar (S, C or X band) detector",
+            ));
+        }
+        terrasar::read(&xml, options)?
     } else {
         if let Some(pol) = &options.polarisation {
             return Err(wakelab_core::ConfigError::new(

@@ -298,7 +298,8 @@ pub struct ReadArgs {
     /// Polarisation of a multi-polarisation product (default VV, else HH).
     #[arg(long, value_name = "VV|HH|VH|HV")]
     pub pol: Option<String>,
-    /// Keep the thermal noise in a Sentinel-1 product's sigma0 (removed by default).
+    /// Keep the thermal noise in a Sentinel-1 or TerraSAR-X product's sigma0 (removed by
+    /// default).
     #[arg(long)]
     pub keep_noise: bool,
     /// A raster of the input's size, non-zero on pixels to ignore (land, anything).
@@ -327,8 +328,9 @@ impl ReadArgs {
 /// Options of `detect`.
 #[derive(Args, Debug)]
 pub struct DetectArgs {
-    /// The image: a Sentinel-1 GRD product (.SAFE directory, its manifest.safe, or the .zip),
-    /// a GeoTIFF / COG of sigma0 or brightness temperature, an npy array or a PNG.
+    /// The image: a Sentinel-1 GRD product (.SAFE directory, its manifest.safe, or the .zip), a
+    /// TerraSAR-X MGD product (its directory), a GeoTIFF / COG of sigma0 or brightness
+    /// temperature, an npy array or a PNG.
     pub image: PathBuf,
     /// Detector file written by `train` or `eval`.
     #[arg(long, value_name = "FILE")]
@@ -372,7 +374,8 @@ pub struct DetectArgs {
 /// Options of `calibrate`.
 #[derive(Args, Debug)]
 pub struct CalibrateArgs {
-    /// The product: a Sentinel-1 GRD (.SAFE directory, manifest.safe or .zip), or a GeoTIFF.
+    /// The product: a Sentinel-1 GRD (.SAFE directory, manifest.safe or .zip), a TerraSAR-X MGD
+    /// (its directory), or a GeoTIFF.
     pub product: PathBuf,
     /// The Cloud-Optimised GeoTIFF to write.
     #[arg(long, value_name = "FILE")]

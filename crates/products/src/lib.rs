@@ -1,6 +1,6 @@
 //! Real SAR products in: a Sentinel-1 GRD product (`.SAFE` directory, its `manifest.safe` or
-//! the `.zip`), a TerraSAR-X MGD product (its directory), a RADARSAT-2 product (GDAL's
-//! calibrated subdataset), any GeoTIFF or
+//! the `.zip`), a TerraSAR-X MGD product (its directory), a COSMO-SkyMed HDF5 product, a
+//! RADARSAT-2 product (GDAL's calibrated subdataset), any GeoTIFF or
 //! Cloud-Optimised GeoTIFF of sigma0 or brightness temperature (linear, dB, amplitude or
 //! display-stretched; any CRS or GCPs; its nodata value and mask band honoured), or a bare `.npy`
 //! array, read through GDAL into one [`Product`]: the image in linear sigma0 (or kelvin), NaN
@@ -9,6 +9,7 @@
 //! [`open`]; nothing here knows physics or networks.
 
 pub mod cog;
+pub mod cosmo;
 pub mod frame;
 pub mod geojson;
 pub mod mask;
@@ -242,6 +243,8 @@ pub fn open_with_progress(
             ));
         }
         terrasar::read(&xml, options)?
+    } else if let Some(product) = cosmo::read(path, options)? {
+        product
     } else {
         if let Some(pol) = &options.polarisation {
             return Err(wakelab_core::ConfigError::new(

@@ -33,7 +33,7 @@ pub fn open_dataset(path: &Path) -> Result<Dataset, WakelabError> {
     let unsupported = match driver.as_str() {
         "SAFE" => None, // reached only through manifest.safe, handled by the Sentinel-1 reader
         "TSX" => Some("TerraSAR-X: wakelab calibrates MGD products passed as their directory (TSX1_SAR__MGD_...) or main XML under its own name"),
-        "HDF5" | "HDF5Image" | "CSK" => Some("COSMO-SkyMed / HDF5: wakelab does not apply its rescaling factor yet; calibrate the product to sigma0 (e.g. SNAP's Calibration) and pass the GeoTIFF"),
+        "HDF5" | "HDF5Image" | "CSK" => Some("an HDF5 file that is no COSMO-SkyMed first-generation product (Mission ID CSK or KMPS), which wakelab calibrates: pass a GeoTIFF of sigma0"),
         "RS2" if !path.to_string_lossy().starts_with("RADARSAT_2_CALIB:") => {
             Some("RADARSAT-2: pass GDAL's calibrated subdataset, RADARSAT_2_CALIB:SIGMA0:<product.xml>")
         }

@@ -329,8 +329,8 @@ impl ReadArgs {
 #[derive(Args, Debug)]
 pub struct DetectArgs {
     /// The image: a Sentinel-1 GRD product (.SAFE directory, its manifest.safe, or the .zip), a
-    /// TerraSAR-X MGD product (its directory), a GeoTIFF / COG of sigma0 or brightness
-    /// temperature, an npy array or a PNG.
+    /// TerraSAR-X MGD product (its directory), a COSMO-SkyMed .h5, a GeoTIFF / COG of sigma0 or
+    /// brightness temperature, an npy array or a PNG.
     pub image: PathBuf,
     /// Detector file written by `train` or `eval`.
     #[arg(long, value_name = "FILE")]
@@ -375,7 +375,7 @@ pub struct DetectArgs {
 #[derive(Args, Debug)]
 pub struct CalibrateArgs {
     /// The product: a Sentinel-1 GRD (.SAFE directory, manifest.safe or .zip), a TerraSAR-X MGD
-    /// (its directory), or a GeoTIFF.
+    /// (its directory), a COSMO-SkyMed .h5, or a GeoTIFF.
     pub product: PathBuf,
     /// The Cloud-Optimised GeoTIFF to write.
     #[arg(long, value_name = "FILE")]

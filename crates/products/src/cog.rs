@@ -203,7 +203,7 @@ pub fn write_sigma0_rows(
             .map_err(err)?;
         progress(start + n, rows);
     }
-    let mut report = crate::sentinel1::floored_report(floored);
+    let mut report = crate::ReadReport::floored_after_noise_removal(floored);
     report.masked = masked;
     let (description, metadata) = sigma0_band(&source.meta, &source.path, &report, db);
     let band = BandInfo {

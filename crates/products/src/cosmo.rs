@@ -13,7 +13,7 @@
 //! Compensation Flag` 0). No noise model is published for the first generation; the second
 //! (CSG) has no public radiometric note, and is refused.
 
-use crate::{Frame, InputScale, PixelSpacing, Product, ProductMeta, ReadOptions, ReadReport, SpacingSource};
+use crate::{Frame, InputScale, PixelSpacing, Product, ProductMeta, ReadOptions, ReadReport};
 use gdal::{Dataset, Metadata};
 use ndarray::Array2;
 use std::path::Path;
@@ -141,21 +141,14 @@ pub fn read(path: &Path, options: &ReadOptions) -> Result<Option<Product>, Wakel
         frame: Frame::of_dataset(&image),
         meta: ProductMeta {
             format: format!("COSMO-SkyMed {}", product_type.trim()),
-            product_id: path
-                .file_stem()
-                .map(|s| s.to_string_lossy().into_owned())
-                .unwrap_or_default(),
+            product_id: crate::stem_of(path),
             mission: Some(mission.trim().to_string()),
             acquisition_time: image.metadata_item("Scene_Sensing_Start_UTC", ""),
             polarisation: Some(pol),
             polarisations: available,
             pixel_spacing: spacing("Line_Spacing")
                 .zip(spacing("Column_Spacing"))
-                .map(|(r, c)| PixelSpacing {
-                    columns: c,
-                    rows: r,
-                    source: SpacingSource::Annotation,
-                }),
+                .map(|(r, c)| PixelSpacing::annotated(r, c)),
             scale: Some(InputScale::Linear),
             calibrated: true,
             ..Default::default()

@@ -91,6 +91,17 @@ pub struct PixelSpacing {
     pub source: SpacingSource,
 }
 
+impl PixelSpacing {
+    /// The spacing a product's annotation states.
+    pub fn annotated(rows: f64, columns: f64) -> Self {
+        Self {
+            columns,
+            rows,
+            source: SpacingSource::Annotation,
+        }
+    }
+}
+
 /// Incidence angle over the image: a bilinear fit to the product's geolocation grid.
 #[derive(Debug, Clone, Serialize)]
 pub struct Incidence {
@@ -178,6 +189,29 @@ pub struct ReadReport {
     pub floor: Option<f64>,
     /// Anything the user should know (shown by the commands).
     pub notes: Vec<String>,
+}
+
+impl ReadReport {
+    /// The report of `floored` pixels raised to the noise-equivalent sigma0 after noise removal.
+    pub fn floored_after_noise_removal(floored: usize) -> Self {
+        let mut report = Self {
+            floored,
+            ..Default::default()
+        };
+        if floored > 0 {
+            report.notes.push(format!(
+                "{floored} pixel(s) at or below zero after noise removal raised to the noise-equivalent sigma0 there"
+            ));
+        }
+        report
+    }
+}
+
+/// A product's identifier where it names none: its file's stem.
+pub(crate) fn stem_of(path: &Path) -> String {
+    path.file_stem()
+        .map(|s| s.to_string_lossy().into_owned())
+        .unwrap_or_default()
 }
 
 /// A product read: the image (linear sigma0 or kelvin; NaN where masked) on its ground.
@@ -351,7 +385,7 @@ impl RowSource {
         }
         let views: Vec<_> = parts.iter().map(|p| p.view()).collect();
         let image = ndarray::concatenate(ndarray::Axis(0), &views).map_err(|e| product_error(&self.path, e))?;
-        let mut report = sentinel1::floored_report(floored);
+        let mut report = ReadReport::floored_after_noise_removal(floored);
         report.masked = image.iter().filter(|v| v.is_nan()).count();
         Ok(Product {
             path: self.path,

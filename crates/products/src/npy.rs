@@ -173,10 +173,7 @@ pub fn read(path: &Path, options: &ReadOptions) -> Result<Product, WakelabError>
     let mut report = ReadReport::default();
     let scale = options.scale.unwrap_or(InputScale::Linear);
     let image = crate::raster::mask_and_scale(raw, None, None, options, scale, is_byte, &mut report, path)?;
-    let stem = path
-        .file_stem()
-        .map(|s| s.to_string_lossy().into_owned())
-        .unwrap_or_default();
+    let stem = crate::stem_of(path);
     Ok(Product {
         path: path.to_path_buf(),
         frame: crate::Frame::none(image.dim()),

@@ -207,10 +207,7 @@ pub fn read(path: &Path, options: &ReadOptions) -> Result<Product, WakelabError>
             source: SpacingSource::Georeference,
         }),
     };
-    let stem = path
-        .file_stem()
-        .map(|s| s.to_string_lossy().into_owned())
-        .unwrap_or_default();
+    let stem = crate::stem_of(path);
     let driver = dataset.driver();
     Ok(Product {
         path: path.to_path_buf(),

@@ -18,6 +18,17 @@ pub const MIN_SIGMA0: f64 = 1e-5;
 /// +5 dB at the steepest incidence, CMOD5.N's range).
 const MAX_SEA_MEDIAN: f64 = 10.0;
 
+/// sigma0 after noise removal, or where that left it at or below zero the noise-equivalent
+/// sigma0 there (`nesz`; [`MIN_SIGMA0`] where that is not positive either), and whether it was
+/// floored.
+pub fn floored_at_noise(sigma0: f64, nesz: f64) -> (f32, bool) {
+    if sigma0 > 0.0 {
+        (sigma0 as f32, false)
+    } else {
+        ((if nesz > 0.0 { nesz } else { MIN_SIGMA0 }) as f32, true)
+    }
+}
+
 /// The scale of a radar image's values.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
 #[serde(rename_all = "snake_case")]

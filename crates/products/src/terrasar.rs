@@ -14,7 +14,8 @@
 //! geocoded (GEC, EEC) products are refused with what to do.
 
 use crate::frame::{Gcp, Placement};
-use crate::{Frame, Incidence, InputScale, PixelSpacing, Product, ProductMeta, ReadOptions, ReadReport, SpacingSource};
+use crate::scale::floored_at_noise;
+use crate::{Frame, Incidence, InputScale, PixelSpacing, Product, ProductMeta, ReadOptions, ReadReport};
 use ndarray::Array2;
 use roxmltree::{Document, Node};
 use std::path::{Path, PathBuf};
@@ -280,23 +281,12 @@ pub fn read(xml_path: &Path, options: &ReadOptions) -> Result<Product, WakelabEr
                 continue;
             }
             let d = dn[[r, c]] as f64;
-            let sigma0 = (ks * d * d - nebn[c]) * sin[c];
-            *o = if sigma0 > 0.0 {
-                sigma0 as f32
-            } else {
-                floored += 1;
-                let nesz = nebn[c] * sin[c];
-                (if nesz > 0.0 { nesz } else { crate::scale::MIN_SIGMA0 }) as f32
-            };
+            let (value, raised) = floored_at_noise((ks * d * d - nebn[c]) * sin[c], nebn[c] * sin[c]);
+            *o = value;
+            floored += raised as usize;
         }
     }
-    let mut report = ReadReport::default();
-    if floored > 0 {
-        report.floored = floored;
-        report.notes.push(format!(
-            "{floored} pixel(s) at or below zero after noise removal raised to the noise-equivalent sigma0 there"
-        ));
-    }
+    let report = ReadReport::floored_after_noise_removal(floored);
     let wkt = gdal::spatial_ref::SpatialRef::from_epsg(4326)
         .and_then(|s| s.to_wkt())
         .unwrap_or_default();
@@ -320,28 +310,20 @@ pub fn read(xml_path: &Path, options: &ReadOptions) -> Result<Product, WakelabEr
     };
     let spacing = |what: &str| number(info, &[raster[0], raster[1], what]);
     let looks = |what: &str| number(info, &[raster[0], raster[1], what]);
-    let product_id = xml_path
-        .file_stem()
-        .map(|s| s.to_string_lossy().into_owned())
-        .unwrap_or_default();
     Ok(Product {
         path: xml_path.to_path_buf(),
         image,
         frame,
         meta: ProductMeta {
             format: "TerraSAR-X MGD".into(),
-            product_id,
+            product_id: crate::stem_of(xml_path),
             mission: text(info, &["missionInfo", "mission"]).map(str::to_string),
             acquisition_time: text(info, &["sceneInfo", "start", "timeUTC"]).map(str::to_string),
             polarisation: Some(pol),
             polarisations: available,
             pixel_spacing: spacing("rowSpacing")
                 .zip(spacing("columnSpacing"))
-                .map(|(r, c)| PixelSpacing {
-                    columns: c,
-                    rows: r,
-                    source: SpacingSource::Annotation,
-                }),
+                .map(|(r, c)| PixelSpacing::annotated(r, c)),
             looks: looks("azimuthLooks").zip(looks("rangeLooks")).map(|(a, r)| a * r),
             scale: Some(InputScale::Linear),
             calibrated: true,

@@ -245,7 +245,7 @@ fn scan_by_bands(
         (progress.reading)(last, rows);
         scan.feed(start, strip, device, progress.scanning);
     }
-    let mut report = wakelab_products::sentinel1::floored_report(floored);
+    let mut report = wakelab_products::ReadReport::floored_after_noise_removal(floored);
     report.masked = masked;
     notes.splice(0..0, report.notes.iter().cloned());
     masked_note(&mut notes, masked);

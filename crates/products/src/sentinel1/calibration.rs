@@ -71,14 +71,9 @@ impl Calibration {
             }
             let power = dn[p] as f64 * dn[p] as f64;
             let gain = a[p] * a[p];
-            let sigma0 = (power - eta[p]) / gain;
-            *o = if sigma0 > 0.0 {
-                sigma0 as f32
-            } else {
-                floored += 1;
-                let nesz = eta[p] / gain;
-                (if nesz > 0.0 { nesz } else { crate::scale::MIN_SIGMA0 }) as f32
-            };
+            let (value, raised) = crate::scale::floored_at_noise((power - eta[p]) / gain, eta[p] / gain);
+            *o = value;
+            floored += raised as usize;
         }
         floored
     }

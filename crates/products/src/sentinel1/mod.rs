@@ -27,10 +27,7 @@ pub use calibration::Calibration;
 pub use safe::SafeLocation;
 
 use crate::frame::{Gcp, Placement};
-use crate::{
-    gdal_error, Frame, Incidence, InputScale, PixelSpacing, Product, ProductMeta, ReadOptions, ReadReport,
-    SpacingSource,
-};
+use crate::{gdal_error, Frame, Incidence, InputScale, PixelSpacing, Product, ProductMeta, ReadOptions, ReadReport};
 use annotation::ProductAnnotation;
 use gdal::Dataset;
 use ndarray::{s, Array2, Axis};
@@ -202,11 +199,10 @@ impl Sentinel1 {
             acquisition_time: Some(annotation.start_time.clone()),
             polarisation: Some(self.polarisation.clone()),
             polarisations: self.polarisations.clone(),
-            pixel_spacing: Some(PixelSpacing {
-                columns: annotation.range_spacing,
-                rows: annotation.azimuth_spacing,
-                source: SpacingSource::Annotation,
-            }),
+            pixel_spacing: Some(PixelSpacing::annotated(
+                annotation.azimuth_spacing,
+                annotation.range_spacing,
+            )),
             looks: match (annotation.range_looks, annotation.azimuth_looks) {
                 (Some(r), Some(a)) => Some(r * a),
                 (r, a) => r.or(a),
@@ -246,20 +242,6 @@ pub fn read(
         image,
         frame: product.frame(),
         meta: product.meta(),
-        report: floored_report(floored),
+        report: ReadReport::floored_after_noise_removal(floored),
     })
-}
-
-/// The read report of `floored` pixels floored at the noise-equivalent sigma0.
-pub fn floored_report(floored: usize) -> ReadReport {
-    let mut report = ReadReport {
-        floored,
-        ..Default::default()
-    };
-    if floored > 0 {
-        report.notes.push(format!(
-            "{floored} pixel(s) at or below zero after noise removal raised to the noise-equivalent sigma0 there"
-        ));
-    }
-    report
 }

@@ -13,7 +13,7 @@ cargo build --release --quiet -p wakelab
 mkdir -p "$WORK"
 python3 - "$WORK/large.toml" <<'PY'
 import sys, re
-s = open("crates/data/src/default_study.toml").read()
+s = open("configs/study/default.toml").read()
 for a, b in [(r"^seeds = .*", "seeds = 1"), (r"^wind_speed = .*", "wind_speed = [3.0]"),
              (r"^swell_direction = .*", 'swell_direction = ["calm"]'),
              (r"^stratification = .*", 'stratification = ["linear"]'),

@@ -36,7 +36,7 @@ cargo build --release --quiet -p wakelab
 mkdir -p "$WORK"
 python3 - "$WORK/tiny.toml" <<'PY'
 import re, sys
-s = open("crates/data/src/default_study.toml").read()
+s = open("configs/study/default.toml").read()
 for a, b in [(r"^seeds = .*", "seeds = 1"), (r"^bands = .*", 'bands = ["LWIR"]'), (r"^fused_inputs = .*", "fused_inputs = []")]:
     s = re.sub(a, b, s, flags=re.M)
 open(sys.argv[1], "w").write(s)

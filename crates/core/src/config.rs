@@ -590,7 +590,7 @@ pub struct OutputConfig {
 }
 
 /// The embedded default configuration, as TOML (the `quick` preset).
-pub const DEFAULT_TOML: &str = include_str!("default.toml");
+pub const DEFAULT_TOML: &str = include_str!("../../../configs/scene/default.toml");
 
 impl Preset {
     /// The grid and time tables of this preset, as TOML.
@@ -603,9 +603,9 @@ impl Preset {
     }
 }
 
-const QUICK_PRESET: &str = include_str!("preset_quick.toml");
+const QUICK_PRESET: &str = include_str!("../../../configs/scene/quick.toml");
 
-const PAPER_PRESET: &str = include_str!("preset_paper.toml");
+const PAPER_PRESET: &str = include_str!("../../../configs/scene/paper.toml");
 
 /// Merge `over` into `base`, table by table (values of `over` win).
 fn merge_tables(base: &mut toml::Table, over: toml::Table) {

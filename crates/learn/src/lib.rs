@@ -7,16 +7,14 @@
 //! backend by default, `wgpu` and `cuda` behind the cargo features of the same names.
 
 pub mod augment;
-pub mod conv_kernel;
 pub mod data;
 pub mod detect;
 pub mod device;
 pub mod eval_options;
 pub mod evaluate;
-pub mod fast_conv;
-pub mod fast_pool;
 pub mod held_out;
 pub mod image_file;
+pub mod kernels;
 pub mod loss;
 pub mod masks;
 pub mod models;

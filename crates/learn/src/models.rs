@@ -2,8 +2,8 @@
 //! "cls" and "unet" of 4.1) and the U-Net of Tables 4.2-4.3. The code has no backend parameter:
 //! the device a model is built on decides where it runs.
 
-use crate::fast_conv::conv3x3;
-use crate::fast_pool::max_pool2x2;
+use crate::kernels::conv::conv3x3;
+use crate::kernels::pool::max_pool2x2;
 use burn::module::{Module, ModuleVisitor, Param};
 use burn::nn::conv::{Conv2d, Conv2dConfig};
 use burn::nn::{BatchNorm, BatchNormConfig, Linear, LinearConfig, PaddingConfig2d, Relu};

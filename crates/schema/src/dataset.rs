@@ -20,7 +20,7 @@ pub struct SceneRecord {
     pub label: u8,
     /// The label under the study's `min_visibility` policy, per band.
     pub label_by_band: BTreeMap<Band, u8>,
-    /// Contrast-to-clutter ratio of the wake region per band (see `wakelab_data::render`).
+    /// Contrast-to-clutter ratio of the wake region per band (see `wakelab_dataset::render`).
     pub visibility: BTreeMap<Band, f64>,
     pub seed: u64,
     pub environment: String,

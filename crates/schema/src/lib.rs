@@ -3,7 +3,7 @@
 //! - [`axes`]: the study axes, declared once, and a scene's combination of their values;
 //! - [`band`]: bands and inputs (one band, or bands as channels), with their names;
 //! - [`dataset`]: a scene record of the manifest and the study combination it was made from
-//!   (what `wakelab-data` writes and `wakelab-learn` reads);
+//!   (what `wakelab-dataset` writes and `wakelab-learn` reads);
 //! - [`results`]: the network architectures, a detector's kept outputs and their summaries (what
 //!   `wakelab-learn` writes and `wakelab-fusion` and the report read);
 //! - [`split`], [`fusion_row`]: what a kept output was computed on and by, and what a table

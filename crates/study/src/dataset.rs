@@ -5,8 +5,8 @@ use crate::Result;
 use std::path::{Path, PathBuf};
 use std::time::Instant;
 use wakelab_core::io::write_atomically;
-use wakelab_data::study::Study;
-use wakelab_data::{Progress, Shard};
+use wakelab_dataset::study::Study;
+use wakelab_dataset::{Progress, Shard};
 
 /// Render the pairs of `study` (those of `shard`, or all) into `out`, skipping finished
 /// scenes, and write `timing.json`; what it did, in one line.
@@ -15,7 +15,7 @@ pub fn render_dataset(study: &Study, out: &Path, shard: Option<Shard>, quiet: bo
     let template = "{spinner} {msg} [{bar:40}] {pos}/{len} | {per_sec} | {elapsed_precise}, {eta} left";
     let bar = crate::progress_bar(quiet, study.pairs()?.len() as u64, template);
     bar.set_message("hydro");
-    let times = wakelab_data::run_study(study, out, shard, None, &|p| match p {
+    let times = wakelab_dataset::render_dataset(study, out, shard, None, &|p| match p {
         Progress::Hydro { done, total } => bar.set_message(format!("hydro {done}/{total}")),
         Progress::Scene { done, total } => {
             bar.set_message("scene pairs");
@@ -33,7 +33,7 @@ pub fn render_dataset(study: &Study, out: &Path, shard: Option<Shard>, quiet: bo
 
 /// Gather the finished scenes of `out` into its manifest and splits; what it found, in one line.
 pub fn merge_dataset(study: &Study, out: &Path) -> Result<String> {
-    let records = wakelab_data::write_manifest(study, out)?;
+    let records = wakelab_dataset::write_manifest(study, out)?;
     let expected = 2 * study.pairs()?.len();
     Ok(format!(
         "manifest: {} scenes ({expected} expected) in {}",
@@ -49,7 +49,7 @@ pub fn emit_dataset_slurm(study: &Study, name: &str, out: &Path, tasks: usize) -
     let pairs = study.pairs()?.len();
     let tasks = tasks.min(pairs);
     let exe = std::env::current_exe()?.display().to_string();
-    let path = wakelab_data::slurm::write_slurm_script(Path::new(name), out, tasks, &exe)?;
+    let path = wakelab_dataset::slurm::write_slurm_script(Path::new(name), out, tasks, &exe)?;
     let line = format!("wrote {} ({pairs} pairs over {tasks} tasks)", path.display());
     Ok((path, line))
 }

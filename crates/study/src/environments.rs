@@ -103,7 +103,7 @@ pub fn spec_environments(base: &WakelabConfig, cache_dir: &std::path::Path) -> R
     for environment in ENVIRONMENTS {
         let c = environment_config(base, environment);
         c.validate()?;
-        let map = wakelab_data::hydro_map(cache_dir, &c)?;
+        let map = wakelab_dataset::hydro_map(cache_dir, &c)?;
         let (with, without) = rayon::join(|| simulate_surface(&c, Some(&map)), || simulate_surface(&c, None));
         for band in RadarBand::ALL {
             let (darkest_db, brightest_db) = row_extremes(
@@ -262,7 +262,7 @@ mod tests {
         for band in RadarBand::ALL {
             let (refraction, _, _) = refraction_against_damping(&c, &map, band);
             let k = bragg_vectors(&c, band).0.magnitude();
-            let rho = wakelab_surface::spectrum::RHO_WATER;
+            let rho = wakelab_surface::constants::RHO_WATER;
             let dln_omega = (g + 3.0 * tau * k * k / rho) / (2.0 * (g + tau * k * k / rho));
             let closed = (c.sea.short_wave_exponent + 1.0 - dln_omega) * a;
             assert!(

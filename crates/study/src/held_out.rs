@@ -10,7 +10,7 @@ use std::path::Path;
 use std::time::Instant;
 use wakelab_core::io::write_atomically;
 use wakelab_core::WakelabError;
-use wakelab_data::learning::LearningPlan;
+use wakelab_dataset::learning::LearningPlan;
 use wakelab_learn::data::Dataset;
 use wakelab_learn::evaluate::{evaluate_held_out, Output};
 use wakelab_learn::models::Architecture;

@@ -137,8 +137,8 @@ impl Display {
 }
 
 /// The study of a name: a study TOML file, or the embedded `default` or `paper` study.
-pub fn load_study(name: &str) -> Result<wakelab_data::study::Study> {
-    use wakelab_data::study::{Study, DEFAULT_STUDY, PAPER_STUDY};
+pub fn load_study(name: &str) -> Result<wakelab_dataset::study::Study> {
+    use wakelab_dataset::study::{Study, DEFAULT_STUDY, PAPER_STUDY};
     let path = Path::new(name);
     Ok(match name {
         _ if path.exists() => Study::from_file(path)?,
@@ -168,7 +168,7 @@ impl StudyOutcome {
 
 /// `wakelab run`: every stage of `study` in `dir` (reusing what is finished), then the report.
 /// `quiet` hides the progress bar.
-pub fn run_study(study: &wakelab_data::study::Study, dir: &Path, device: &Device, quiet: bool) -> Result<StudyOutcome> {
+pub fn run_study(study: &wakelab_dataset::study::Study, dir: &Path, device: &Device, quiet: bool) -> Result<StudyOutcome> {
     std::fs::create_dir_all(dir).map_err(|e| anyhow::anyhow!("{}: {e}", dir.display()))?;
     write_atomically(dir.join("study.toml"), toml::to_string(study)?.as_bytes())?;
     let start = Instant::now();
@@ -204,7 +204,7 @@ pub fn run_study(study: &wakelab_data::study::Study, dir: &Path, device: &Device
 
 /// `wakelab run --stage ...`: one learning stage of `study` in `dir`, on its finished dataset.
 pub fn run_one_stage(
-    study: &wakelab_data::study::Study,
+    study: &wakelab_dataset::study::Study,
     dir: &Path,
     stage: &stages::OneStage,
     device: &Device,

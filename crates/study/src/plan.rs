@@ -2,7 +2,7 @@
 //! recipe, the perturbations of the robustness tests and the inputs trained on.
 
 use crate::Result;
-use wakelab_data::learning::LearningPlan;
+use wakelab_dataset::learning::LearningPlan;
 use wakelab_learn::data::Dataset;
 use wakelab_learn::evaluate::EvalOptions;
 use wakelab_learn::models::Architecture;

@@ -8,7 +8,7 @@ use std::path::{Path, PathBuf};
 use wakelab_core::config::NamedDirection;
 use wakelab_core::io::{csv_record, write_atomically};
 use wakelab_core::WakelabError;
-use wakelab_data::study::Study;
+use wakelab_dataset::study::Study;
 use wakelab_learn::evaluate::Summary;
 use wakelab_learn::models::Architecture;
 use wakelab_schema::band::{Band, Input};

@@ -13,7 +13,7 @@
 use crate::Result;
 use std::path::{Path, PathBuf};
 use wakelab_core::io::write_atomically;
-use wakelab_data::study::Study;
+use wakelab_dataset::study::Study;
 use wakelab_schema::band::{Band, Input};
 
 /// What the script runs: the study as the user named it (`default`, `paper` or an absolute path),
@@ -181,7 +181,7 @@ pub fn write_slurm_script(study: &Study, run: &SlurmRun) -> Result<PathBuf> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use wakelab_data::study::DEFAULT_STUDY;
+    use wakelab_dataset::study::DEFAULT_STUDY;
 
     fn run(out: &str) -> SlurmRun {
         SlurmRun {

@@ -10,8 +10,8 @@ use std::path::Path;
 use std::time::Instant;
 use wakelab_core::io::write_atomically;
 use wakelab_core::WakelabError;
-use wakelab_data::learning::LearningPlan;
-use wakelab_data::study::Study;
+use wakelab_dataset::learning::LearningPlan;
+use wakelab_dataset::study::Study;
 use wakelab_fusion::decision::{fuse_all, FusedOutput};
 use wakelab_learn::data::Dataset;
 use wakelab_learn::evaluate::{evaluate, summarise, CurvePoint, EvalOptions, Output, Summary};
@@ -105,13 +105,13 @@ fn dataset_stage(study: &Study, dir: &Path, display: &Display) -> Result<(Datase
     let start = Instant::now();
     let pairs = study.pairs()?.len();
     display.stage(1, "dataset", 2 * pairs as u64);
-    let times = wakelab_data::run_study(study, dir, None, None, &|p| match p {
-        wakelab_data::Progress::Hydro { done, total } => display.set(0, format!("wake simulations {done}/{total}")),
-        wakelab_data::Progress::Scene { done, total } => {
+    let times = wakelab_dataset::render_dataset(study, dir, None, None, &|p| match p {
+        wakelab_dataset::Progress::Hydro { done, total } => display.set(0, format!("wake simulations {done}/{total}")),
+        wakelab_dataset::Progress::Scene { done, total } => {
             display.set(2 * done as u64, format!("scene pairs {done}/{total}"))
         }
     })?;
-    wakelab_data::write_manifest(study, dir)?;
+    wakelab_dataset::write_manifest(study, dir)?;
     let reused = times.scenes_rendered == 0;
     let previous: Option<f64> = std::fs::read_to_string(dir.join("timing.json"))
         .ok()
@@ -240,7 +240,7 @@ fn learning_stage(cx: &Context, inputs: &[Input], dir: &Path) -> Result<(Learned
 }
 
 pub(crate) fn fnv_hex(text: &str) -> String {
-    format!("{:016x}", wakelab_data::fnv(text))
+    format!("{:016x}", wakelab_dataset::fnv(text))
 }
 
 /// What a learning stage's results depend on: the dataset's manifest, the options and wakelab.

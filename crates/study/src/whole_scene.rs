@@ -22,8 +22,8 @@ use ndarray::{s, Array2};
 use std::fmt::Write as _;
 use std::path::Path;
 use wakelab_core::config::WakePlacement;
-use wakelab_data::render::render_pair;
-use wakelab_data::study::{ScenePair, Study};
+use wakelab_dataset::render::render_pair;
+use wakelab_dataset::study::{ScenePair, Study};
 use wakelab_learn::data::RadarScale;
 use wakelab_learn::detect::{detect_image, ScanOptions};
 use wakelab_learn::models::Architecture;
@@ -219,7 +219,7 @@ pub fn scan_whole_scene(dir: &Path, study: &Study, run: &StudyRun) -> Result<Vec
     let Some((pair, chips)) = scene_pair(study)? else {
         return Ok(Vec::new());
     };
-    let map = wakelab_data::hydro_map(&run.dataset.dir, &pair.config)?;
+    let map = wakelab_dataset::hydro_map(&run.dataset.dir, &pair.config)?;
     let (rendered, _, _) = render_pair(&pair, &map, &bands);
     let slicks = rendered.slick_mask;
     let device = wakelab_learn::device::parse_device("cpu")?;
@@ -390,7 +390,7 @@ pub fn whole_scene_html(scans: &[WholeScene]) -> Result<String> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use wakelab_data::study::{DEFAULT_STUDY, PAPER_STUDY};
+    use wakelab_dataset::study::{DEFAULT_STUDY, PAPER_STUDY};
 
     /// The nearest-rank percentile: of 20 outputs 0.01..0.20 the threshold flags one (5 %).
     /// A map of 3 x 3 cells of 2 px over 6 x 6 px masks: the wake fills the top row of cells, a

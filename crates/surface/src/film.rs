@@ -11,11 +11,8 @@
 //! The default, 3 mN/m, is a weak open-ocean film; slicks reach 5-30 mN/m (Alpers &
 //! Huehnerfuss 1989).
 
-use crate::spectrum::RHO_WATER;
+use crate::constants::{KARMAN, NU, RHO_AIR, RHO_WATER};
 use std::f64::consts::PI;
-
-/// Molecular kinematic viscosity of sea water (m^2/s), Table 2.1.
-pub const NU: f64 = 1e-6;
 
 /// The surface film's equation of state.
 #[derive(Debug, Clone, Copy)]
@@ -72,8 +69,8 @@ fn turbulent_coefficient(k: f64) -> f64 {
 /// (e.g. Terray et al. 1996, J. Phys. Oceanogr. 26, 792, below their wave-breaking layer).
 /// The physical ambient against which a wake's turbulence counts as extra.
 pub fn surface_layer_dissipation(air_friction_velocity: f64, depth: f64) -> f64 {
-    let water = air_friction_velocity * (crate::short_waves::RHO_AIR / RHO_WATER).sqrt();
-    water.powi(3) / (crate::short_waves::KARMAN * depth.max(1e-3))
+    let water = air_friction_velocity * (RHO_AIR / RHO_WATER).sqrt();
+    water.powi(3) / (KARMAN * depth.max(1e-3))
 }
 
 /// The wake's damping of short waves over the undisturbed sea's: what the film's

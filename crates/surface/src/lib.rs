@@ -9,6 +9,7 @@
 
 pub mod action;
 pub mod bragg_scale;
+pub mod constants;
 pub mod film;
 pub mod fourier;
 pub mod kelvin;

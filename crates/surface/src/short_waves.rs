@@ -27,13 +27,10 @@
 //! (Table 2.1, 1e-6 m^2/s).
 
 use crate::film::viscous_damping;
-use crate::spectrum::{angular_frequency, SeaSpectrum, RHO_WATER};
+use crate::constants::{KARMAN, RHO_AIR, RHO_WATER};
+use crate::spectrum::{angular_frequency, SeaSpectrum};
 use std::f64::consts::PI;
 
-/// Density of air (kg/m^3).
-pub const RHO_AIR: f64 = 1.225;
-/// Von Karman's constant.
-pub const KARMAN: f64 = 0.4;
 /// Kinematic viscosity of air (m^2/s).
 const NU_AIR: f64 = 1.47e-5;
 /// Saturation constant a and the mean growth parameter C_beta^m of alpha = a (C_beta^m)^(-1/n)

@@ -9,12 +9,11 @@
 //! heading, as everywhere in wakelab. Deep water, gravity-capillary dispersion
 //! omega^2 = g k + tau k^3 / rho.
 
+use crate::constants::RHO_WATER;
 use serde::Serialize;
 use std::f64::consts::PI;
 use wakelab_core::config::{NamedDirection, SeaConfig, SpectrumModel, SwellConfig, SwellDirection};
 
-/// Sea-water density used for capillarity (kg/m^3).
-pub const RHO_WATER: f64 = 1025.0;
 
 /// Pierson-Moskowitz constants of Eq. (2.71).
 pub const PM_ALPHA: f64 = 8.1e-3;

@@ -10,7 +10,7 @@
 //! Gamma = 1 upstream of the first row; the sides of the map are no-flux, so the flux
 //! integral of (U_ship - u) Gamma dy is the same through every row.
 
-use crate::film::NU;
+use crate::constants::NU;
 use rayon::prelude::*;
 use wakelab_hydro::{SliceField, SurfaceMap};
 

@@ -67,7 +67,7 @@ pub struct RunArgs {
 #[derive(Args, Debug, Clone)]
 pub struct StudyArgs {
     /// Study: `default` (embedded, about ten minutes on a 2-core laptop), `paper` (the spec's
-    /// scale and recipe) or a study TOML file (see crates/data/src/default_study.toml).
+    /// scale and recipe) or a study TOML file (see configs/study/default.toml).
     #[arg(long, value_name = "NAME|FILE")]
     pub study: Option<String>,
     /// `quick` (the default study) or `paper` (the paper study); --study wins when both are given.

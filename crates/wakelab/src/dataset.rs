@@ -10,7 +10,7 @@ pub fn run_dataset(args: &DatasetArgs) -> Result<()> {
         eprintln!("{}", emit_dataset_slurm(&study, &args.study, &args.out, args.tasks)?.1);
         return Ok(());
     }
-    let shard: Option<wakelab_data::Shard> = (args.shard.as_deref())
+    let shard: Option<wakelab_dataset::Shard> = (args.shard.as_deref())
         .map(|text| text.parse().map_err(|e| anyhow::anyhow!("--shard {text}: {e}")))
         .transpose()?;
     if !args.merge {

@@ -9,7 +9,7 @@ use wakelab_study::slurm::{write_slurm_script, SlurmRun};
 use wakelab_study::stages::OneStage;
 
 /// `wakelab run --emit-slurm`.
-fn emit_slurm(args: &StudyArgs, name: &str, study: &wakelab_data::study::Study, dir: &std::path::Path) -> Result<()> {
+fn emit_slurm(args: &StudyArgs, name: &str, study: &wakelab_dataset::study::Study, dir: &std::path::Path) -> Result<()> {
     let run = SlurmRun::new(name, study, dir, &args.device, args.tasks, args.cpus)?;
     let script = write_slurm_script(study, &run)?;
     eprintln!(

@@ -1,6 +1,6 @@
 //! Reading a dataset rendered by the data stage.
 
-use wakelab_data::study::{Band, Study};
+use wakelab_dataset::study::{Band, Study};
 use wakelab_learn::data::Dataset;
 
 #[test]
@@ -14,8 +14,8 @@ fn a_rendered_dataset_reads_back_normalised_in_every_band() {
     )
     .unwrap();
     let dir = tempfile::tempdir().unwrap();
-    wakelab_data::run_study(&study, dir.path(), None, None, &|_| {}).unwrap();
-    wakelab_data::write_manifest(&study, dir.path()).unwrap();
+    wakelab_dataset::render_dataset(&study, dir.path(), None, None, &|_| {}).unwrap();
+    wakelab_dataset::write_manifest(&study, dir.path()).unwrap();
     let ds = Dataset::open(dir.path()).unwrap();
     assert_eq!(ds.records.len(), 4);
     for i in 0..ds.records.len() {

@@ -1,7 +1,7 @@
-//! wakelab-data: stage 4 of the pipeline (spec chapter 4 opening, Fig. 4.3, Algorithm 2): a
+//! wakelab-dataset: stage 4 of the pipeline (spec chapter 4 opening, Fig. 4.3, Algorithm 2): a
 //! parametric study rendered into a labelled dataset on disk.
 //!
-//! [`run_study`] renders every wake/no-wake pair of a [`Study`] (in parallel, resumable: a scene
+//! [`render_dataset`] renders every wake/no-wake pair of a [`Study`] (in parallel, resumable: a scene
 //! is done when its `scene.json`, written last and atomically, holds the [`render_key`] of what
 //! the study renders now; a scene of another key is rendered again) and [`write_manifest`]
 //! gathers the finished scenes into `manifest.json`, `manifest.csv` and `splits.json`. The
@@ -104,7 +104,7 @@ pub enum Progress {
 
 /// Render the pairs of `study` selected by `shard` into `dir`, skipping finished scenes.
 /// `stop_after` ends the run after that many newly rendered pairs (to test resuming).
-pub fn run_study(
+pub fn render_dataset(
     study: &Study,
     dir: &Path,
     shard: Option<Shard>,

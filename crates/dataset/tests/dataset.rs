@@ -2,11 +2,11 @@
 
 use std::collections::BTreeMap;
 use std::path::Path;
-use wakelab_data::study::{Band, Study};
-use wakelab_data::{run_study, shard_indices, write_manifest, Shard};
+use wakelab_dataset::study::{Band, Study};
+use wakelab_dataset::{render_dataset, shard_indices, write_manifest, Shard};
 use wakelab_schema::split::Split;
 
-fn quiet(_: wakelab_data::Progress) {}
+fn quiet(_: wakelab_dataset::Progress) {}
 
 /// A small study: `axes` lines added to 64 x 64 scenes 3 km behind the ship on a 20-minute wake.
 fn study(axes: &str, seeds: usize) -> Study {
@@ -63,16 +63,16 @@ fn files(dir: &Path) -> BTreeMap<String, Vec<u8>> {
 fn killing_and_resuming_gives_the_same_bytes_as_one_run() {
     let s = study("wind_speed = [5.0, 8.0]", 2);
     let (one, resumed) = (tempfile::tempdir().unwrap(), tempfile::tempdir().unwrap());
-    run_study(&s, one.path(), None, None, &quiet).unwrap();
+    render_dataset(&s, one.path(), None, None, &quiet).unwrap();
     write_manifest(&s, one.path()).unwrap();
     // stop after one pair, leave a half-written scene behind, stop again, then finish
-    run_study(&s, resumed.path(), None, Some(1), &quiet).unwrap();
+    render_dataset(&s, resumed.path(), None, Some(1), &quiet).unwrap();
     let half = resumed.path().join("scenes/000003-w");
     std::fs::create_dir_all(&half).unwrap();
     std::fs::write(half.join("C.npy"), b"half a file").unwrap();
-    let t = run_study(&s, resumed.path(), None, Some(1), &quiet).unwrap();
+    let t = render_dataset(&s, resumed.path(), None, Some(1), &quiet).unwrap();
     assert_eq!(t.scenes_skipped, 2);
-    run_study(&s, resumed.path(), None, None, &quiet).unwrap();
+    render_dataset(&s, resumed.path(), None, None, &quiet).unwrap();
     write_manifest(&s, resumed.path()).unwrap();
     let (a, b) = (files(one.path()), files(resumed.path()));
     assert_eq!(a.keys().collect::<Vec<_>>(), b.keys().collect::<Vec<_>>());
@@ -108,10 +108,10 @@ fn shards_cover_every_pair_once_and_their_merge_equals_one_run() {
     }
     let s = study("wind_speed = [5.0, 8.0]", 1);
     let (one, sharded) = (tempfile::tempdir().unwrap(), tempfile::tempdir().unwrap());
-    run_study(&s, one.path(), None, None, &quiet).unwrap();
+    render_dataset(&s, one.path(), None, None, &quiet).unwrap();
     write_manifest(&s, one.path()).unwrap();
     for k in 0..2 {
-        run_study(&s, sharded.path(), Some(Shard { shard: k, count: 2 }), None, &quiet).unwrap();
+        render_dataset(&s, sharded.path(), Some(Shard { shard: k, count: 2 }), None, &quiet).unwrap();
     }
     write_manifest(&s, sharded.path()).unwrap();
     assert_eq!(files(one.path()), files(sharded.path()));
@@ -136,7 +136,7 @@ fn shards_cover_every_pair_once_and_their_merge_equals_one_run() {
 fn wake_and_no_wake_scenes_differ_only_where_the_wake_is() {
     let s = study("", 1);
     let dir = tempfile::tempdir().unwrap();
-    run_study(&s, dir.path(), None, None, &quiet).unwrap();
+    render_dataset(&s, dir.path(), None, None, &quiet).unwrap();
     let load = |id: &str, what: &str| -> ndarray::Array2<f32> {
         ndarray_npy::read_npy(dir.path().join(format!("scenes/{id}/{what}.npy"))).unwrap()
     };
@@ -165,7 +165,7 @@ fn wake_and_no_wake_scenes_differ_only_where_the_wake_is() {
     let mut strict = s.clone();
     strict.study.min_visibility = 1000.0;
     let strict_dir = tempfile::tempdir().unwrap();
-    run_study(&strict, strict_dir.path(), None, None, &quiet).unwrap();
+    render_dataset(&strict, strict_dir.path(), None, None, &quiet).unwrap();
     let records = write_manifest(&strict, strict_dir.path()).unwrap();
     let wake = records.iter().find(|r| r.label == 1).unwrap();
     assert!(wake.label_by_band.values().all(|&l| l == 0));
@@ -178,7 +178,7 @@ fn wake_and_no_wake_scenes_differ_only_where_the_wake_is() {
 fn natural_slicks_are_not_the_wake() {
     let s = study("cross_track = [3000.0]\nslick_coverage = [0.3]", 1);
     let dir = tempfile::tempdir().unwrap();
-    run_study(&s, dir.path(), None, None, &quiet).unwrap();
+    render_dataset(&s, dir.path(), None, None, &quiet).unwrap();
     for band in ["C", "LWIR"] {
         let mask: ndarray::Array2<u8> =
             ndarray_npy::read_npy(dir.path().join(format!("scenes/000000-w/mask_{band}.npy"))).unwrap();
@@ -230,7 +230,7 @@ preset = "quick"
     )
     .unwrap();
     let dir = tempfile::tempdir().unwrap();
-    run_study(&s, dir.path(), None, None, &quiet).unwrap();
+    render_dataset(&s, dir.path(), None, None, &quiet).unwrap();
     let records = write_manifest(&s, dir.path()).unwrap();
     let vis = |dir: &str| {
         records
@@ -322,7 +322,7 @@ fn bad_study_files_are_refused_before_any_work() {
 /// speckle, thermal noise and the IR NETD on, headings drawn over the full circle.
 #[test]
 fn the_embedded_studies_are_valid_and_realistic() {
-    use wakelab_data::study::{DEFAULT_STUDY, PAPER_STUDY};
+    use wakelab_dataset::study::{DEFAULT_STUDY, PAPER_STUDY};
     for (name, text, pairs) in [("default", DEFAULT_STUDY, 192), ("paper", PAPER_STUDY, 180)] {
         let study = Study::from_toml_str(text, name).unwrap();
         let all = study.pairs().unwrap();

@@ -1,4 +1,4 @@
-//! The networks' 3 x 3 convolutions on the CPU backend through [`crate::conv_kernel`], with their
+//! The networks' 3 x 3 convolutions on the CPU backend through [`crate::kernels::gemm_conv`], with their
 //! own backward pass; burn's `conv2d` on every other backend. Same parameters, same result up to
 //! float rounding (tests below against burn's conv2d and its gradients).
 //!
@@ -7,7 +7,7 @@
 //! weight gradient as a convolution with batch and channels swapped, whose GEMM has 9 outputs
 //! per row. `bench/learning_vs_pytorch.sh` measures the training step beside PyTorch's.
 
-use crate::conv_kernel::{self, ConvShape};
+use crate::kernels::gemm_conv::{self, ConvShape};
 use burn::backend::autodiff::checkpoint::base::Checkpointer;
 use burn::backend::autodiff::checkpoint::strategy::CheckpointStrategy;
 use burn::backend::autodiff::grads::Gradients;
@@ -64,7 +64,7 @@ fn conv_shape(x: &FlexTensor, weight: &FlexTensor, padding: usize) -> ConvShape 
 fn forward_flex(x: &FlexTensor, weight: &FlexTensor, bias: &FlexTensor, padding: usize) -> FlexTensor {
     let (x, weight, bias) = (contiguous(x), contiguous(weight), contiguous(bias));
     let s = conv_shape(&x, &weight, padding);
-    let y = conv_kernel::forward(values(&x), values(&weight), Some(values(&bias)), &s);
+    let y = gemm_conv::forward(values(&x), values(&weight), Some(values(&bias)), &s);
     flex(y, &[s.batch, s.channels_out, s.out_height(), s.out_width()])
 }
 
@@ -88,15 +88,15 @@ impl Backward<Flex, 3> for Conv3x3Backward {
         let (x, weight) = (contiguous(&x), contiguous(&weight));
         let s = conv_shape(&x, &weight, padding);
         if let Some(node) = node_x {
-            let dx = conv_kernel::input_gradient(values(&weight), values(&dy), &s);
+            let dx = gemm_conv::input_gradient(values(&weight), values(&dy), &s);
             grads.register::<Flex>(node.id, flex(dx, &[s.batch, s.channels_in, s.height, s.width]));
         }
         if let Some(node) = node_weight {
-            let dw = conv_kernel::weight_gradient(values(&x), values(&dy), &s);
+            let dw = gemm_conv::weight_gradient(values(&x), values(&dy), &s);
             grads.register::<Flex>(node.id, flex(dw, &[s.channels_out, s.channels_in, 3, 3]));
         }
         if let Some(node) = node_bias {
-            let db = conv_kernel::bias_gradient(values(&dy), &s);
+            let db = gemm_conv::bias_gradient(values(&dy), &s);
             grads.register::<Flex>(node.id, flex(db, &[s.channels_out]));
         }
     }
@@ -130,7 +130,7 @@ impl<C: CheckpointStrategy> Conv3x3Backend for Autodiff<Flex, C> {
 }
 
 /// `conv`'s forward pass for a 3 x 3, stride-1, undilated, ungrouped convolution with bias and
-/// symmetric padding `padding`: [`crate::conv_kernel`] on the CPU backend (with or without
+/// symmetric padding `padding`: [`crate::kernels::gemm_conv`] on the CPU backend (with or without
 /// autodiff), burn's `conv2d` elsewhere.
 pub fn conv3x3(conv: &Conv2d, x: Tensor<4>, padding: usize) -> Tensor<4> {
     let weight = conv.weight.val();

@@ -28,7 +28,7 @@ pub fn write_manifest(study: &Study, dir: &Path) -> Result<Vec<SceneRecord>, Wak
                     path: path.display().to_string(),
                     message: e.to_string(),
                 })?;
-                // a scene of another configuration is not this study's (run_study re-renders it)
+                // a scene of another configuration is not this study's (render_dataset re-renders it)
                 if r.render_key == key {
                     records.push(r);
                 }

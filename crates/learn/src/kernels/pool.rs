@@ -6,7 +6,7 @@
 //! general 3-D max pooling (window bounds worked out with divisions for every output value).
 //! Here each output row reads two input rows.
 
-use crate::fast_conv::{contiguous, flex, on_flex, values};
+use crate::kernels::conv::{contiguous, flex, on_flex, values};
 use burn::backend::autodiff::checkpoint::base::Checkpointer;
 use burn::backend::autodiff::checkpoint::strategy::CheckpointStrategy;
 use burn::backend::autodiff::grads::Gradients;

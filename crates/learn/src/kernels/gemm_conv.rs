@@ -3,7 +3,7 @@
 //!
 //! Why not burn-flex's own convolution: its weight gradient is a convolution with the batch and
 //! channel axes swapped, a GEMM of C_out x 9 outputs that the `gemm` crate runs 16 lanes wide with
-//! 9 of them used (a quarter of a U-Net training step in `perf`, see `fast_conv`). Here the weight
+//! 9 of them used (a quarter of a U-Net training step in `perf`, see `conv`). Here the weight
 //! gradient is one GEMM per tile of output rows, dW[C_out, 9 C_in] += dY[C_out, P] cols[9 C_in, P]^T,
 //! and the input gradient is the forward kernel applied to dY with the flipped, transposed weights
 //! (the adjoint of a stride-1 correlation is the full correlation with the flipped kernel).

@@ -6,7 +6,6 @@
 //! - [`io`]: atomic file output, NetCDF (CF) writing and PNG pictures with a colour bar.
 
 pub mod config;
-mod config_validate;
 pub mod error;
 pub mod grid;
 pub mod io;

@@ -19,6 +19,10 @@ use wakelab_schema::band::{Band, Input};
 use wakelab_schema::dataset::SceneRecord;
 use wakelab_schema::split::Split;
 
+/// The paper's split: 135 training and 14 test images per band (4.2), i.e. this share of the
+/// images used is held out for testing.
+pub const PAPER_TEST_FRACTION: f64 = 14.0 / 149.0;
+
 /// A dataset directory and its manifest.
 pub struct Dataset {
     pub dir: PathBuf,
@@ -136,7 +140,7 @@ impl Dataset {
         if test > 0 {
             test as f64 / self.records.len() as f64
         } else {
-            crate::evaluate::PAPER_TEST_FRACTION
+            PAPER_TEST_FRACTION
         }
     }
 

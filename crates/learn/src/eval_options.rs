@@ -9,9 +9,7 @@ use wakelab_schema::band::{Band, Input};
 use wakelab_schema::results::Architecture;
 use wakelab_schema::split::Network;
 
-/// The paper's split: 135 training and 14 test images per band (4.2), i.e. this share of the
-/// images used is held out for testing.
-pub const PAPER_TEST_FRACTION: f64 = 14.0 / 149.0;
+pub use crate::data::PAPER_TEST_FRACTION;
 
 /// What to evaluate and how.
 #[derive(Debug, Clone)]

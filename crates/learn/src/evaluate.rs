@@ -5,7 +5,6 @@
 
 use crate::data::{balanced_split, Dataset};
 pub use crate::eval_options::{EvalOptions, PAPER_TEST_FRACTION};
-pub use crate::held_out::evaluate_held_out;
 use crate::masks::{mask_iou, MaskScore};
 use crate::store::{Detector, ModelInfo};
 use crate::train::{classify, duplicated, segment, train_classifier, train_unet, with_masks, EpochRecord, Example};

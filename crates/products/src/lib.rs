@@ -10,6 +10,7 @@
 
 pub mod cog;
 pub mod cosmo;
+pub mod exclude;
 pub mod frame;
 pub mod geojson;
 pub mod mask;
@@ -298,7 +299,7 @@ pub fn open_with_progress(
         }
     };
     if let Some(exclude) = &options.exclude {
-        let excluded = mask::exclude(&mut product.image, exclude)?;
+        let excluded = exclude::exclude(&mut product.image, exclude)?;
         product
             .report
             .notes

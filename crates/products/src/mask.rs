@@ -1,13 +1,10 @@
 //! No-data: what is masked (NaN in the image) before anything is scored. A GRD product fills
 //! the image outside its swath with zeros; such zeros are found as the zero pixels connected to
 //! the image's border (a zero inside the sea, after noise removal, is data and is floored, not
-//! masked). The user's `--exclude` raster (land, or anything to ignore) masks its non-zero
-//! pixels.
+//! masked). The user's `--exclude` raster is read in [`crate::exclude`].
 
 use ndarray::Array2;
 use std::collections::VecDeque;
-use std::path::Path;
-use wakelab_core::WakelabError;
 
 /// Mark as masked (true) every pixel of `raw` equal to zero that is connected (4-neighbours)
 /// to the image's border through zeros; returns how many.
@@ -45,43 +42,6 @@ pub fn border_zeros(raw: &Array2<f32>, masked: &mut Array2<bool>) -> usize {
         }
     }
     count
-}
-
-/// Set to NaN every pixel of `image` where the raster at `path` (any GDAL raster or `.npy`, of
-/// the image's size) is non-zero; returns how many pixels it excludes. A raster of another
-/// size is refused with both sizes.
-pub fn exclude(image: &mut Array2<f32>, path: &Path) -> Result<usize, WakelabError> {
-    let options = crate::ReadOptions {
-        quantity: crate::Quantity::BrightnessTemperature,
-        ..Default::default()
-    };
-    let values = if crate::extension(path) == "npy" {
-        crate::npy::read_array(path)?
-    } else {
-        crate::raster::read_band(path, &options)?.0
-    };
-    if values.dim() != image.dim() {
-        return Err(wakelab_core::ConfigError::new(
-            "--exclude",
-            format!("{} ({} x {} pixels)", path.display(), values.nrows(), values.ncols()),
-            format!(
-                "a raster of the input's size, {} x {} pixels, non-zero where excluded",
-                image.nrows(),
-                image.ncols()
-            ),
-        )
-        .into());
-    }
-    let mut count = 0;
-    image.zip_mut_with(&values, |v, &e| {
-        if e != 0.0 && !e.is_nan() {
-            if !v.is_nan() {
-                count += 1;
-            }
-            *v = f32::NAN;
-        }
-    });
-    Ok(count)
 }
 
 #[cfg(test)]

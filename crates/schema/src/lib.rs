@@ -13,6 +13,7 @@
 //!
 //! It depends on the core only, so learning builds without the physics and fusion without burn.
 
+pub mod architecture;
 pub mod axes;
 pub mod band;
 pub mod dataset;

@@ -1,7 +1,7 @@
 //! Which images a kept output was computed on, and which network computed it.
 
+use crate::architecture::Architecture;
 use crate::band::serde_by_name;
-use crate::results::Architecture;
 use std::fmt;
 use std::str::FromStr;
 

@@ -13,7 +13,6 @@
 //! - Atmospheric transmission and path radiance (the other terms of Eq. (3.4)) are 1 and 0, as in
 //!   the spec; [`RadianceTerms`] keeps them apart so they can be added.
 
-pub use crate::ir_image::{render_ir, IrImage, IrInfo, IrScene};
 use crate::optics::{reflectance_and_emissivity, seawater_index};
 use crate::planck::band_radiance;
 use serde::Serialize;

@@ -37,5 +37,6 @@ impl<'a, T> SensorScene<'a, T> {
     }
 }
 
-pub use ir::{render_ir, IrBand, IrImage, IrScene};
+pub use ir::IrBand;
+pub use ir_image::{render_ir, IrImage, IrScene};
 pub use sar_image::{render_sar, SarImage, SarScene};

@@ -126,7 +126,7 @@ pub fn write_ir(
     dir: &Path,
     config: &WakelabConfig,
     grid: &SceneGrid,
-    image: &crate::ir::IrImage,
+    image: &crate::ir_image::IrImage,
 ) -> Result<Vec<PathBuf>, WakelabError> {
     let radiance: Vec<f32> = image.radiance.iter().map(|&v| v as f32).collect();
     let bt: Vec<f32> = image.brightness_temperature.iter().map(|&v| v as f32).collect();

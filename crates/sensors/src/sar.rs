@@ -50,7 +50,6 @@
 
 use crate::breaking::BREAKING_TILT;
 pub use crate::breaking::{breaking_zone_nrcs, breaking_zones, BreakingZones};
-pub use crate::sigma0_report::{sigma0_of_sea, Sigma0Report};
 use crate::slopes::{look_frame_variances, wind_frame_variances, SlopeDensity};
 use num_complex::Complex64;
 use std::f64::consts::PI;
@@ -246,6 +245,7 @@ pub fn to_db(sigma: f64) -> f64 {
 mod tests {
     use super::*;
     use crate::permittivity::seawater_permittivity;
+    use crate::sigma0_report::{sigma0_of_sea, Sigma0Report};
     use wakelab_core::units::RadarBand;
     use wakelab_core::WakelabConfig;
 

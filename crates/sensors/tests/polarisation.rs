@@ -6,7 +6,7 @@ use wakelab_core::units::RadarBand;
 use wakelab_core::WakelabConfig;
 use wakelab_sensors::gmf::CELL_SIZE;
 use wakelab_sensors::permittivity::seawater_permittivity;
-use wakelab_sensors::sar::sigma0_of_sea;
+use wakelab_sensors::sigma0_report::sigma0_of_sea;
 use wakelab_surface::spectrum::SeaSpectrum;
 
 /// The empirical polarisation ratio PR = sigma_VV / sigma_HH = ((1 + 2 tan^2) / (1 + a tan^2))^2

@@ -26,8 +26,8 @@
 //! S, C and X band at incidences up to 60 degrees); molecular viscosity is the spec's
 //! (Table 2.1, 1e-6 m^2/s).
 
-use crate::film::viscous_damping;
 use crate::constants::{KARMAN, RHO_AIR, RHO_WATER};
+use crate::film::viscous_damping;
 use crate::spectrum::{angular_frequency, SeaSpectrum};
 use std::f64::consts::PI;
 

@@ -14,7 +14,6 @@ use serde::Serialize;
 use std::f64::consts::PI;
 use wakelab_core::config::{NamedDirection, SeaConfig, SpectrumModel, SwellConfig, SwellDirection};
 
-
 /// Pierson-Moskowitz constants of Eq. (2.71).
 pub const PM_ALPHA: f64 = 8.1e-3;
 pub const PM_BETA: f64 = 0.74;

@@ -1,0 +1,80 @@
+//! The network architectures of spec 4.1 and the input sizes they accept.
+
+use serde::{Deserialize, Serialize};
+
+/// Smallest input side of the classifiers of Table 4.1: their three (conv 3x3, pool 2) stages
+/// leave one pixel.
+pub const MIN_CLASSIFIER_SIZE: usize = 22;
+/// The U-Net's input side must be a multiple of this (Table 4.2's three poolings).
+pub const UNET_SIZE_MULTIPLE: usize = 8;
+
+/// The classifier architectures of spec 4.1.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord, Serialize, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum Architecture {
+    /// One channel per band: the image itself.
+    Base,
+    /// The control: the bands' images and a copy of the first (4.1, 5.2), so the input is as
+    /// wide as "unet"'s.
+    Cls,
+    /// The bands' images and the mask a U-Net trained on the same bands draws on them.
+    Unet,
+}
+
+impl Architecture {
+    pub const ALL: [Architecture; 3] = [Architecture::Base, Architecture::Cls, Architecture::Unet];
+
+    pub fn name(self) -> &'static str {
+        match self {
+            Architecture::Base => "base",
+            Architecture::Cls => "cls",
+            Architecture::Unet => "unet",
+        }
+    }
+
+    /// Input channels of the classifier for `bands` image channels (Table 4.1's `inChannels`):
+    /// one more than the bands for "cls" and "unet" (4.1; 5.2 for several bands).
+    pub fn classifier_channels(self, bands: usize) -> usize {
+        match self {
+            Architecture::Base => bands,
+            Architecture::Cls | Architecture::Unet => bands + 1,
+        }
+    }
+
+    pub fn parse(text: &str) -> Option<Self> {
+        Self::ALL.into_iter().find(|a| a.name() == text)
+    }
+
+    /// Whether the architecture takes square images of side `size`: Table 4.1's three
+    /// (conv 3x3, pool 2) stages need at least [`MIN_CLASSIFIER_SIZE`] pixels, and the U-Net of
+    /// Table 4.2 (in "unet") a multiple of [`UNET_SIZE_MULTIPLE`]. The error says what is allowed.
+    pub fn accepts_input_size(self, size: usize) -> Result<(), String> {
+        let unet = self == Architecture::Unet;
+        if size >= MIN_CLASSIFIER_SIZE && (!unet || size % UNET_SIZE_MULTIPLE == 0) {
+            return Ok(());
+        }
+        Err(if unet {
+            format!(
+                "\"unet\" needs a side that is a multiple of {UNET_SIZE_MULTIPLE} and at least {MIN_CLASSIFIER_SIZE} pixels (24, 32, 40, ...): the U-Net's three poolings and the classifier's three convolution stages"
+            )
+        } else {
+            format!(
+                "\"{self}\" needs a side of at least {MIN_CLASSIFIER_SIZE} pixels (three 3 x 3 convolution and pooling stages)"
+            )
+        })
+    }
+}
+
+/// A name: `base`, `cls` or `unet`.
+impl std::str::FromStr for Architecture {
+    type Err = String;
+    fn from_str(s: &str) -> Result<Self, Self::Err> {
+        Self::parse(s.trim()).ok_or_else(|| format!("{s}: must be base, cls or unet"))
+    }
+}
+
+impl std::fmt::Display for Architecture {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.pad(self.name())
+    }
+}

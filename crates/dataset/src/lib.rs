@@ -67,10 +67,10 @@ impl StageTimes {
     }
 }
 
-/// FNV-1a 64-bit hash of text (stable across runs and platforms, for cache keys).
-pub fn fnv(text: &str) -> u64 {
+/// FNV-1a 64-bit hash of bytes, text or a file's (stable across runs and platforms, for cache keys).
+pub fn fnv(bytes: impl AsRef<[u8]>) -> u64 {
     let mut h: u64 = 0xcbf2_9ce4_8422_2325;
-    for b in text.bytes() {
+    for &b in bytes.as_ref() {
         h ^= b as u64;
         h = h.wrapping_mul(0x0000_0100_0000_01b3);
     }
@@ -79,7 +79,7 @@ pub fn fnv(text: &str) -> u64 {
 
 /// The hydro stage's cache key: the hash of exactly what it reads ([`HydroInputs`]).
 pub fn hydro_key(config: &WakelabConfig) -> String {
-    format!("{:016x}", fnv(&HydroInputs::of(config).key_text()))
+    format!("{:016x}", fnv(HydroInputs::of(config).key_text()))
 }
 
 /// The surface map of a hydro case, from the cache or simulated (and cached).
@@ -212,7 +212,7 @@ pub fn render_key(study: &Study, pair: &ScenePair) -> String {
         "bands": study.study.bands,
         "min_visibility": study.study.min_visibility,
     });
-    format!("{:016x}", fnv(&what.to_string()))
+    format!("{:016x}", fnv(what.to_string()))
 }
 
 /// Whether a scene in the dataset directory is finished and rendered from `key`.
@@ -340,7 +340,8 @@ fn kelvin_record(config: &WakelabConfig, bands: &[render::BandPair], mask: Strin
     }
 }
 
-fn write_npy_atomically<A: ndarray_npy::WritableElement>(
+/// Write `a` as an npy file at `path` through a temporary file (no half-written file on failure).
+pub fn write_npy_atomically<A: ndarray_npy::WritableElement>(
     path: &Path,
     a: &ndarray::Array2<A>,
 ) -> Result<(), WakelabError> {

@@ -59,7 +59,7 @@ pub fn write_manifest(study: &Study, dir: &Path) -> Result<Vec<SceneRecord>, Wak
     }
     let mut order: Vec<(u64, String, usize)> = groups
         .into_iter()
-        .map(|(g, n)| (fnv(&format!("{}:{g}", pairs.len())), g, n))
+        .map(|(g, n)| (fnv(format!("{}:{g}", pairs.len())), g, n))
         .collect();
     order.sort();
     let total: usize = order.iter().map(|o| o.2).sum();

@@ -227,7 +227,7 @@ impl Study {
         use rand::{RngExt, SeedableRng};
         let mut c = combination.clone();
         for (name, [lo, hi]) in &self.draws {
-            let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(crate::fnv(&format!("{seed}/{index}/{name}")));
+            let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(crate::fnv(format!("{seed}/{index}/{name}")));
             let u: f64 = rng.random();
             c = c.with_value(name, lo + (hi - lo) * u).expect("validated as continuous");
         }

@@ -1,44 +1,42 @@
-//! wakelab-study: the crate that joins the pipeline's stages into a study (data, learn and
-//! fusion) and writes its report; the `wakelab` binary only parses, calls and prints.
+//! wakelab-study: the crate that joins the pipeline's stages (spec Fig. 2.1: hydrodynamics,
+//! ocean surface, sensors, data, learning, fusion) into a study, and renders its report; the
+//! `wakelab` binary only parses, calls and prints.
 //!
-//! `wakelab run`: the whole study of a study file, from physics to fused detections and a report
-//! (the workflow of the spec's Fig. 2.1). Stages, each in its own folder of the run directory:
+//! `wakelab run`: the whole study of a study file, in named steps ([`steps`]), each writing its
+//! results to its own folder of the run directory and reused when its inputs have not changed:
 //!
-//! 1. `dataset/`: the study's wakes, sea surfaces and SAR/IR images (stages 1-4 of the pipeline);
-//! 2. `learn/<input>/`: Algorithm 2 for every architecture on one input (a band, or bands as
-//!    channels), with the perturbed test images of the robustness study;
-//! 3. `learn/held_out/`: the classifiers trained with one environment held out at a time;
-//! 4. `fusion/`: decision-level fusion (Bayes, Dempster-Shafer) of the single-band outputs;
-//! 5. `report/`: HTML, Markdown and CSV.
+//! - dataset (`dataset/`): the study's wakes, sea surfaces and SAR/IR images (pipeline stages
+//!   1-4), every finished scene skipped;
+//! - learning (`learn/<input>/`): Algorithm 2 for every architecture on one input (a band, or
+//!   bands as channels), with the perturbed test images of the robustness study;
+//! - held-out (`learn/held_out*/`): the classifiers trained with one environment, and one third
+//!   of the wake ages, held out at a time;
+//! - fusion (`fusion/`): decision-level fusion (Bayes, Dempster-Shafer) of the single bands;
+//! - scan (`whole_scene/`): each band's detector scanned over one scene eight chips wide;
+//! - environments (`environments/`): the spec's calm, head and following seas per radar band,
+//!   and the open sea's sigma0 against CMOD5.N;
+//! - report (`report/`): HTML, Markdown and CSV, rendered from what the steps wrote ([`report`]
+//!   runs no physics and trains nothing).
 //!
-//! `wakelab run --stage learning --input NAME` and `--stage held-out` run one learning stage on a
+//! `wakelab run --stage learning --input NAME` and `--stage held-out` run one learning step on a
 //! finished dataset, as the jobs of `wakelab run --emit-slurm` ([`slurm`]) do side by side.
 //!
-//! A learning stage is reused when its key (a hash of the manifest, the `[learning]` table, the
-//! input and wakelab's version) matches the one stored beside its outputs; the dataset stage
-//! skips every finished scene. Fusion and the report are cheap and always rebuilt.
+//! A learning step is reused when its key (a hash of the manifest, the `[learning]` table, the
+//! input and wakelab's version) matches the one stored beside its outputs; the scan's key adds
+//! its scene and detectors, the environments' the study's base configuration. Fusion and the
+//! report are cheap and always rebuilt.
 
 pub mod dataset;
-pub mod environments;
-mod held_out;
-mod html;
 pub mod learning;
-pub mod mask_quality;
 pub mod output;
-mod pictures;
 mod plan;
 pub mod product_scan;
-mod radar;
+pub mod products;
 pub mod report;
 pub mod scan;
 pub mod scene;
 pub mod slurm;
-pub mod stability;
-pub mod stages;
-mod svg;
-mod test_scenes;
-pub mod visibility;
-mod whole_scene;
+pub mod steps;
 
 use indicatif::{ProgressBar, ProgressStyle};
 use serde::{Deserialize, Serialize};
@@ -50,21 +48,23 @@ use wakelab_learn::device::Device;
 /// Errors of a study run: any stage's, with the path or field it concerns.
 pub type Result<T> = anyhow::Result<T>;
 
-/// Wall time of one stage of this run.
+/// Wall time of one step of this run.
 #[derive(Debug, Clone, Serialize, Deserialize)]
-pub struct StageTime {
-    pub stage: String,
+pub struct StepTime {
+    /// The step's name (`timing.json` keeps the key "stage" its readers know).
+    #[serde(rename = "stage")]
+    pub step: String,
     /// Seconds this run spent.
     pub seconds: f64,
-    /// Seconds the stage took when it was computed (equal to `seconds` unless reused).
+    /// Seconds the step took when it was computed (equal to `seconds` unless reused).
     pub computed_seconds: f64,
     pub reused: bool,
 }
 
-/// "dataset      16.6 s", with "(reused; computed in 16.6 s)" for a reused stage.
-impl std::fmt::Display for StageTime {
+/// "dataset      16.6 s", with "(reused; computed in 16.6 s)" for a reused step.
+impl std::fmt::Display for StepTime {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        write!(f, "{:<26} {:>8.1} s", self.stage, self.seconds)?;
+        write!(f, "{:<26} {:>8.1} s", self.step, self.seconds)?;
         if self.reused {
             write!(f, " (reused; computed in {:.1} s)", self.computed_seconds)?;
         }
@@ -88,25 +88,39 @@ pub fn progress_bar(quiet: bool, length: u64, template: &str) -> ProgressBar {
     bar
 }
 
-/// The single progress display of a run: one bar, re-used stage after stage, showing the stage,
+/// A (done, total) reporter that shows `what` on `bar`, restarting the bar when the phase changes:
+/// one bar for a command's successive phases (a product's rows read, then its windows scored).
+pub fn follow_on(bar: &ProgressBar, what: &'static str) -> impl FnMut(usize, usize) {
+    let bar = bar.clone();
+    move |done, total| {
+        if bar.message() != what {
+            bar.set_message(what);
+            bar.reset();
+        }
+        bar.set_length(total as u64);
+        bar.set_position(done as u64);
+    }
+}
+
+/// The single progress display of a run: one bar, re-used step after step, showing the step,
 /// the item, the rate and the time left.
 pub struct Display {
     bar: ProgressBar,
-    stages: usize,
+    steps: usize,
 }
 
 impl Display {
-    fn new(quiet: bool, stages: usize) -> Self {
+    fn new(quiet: bool, steps: usize) -> Self {
         let template = "{spinner} {prefix:<22} [{bar:30}] {percent:>3}% | {msg} | {elapsed_precise}, {eta} left";
         Self {
             bar: progress_bar(quiet, 1, template),
-            stages,
+            steps,
         }
     }
 
-    /// Start stage `k` (1-based) with `units` of work.
-    pub fn stage(&self, k: usize, name: &str, units: u64) {
-        self.bar.set_prefix(format!("stage {k}/{} {name}", self.stages));
+    /// Start step `k` (1-based) with `units` of work.
+    pub fn step(&self, k: usize, name: &str, units: u64) {
+        self.bar.set_prefix(format!("step {k}/{} {name}", self.steps));
         self.bar.set_length(units.max(1));
         self.bar.set_position(0);
         self.bar.reset_eta();
@@ -148,16 +162,16 @@ pub fn load_study(name: &str) -> Result<wakelab_dataset::study::Study> {
     })
 }
 
-/// What a finished study run leaves: its stages (for the summary) and the report's files.
+/// What a finished study run leaves: its steps' times (for the summary) and the report's files.
 pub struct StudyOutcome {
-    pub run: stages::StudyRun,
+    pub run: steps::StudyRun,
     pub files: Vec<PathBuf>,
     /// Wall time of the whole run (s).
     pub seconds: f64,
 }
 
 impl StudyOutcome {
-    /// Each stage's time, the run's and the files written, a line each.
+    /// Each step's time, the run's and the files written, a line each.
     pub fn describe(&self, study_name: &str) -> String {
         let mut lines: Vec<String> = self.run.times.iter().map(|t| format!("  {t}")).collect();
         lines.push(format!("study \"{study_name}\" finished in {:.1} s", self.seconds));
@@ -166,26 +180,34 @@ impl StudyOutcome {
     }
 }
 
-/// `wakelab run`: every stage of `study` in `dir` (reusing what is finished), then the report.
+/// The number of steps a full run shows in its progress display.
+const STEPS: usize = 7;
+
+/// `wakelab run`: every step of `study` in `dir` (reusing what is finished), then the report.
 /// `quiet` hides the progress bar.
-pub fn run_study(study: &wakelab_dataset::study::Study, dir: &Path, device: &Device, quiet: bool) -> Result<StudyOutcome> {
+pub fn run_study(
+    study: &wakelab_dataset::study::Study,
+    dir: &Path,
+    device: &Device,
+    quiet: bool,
+) -> Result<StudyOutcome> {
     std::fs::create_dir_all(dir).map_err(|e| anyhow::anyhow!("{}: {e}", dir.display()))?;
     write_atomically(dir.join("study.toml"), toml::to_string(study)?.as_bytes())?;
     let start = Instant::now();
     let started = chrono::Utc::now().format("%Y-%m-%d %H:%M UTC").to_string();
-    let display = Display::new(quiet, 5);
-    let result = stages::run_stages(study, dir, device, &display);
+    let display = Display::new(quiet, STEPS);
+    let result = steps::run_steps(study, dir, device, &display);
     display.finish();
     let mut run = result?;
     run.started = started;
     run.device = wakelab_learn::device::describe_device(device);
-    // the report's wall-time table holds the report's own time: it is written once to time it,
+    // the report's wall-time table holds the report's own time: it is rendered once to time it,
     // then again with that time (a fraction of a second)
     let report_start = Instant::now();
     report::write_report(dir, study, &run)?;
     let seconds = report_start.elapsed().as_secs_f64();
-    run.times.push(StageTime {
-        stage: "report".into(),
+    run.times.push(StepTime {
+        step: "report".into(),
         seconds,
         computed_seconds: seconds,
         reused: false,
@@ -202,16 +224,16 @@ pub fn run_study(study: &wakelab_dataset::study::Study, dir: &Path, device: &Dev
     })
 }
 
-/// `wakelab run --stage ...`: one learning stage of `study` in `dir`, on its finished dataset.
-pub fn run_one_stage(
+/// `wakelab run --stage ...`: one learning step of `study` in `dir`, on its finished dataset.
+pub fn run_one_step(
     study: &wakelab_dataset::study::Study,
     dir: &Path,
-    stage: &stages::OneStage,
+    step: &steps::OneStep,
     device: &Device,
     quiet: bool,
-) -> Result<StageTime> {
-    let display = Display::new(quiet, 5);
-    let result = stages::run_one_stage(study, dir, stage, device, &display);
+) -> Result<StepTime> {
+    let display = Display::new(quiet, STEPS);
+    let result = steps::run_one_step(study, dir, step, device, &display);
     display.finish();
     result
 }

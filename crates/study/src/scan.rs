@@ -102,7 +102,7 @@ pub fn write_asked_mask(
             None
         }
         None => Some(format!(
-            "note: --mask needs a \"unet\" detector; {} is \"{architecture}\"",
+            "--mask needs a \"unet\" detector; {} is \"{architecture}\"",
             model.display()
         )),
     })

@@ -108,7 +108,7 @@ fn run_does_the_whole_study_reuses_its_stages_and_repeats_its_tables() {
         "Robustness",
         "rotate_30",
         "held-out environment",
-        "Wall time per stage",
+        "Wall time per step",
     ] {
         assert!(html.contains(needle), "report lacks {needle}");
     }
@@ -157,6 +157,8 @@ fn run_does_the_whole_study_reuses_its_stages_and_repeats_its_tables() {
             "held-out environments",
             "held-out geometry",
             "fusion",
+            "scan",
+            "environments",
             "report"
         ]
     );

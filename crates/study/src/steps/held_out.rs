@@ -1,10 +1,10 @@
-//! Stage 3 of `wakelab run`: detectors trained with one group of scenes held out at a time and
+//! The held-out step of `wakelab run`: detectors trained with one group of scenes held out at a time and
 //! tested on it; the groups are the values of an environment axis (`held_out`, e.g. each wind
 //! speed) or bins of a geometry axis (`held_out_geometry`, e.g. thirds of the wake ages).
 
+use super::context::{fnv_hex, read_cache, step_key, step_time, training_units, CachedStep, Context};
 use crate::output::csv;
-use crate::stages::{fnv_hex, read_cache, stage_key, stage_time, training_units, CachedStage, Context};
-use crate::{Result, StageTime};
+use crate::{Result, StepTime};
 use std::collections::BTreeMap;
 use std::path::Path;
 use std::time::Instant;
@@ -12,13 +12,14 @@ use wakelab_core::io::write_atomically;
 use wakelab_core::WakelabError;
 use wakelab_dataset::learning::LearningPlan;
 use wakelab_learn::data::Dataset;
-use wakelab_learn::evaluate::{evaluate_held_out, Output};
+use wakelab_learn::evaluate::Output;
+use wakelab_learn::held_out::evaluate_held_out;
 use wakelab_learn::models::Architecture;
 use wakelab_schema::axes::Combination;
 use wakelab_schema::band::Input;
 
 /// Architectures trained with an environment held out: the two plain classifiers (the U-Net's
-/// "unet" would double the stage's time; its robustness shows in the perturbed test images).
+/// "unet" would double the step's time; its robustness shows in the perturbed test images).
 pub const HELD_OUT_ARCHITECTURES: [Architecture; 2] = [Architecture::Base, Architecture::Cls];
 
 /// Architectures trained with a geometry bin held out: "base" alone, which keeps the default
@@ -102,7 +103,7 @@ fn round_label(v: f64) -> String {
 
 /// One held-out test: scenes grouped, each group in turn tested on detectors trained without it.
 struct HeldOutTest<'a> {
-    /// The stage's name in the wall-time table.
+    /// The step's name in the wall-time table.
     stage: &'static str,
     /// What the groups are (for the skip message).
     what: String,
@@ -110,13 +111,13 @@ struct HeldOutTest<'a> {
     architectures: &'a [Architecture],
 }
 
-/// Stage 3: detectors trained with one group of scenes held out at a time.
-fn held_out_stage(
+/// The held-out step: detectors trained with one group of scenes held out at a time.
+fn held_out_step(
     cx: &Context,
     test: HeldOutTest,
     singles: &[Input],
     dir: &Path,
-) -> Result<(Vec<String>, Vec<Output>, StageTime)> {
+) -> Result<(Vec<String>, Vec<Output>, StepTime)> {
     let (dataset, options, manifest_hash, device, display) = cx.parts();
     let start = Instant::now();
     let HeldOutTest {
@@ -135,14 +136,14 @@ fn held_out_stage(
             "{stage}: skipped ({what} gives {} group(s) in this study)",
             groups.len()
         ));
-        return Ok((names, Vec::new(), stage_time(stage, start, None)));
+        return Ok((names, Vec::new(), step_time(stage, start, None)));
     }
     let train_images = dataset.records.len() * (groups.len() - 1) / groups.len();
-    display.stage(3, stage, training_units(&o, train_images, groups.len()));
-    let key = stage_key(manifest_hash, &o) + &fnv_hex(&format!("{groups:?}"));
+    display.step(3, stage, training_units(&o, train_images, groups.len()));
+    let key = step_key(manifest_hash, &o) + &fnv_hex(&format!("{groups:?}"));
     let cache = dir.join("evaluation.json");
     if let Some(c) = read_cache(&cache, &key) {
-        return Ok((names, c.outputs, stage_time(stage, start, Some(c.seconds))));
+        return Ok((names, c.outputs, step_time(stage, start, Some(c.seconds))));
     }
     let indices: Vec<Vec<usize>> = groups.into_iter().map(|(_, idx)| idx).collect();
     let outputs = evaluate_held_out(dataset, &o, &indices, device, &mut |p| {
@@ -151,7 +152,7 @@ fn held_out_stage(
     let seconds = start.elapsed().as_secs_f64();
     std::fs::create_dir_all(dir).map_err(|e| WakelabError::io(dir, e))?;
     write_atomically(dir.join("outputs.csv"), &csv(&outputs)?)?;
-    let cached = CachedStage {
+    let cached = CachedStep {
         key,
         seconds,
         outputs,
@@ -159,7 +160,7 @@ fn held_out_stage(
         mask_scores: Vec::new(),
     };
     write_atomically(&cache, serde_json::to_string(&cached)?.as_bytes())?;
-    Ok((names, cached.outputs, stage_time(stage, start, None)))
+    Ok((names, cached.outputs, step_time(stage, start, None)))
 }
 
 /// The held-out environment test: one value of the plan's `held_out` axis at a time.
@@ -196,17 +197,17 @@ fn geometry_test(dataset: &Dataset, plan: &LearningPlan) -> HeldOutTest<'static>
     }
 }
 
-/// Stage 3, both held-out tests: (group names, outputs) of each and their wall times.
+/// The held-out step, both tests: (group names, outputs) of each and their wall times.
 #[allow(clippy::type_complexity)]
-pub(crate) fn held_out_stages(
+pub(crate) fn held_out_steps(
     cx: &Context,
     plan: &LearningPlan,
     singles: &[Input],
     dir: &Path,
-) -> Result<((Vec<String>, Vec<Output>), (Vec<String>, Vec<Output>), [StageTime; 2])> {
+) -> Result<((Vec<String>, Vec<Output>), (Vec<String>, Vec<Output>), [StepTime; 2])> {
     let (e_names, e_outputs, e_time) =
-        held_out_stage(cx, environment_test(cx.dataset, plan), singles, &dir.join("held_out"))?;
-    let (g_names, g_outputs, g_time) = held_out_stage(
+        held_out_step(cx, environment_test(cx.dataset, plan), singles, &dir.join("held_out"))?;
+    let (g_names, g_outputs, g_time) = held_out_step(
         cx,
         geometry_test(cx.dataset, plan),
         singles,

@@ -2,64 +2,53 @@
 //! CMOD5.N (Hersbach 2010), and the across-wake contrast of the example scene pair in S, C and
 //! X band.
 
-use crate::stages::StudyRun;
-use crate::svg::{LinePlot, Series};
+use super::svg::{LinePlot, Series};
+use crate::steps::environments::Sigma0Curve;
+use crate::steps::StudyRun;
 use anyhow::Result;
 use ndarray::Array2;
-use wakelab_core::config::Polarisation;
-use wakelab_core::units::RadarBand;
-use wakelab_core::WakelabConfig;
-use wakelab_sensors::sar::sigma0_of_sea;
-use wakelab_sensors::sar_image::surface_permittivity;
 
-/// Two plots (looking up-wind, cross-wind): wakelab's C-band VV sigma0 (solid) and CMOD5.N's
-/// over incidence 20-50 degrees for winds of 5, 10 and 15 m/s, for the sea of `base` without
-/// swell, in CMOD5.N's 25 km cell ([`wakelab_sensors::gmf::CELL_SIZE`]: every wave tilts).
-pub fn sigma0_against_cmod5n(base: &WakelabConfig) -> Vec<LinePlot> {
-    let eps = surface_permittivity(base, RadarBand::C);
-    let mut sea = base.clone();
-    sea.environment.swell.amplitude = 0.0;
-    let mut plots = Vec::new();
-    for (name, look) in [
-        ("up-wind", std::f64::consts::PI),
-        ("cross-wind", std::f64::consts::FRAC_PI_2),
-    ] {
-        let mut series = Vec::new();
-        for wind in [5.0, 10.0, 15.0] {
-            sea.environment.wind.speed = wind;
-            sea.environment.wind.direction = 0.0;
-            let spectrum = wakelab_surface::background_spectrum(&sea);
-            let reports: Vec<_> = (0..=12)
-                .map(|i| {
-                    let inc = 20.0 + 2.5 * i as f64;
-                    let cell = wakelab_sensors::gmf::CELL_SIZE;
-                    sigma0_of_sea(&spectrum, RadarBand::C, eps, Polarisation::Vv, look, inc, cell)
-                })
-                .collect();
-            series.push(Series {
-                name: format!("wakelab {wind}"),
-                points: reports.iter().map(|r| (r.incidence_deg, r.sigma0_db)).collect(),
-            });
-            series.push(Series {
-                name: format!("CMOD5.N {wind}"),
-                points: reports
-                    .iter()
-                    .map(|r| (r.incidence_deg, r.cmod5n_db.unwrap_or(f64::NAN)))
-                    .collect(),
-            });
+/// Two plots (looking up-wind, cross-wind) of the environments step's sigma0 curves: wakelab's
+/// C-band VV sigma0 (solid) and CMOD5.N's over incidence for winds of 5, 10 and 15 m/s.
+pub fn sigma0_against_cmod5n(curves: &[Sigma0Curve]) -> Vec<LinePlot> {
+    let mut looks: Vec<&str> = Vec::new();
+    for c in curves {
+        if !looks.contains(&c.look.as_str()) {
+            looks.push(&c.look);
         }
-        plots.push(LinePlot {
-            title: format!("C-band VV sigma0, {name}, wind in m/s"),
-            x_label: "incidence (deg)".into(),
-            y_label: "sigma0 (dB)".into(),
-            x_range: Some((20.0, 50.0)),
-            y_range: None,
-            series,
-            diagonal: false,
-            paired: true,
-        });
     }
-    plots
+    looks
+        .into_iter()
+        .map(|name| {
+            let mut series = Vec::new();
+            for c in curves.iter().filter(|c| c.look == name) {
+                let wind = c.wind;
+                series.push(Series {
+                    name: format!("wakelab {wind}"),
+                    points: c.incidence.iter().copied().zip(c.wakelab_db.iter().copied()).collect(),
+                });
+                series.push(Series {
+                    name: format!("CMOD5.N {wind}"),
+                    points: c
+                        .incidence
+                        .iter()
+                        .zip(&c.cmod5n_db)
+                        .map(|(&inc, db)| (inc, db.unwrap_or(f64::NAN)))
+                        .collect(),
+                });
+            }
+            LinePlot {
+                title: format!("C-band VV sigma0, {name}, wind in m/s"),
+                x_label: "incidence (deg)".into(),
+                y_label: "sigma0 (dB)".into(),
+                x_range: Some((20.0, 50.0)),
+                y_range: None,
+                series,
+                diagonal: false,
+                paired: true,
+            }
+        })
+        .collect()
 }
 
 /// The across-wake contrast of the dataset's first wake scene against its no-wake partner, for

@@ -3,7 +3,7 @@
 //! distribution of their contrast to clutter, and the rank correlation between a wake scene's
 //! visibility and the score a detector gave it on the test images.
 
-use crate::report::Table;
+use super::table::Table;
 use wakelab_core::io::geotiff::quantile;
 use wakelab_learn::evaluate::Output;
 use wakelab_learn::models::Architecture;

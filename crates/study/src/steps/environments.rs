@@ -1,6 +1,8 @@
-//! The report's table of the spec's environments (its Figs. 3.1-3.2; issue 12): is the
+//! The environments step of `wakelab run`: the spec's environments (its Figs. 3.1-3.2): is the
 //! persistent wake bright or dark in S, C and X band without swell, with head swell and with
-//! following swell, beside what those figures show?
+//! following swell? And the open sea's C-band VV sigma0 of the study's base sea against CMOD5.N.
+//! It writes `environments/environments.json`, which the report renders beside the spec's
+//! figures.
 //!
 //! A wake brightens the Bragg waves only where its converging currents refract energy into them
 //! faster than its film and excess turbulence damp them: in the relaxation form of the action
@@ -8,12 +10,21 @@
 //! the refraction source R exceeds the extra damping d. So beside each contrast the table gives
 //! the largest R across the wake at its age, and d and the relaxation rate mu where R is largest.
 
-use crate::report::Table;
-use crate::Result;
+use super::context::{fnv_hex, step_time};
+use crate::{Result, StepTime};
+use serde::{Deserialize, Serialize};
+use std::path::Path;
+use std::time::Instant;
+use wakelab_core::config::Polarisation;
 use wakelab_core::config::{NamedDirection, SwellDirection};
+use wakelab_core::io::write_atomically;
 use wakelab_core::units::RadarBand;
 use wakelab_core::WakelabConfig;
+use wakelab_core::WakelabError;
+use wakelab_dataset::study::Study;
 use wakelab_hydro::SurfaceMap;
+use wakelab_sensors::sar_image::surface_permittivity;
+use wakelab_sensors::sigma0_report::sigma0_of_sea;
 use wakelab_surface::action::{current_gradient, extra_damping, Relaxation};
 use wakelab_surface::short_waves::ShortWaves;
 use wakelab_surface::surfactant::redistribute_surfactant;
@@ -28,10 +39,10 @@ const SIDE: usize = 128;
 const SPACING: f64 = 10.0;
 /// A wake is called bright or dark where its brightest or darkest row departs by more than this
 /// (dB); nearer than that it is "none".
-const VISIBLE_DB: f64 = 0.5;
+pub const VISIBLE_DB: f64 = 0.5;
 
 /// One band's wake in one environment.
-#[derive(Debug, Clone, PartialEq)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct EnvironmentContrast {
     pub environment: NamedDirection,
     pub band: RadarBand,
@@ -55,17 +66,6 @@ impl EnvironmentContrast {
         } else {
             "dark"
         }
-    }
-}
-
-/// What the spec's figures show for `band` in `environment` (Fig. 3.2 is C band only; Fig. 3.1,
-/// the three bands, does not state its swell).
-pub fn spec_figure(environment: NamedDirection, band: RadarBand) -> &'static str {
-    match (band, environment) {
-        (RadarBand::C, NamedDirection::Calm) => "Fig. 3.2: no noticeable persistent wake",
-        (RadarBand::C, _) => "Fig. 3.2: wake visible; Fig. 3.1: bright streak",
-        (RadarBand::S, _) => "Fig. 3.1 (swell not stated): bright, with a dark outline",
-        (RadarBand::X, _) => "Fig. 3.1 (swell not stated): bright streak",
     }
 }
 
@@ -163,49 +163,103 @@ fn refraction_against_damping(c: &WakelabConfig, map: &SurfaceMap, band: RadarBa
     (largest, damping[row * cols + there], relaxation.rate)
 }
 
-/// The report's table of [`spec_environments`].
-pub fn environment_table(rows: &[EnvironmentContrast], along_track: f64) -> Table {
-    Table {
-        id: "spec_environments".into(),
-        title: "The spec's environments: bright or dark".into(),
-        caption: format!(
-            "The study's base sea, wind, ship and sensors (a perfect SAR, no slicks) without swell, with head \
-             swell and with following swell (the spec's Fig. 3.2), {along_track:.0} m behind the stern: the \
-             darkest and brightest row across the wake, wake scene over no-wake scene. A wake brightens \
-             where its converging currents' refraction source R beats its extra damping d (steady state \
-             mu / (mu + d - R) > 1): R is the largest across the wake, d and the Bragg waves' relaxation \
-             rate mu are where R is largest. \"none\": within {VISIBLE_DB} dB."
-        ),
-        header: [
-            "environment",
-            "band",
-            "darkest (dB)",
-            "brightest (dB)",
-            "wakelab",
-            "spec",
-            "R (1/s)",
-            "d (1/s)",
-            "mu (1/s)",
-        ]
-        .map(String::from)
-        .to_vec(),
-        rows: rows
-            .iter()
-            .map(|r| {
-                vec![
-                    format!("{:?}", r.environment).to_lowercase(),
-                    r.band.name().to_string(),
-                    format!("{:+.2}", r.darkest_db),
-                    format!("{:+.2}", r.brightest_db),
-                    r.verdict().to_string(),
-                    spec_figure(r.environment, r.band).to_string(),
-                    format!("{:.1e}", r.refraction),
-                    format!("{:.1e}", r.damping),
-                    format!("{:.1e}", r.relaxation),
-                ]
-            })
-            .collect(),
+/// The open sea's C-band VV sigma0 at one wind and look, wakelab's and CMOD5.N's (dB), over
+/// incidence (degrees).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct Sigma0Curve {
+    /// "up-wind" or "cross-wind".
+    pub look: String,
+    pub wind: f64,
+    pub incidence: Vec<f64>,
+    pub wakelab_db: Vec<f64>,
+    /// None where CMOD5.N has no value.
+    pub cmod5n_db: Vec<Option<f64>>,
+}
+
+/// Looking up-wind and cross-wind: wakelab's C-band VV sigma0 and CMOD5.N's over incidence
+/// 20-50 degrees for winds of 5, 10 and 15 m/s, for the sea of `base` without swell, in
+/// CMOD5.N's 25 km cell ([`wakelab_sensors::gmf::CELL_SIZE`]: every wave tilts).
+pub fn sigma0_against_cmod5n(base: &WakelabConfig) -> Vec<Sigma0Curve> {
+    let eps = surface_permittivity(base, RadarBand::C);
+    let mut sea = base.clone();
+    sea.environment.swell.amplitude = 0.0;
+    let mut curves = Vec::new();
+    for (look_name, look) in [
+        ("up-wind", std::f64::consts::PI),
+        ("cross-wind", std::f64::consts::FRAC_PI_2),
+    ] {
+        for wind in [5.0, 10.0, 15.0] {
+            sea.environment.wind.speed = wind;
+            sea.environment.wind.direction = 0.0;
+            let spectrum = background_spectrum(&sea);
+            let reports: Vec<_> = (0..=12)
+                .map(|i| {
+                    let inc = 20.0 + 2.5 * i as f64;
+                    let cell = wakelab_sensors::gmf::CELL_SIZE;
+                    sigma0_of_sea(&spectrum, RadarBand::C, eps, Polarisation::Vv, look, inc, cell)
+                })
+                .collect();
+            curves.push(Sigma0Curve {
+                look: look_name.into(),
+                wind,
+                incidence: reports.iter().map(|r| r.incidence_deg).collect(),
+                wakelab_db: reports.iter().map(|r| r.sigma0_db).collect(),
+                cmod5n_db: reports.iter().map(|r| r.cmod5n_db).collect(),
+            });
+        }
     }
+    curves
+}
+
+/// What the environments step wrote: its key, the seconds it took, the wake's age in the
+/// environments (m behind the stern), the contrasts and the sigma0 curves.
+#[derive(Serialize, Deserialize)]
+pub struct Environments {
+    key: String,
+    seconds: f64,
+    pub along_track: f64,
+    pub contrasts: Vec<EnvironmentContrast>,
+    pub sigma0: Vec<Sigma0Curve>,
+}
+
+/// `environments/environments.json` in a run directory.
+fn environments_file(run_dir: &Path) -> std::path::PathBuf {
+    run_dir.join("environments").join("environments.json")
+}
+
+/// The environments step: the spec's environments and the sigma0 curves of the study's base
+/// configuration (reused when that configuration and wakelab's version are unchanged). The hydro
+/// maps come from (and go to) the dataset's cache.
+pub fn environments_step(run_dir: &Path, study: &Study) -> Result<StepTime> {
+    let start = Instant::now();
+    let base = study.base_config()?;
+    let key = fnv_hex(&format!("{base:?} {}", env!("CARGO_PKG_VERSION")));
+    let file = environments_file(run_dir);
+    if let Ok(found) = load_environments(run_dir) {
+        if found.key == key {
+            return Ok(step_time("environments", start, Some(found.seconds)));
+        }
+    }
+    let contrasts = spec_environments(&base, &run_dir.join("dataset"))?;
+    let sigma0 = sigma0_against_cmod5n(&base);
+    let environments = Environments {
+        key,
+        seconds: start.elapsed().as_secs_f64(),
+        along_track: environment_config(&base, NamedDirection::Calm).scene.along_track,
+        contrasts,
+        sigma0,
+    };
+    let dir = file.parent().expect("a folder");
+    std::fs::create_dir_all(dir).map_err(|e| WakelabError::io(dir, e))?;
+    write_atomically(&file, serde_json::to_string_pretty(&environments)?.as_bytes())?;
+    Ok(step_time("environments", start, None))
+}
+
+/// What the environments step wrote into `run_dir`.
+pub fn load_environments(run_dir: &Path) -> Result<Environments> {
+    let file = environments_file(run_dir);
+    let text = std::fs::read_to_string(&file).map_err(|e| WakelabError::io(&file, e))?;
+    serde_json::from_str(&text).map_err(|e| anyhow::anyhow!("{}: {e}", file.display()))
 }
 
 #[cfg(test)]

@@ -1,5 +1,7 @@
-//! The report's whole-scene detection (issue 14): `wakelab detect`'s scan of one scene eight
-//! chips wide, in every band, by the study's own "base" detectors.
+//! The scan step of `wakelab run`: `wakelab detect`'s scan of one scene eight chips wide, in
+//! every band, by the study's own "base" detectors. It writes `whole_scene/` (each band's
+//! numbers in `whole_scene.json`, its image, probability map and wake mask as npy), which the
+//! report renders.
 //!
 //! The scene is the study's first pair made large: its sea, wind and sensors, 8 x the chip's
 //! side (fewer where the study's wake is too short or the scene would pass [`MAX_SIDE`] pixels),
@@ -15,13 +17,16 @@
 //! shares of off-wake and wake cells above it: whether the chips' false-alarm rate carries over
 //! to a whole scene.
 
-use crate::report::Table;
-use crate::stages::StudyRun;
-use crate::Result;
+use super::context::{fnv_hex, step_time};
+use super::study_run::StudyRun;
+use crate::{Result, StepTime};
 use ndarray::{s, Array2};
-use std::fmt::Write as _;
-use std::path::Path;
+use serde::{Deserialize, Serialize};
+use std::path::{Path, PathBuf};
+use std::time::Instant;
 use wakelab_core::config::WakePlacement;
+use wakelab_core::io::write_atomically;
+use wakelab_core::WakelabError;
 use wakelab_dataset::render::render_pair;
 use wakelab_dataset::study::{ScenePair, Study};
 use wakelab_learn::data::RadarScale;
@@ -40,26 +45,24 @@ const MAX_SIDE: usize = 2048;
 const ALONG_TRACK: f64 = 4000.0;
 const HEADING: f64 = 30.0;
 /// Expected fraction of the sea under natural slicks.
-const SLICKS: f64 = 0.2;
+pub const SLICKS: f64 = 0.2;
 
-/// One band's scan of the scene.
-pub struct WholeScene {
+/// One band's scan of the scene: its numbers, as `whole_scene.json` holds them.
+#[derive(Debug, Clone, Serialize, Deserialize)]
+pub struct WholeSceneBand {
     pub band: Band,
-    /// The image as shown (radar in dB, IR in K), its side, and the band's wake mask.
-    display: Vec<f32>,
-    side: usize,
-    pixel_spacing: f64,
-    chips: usize,
-    wakes: Vec<WakePlacement>,
-    mask: Array2<u8>,
-    /// Mean window probability per stride cell.
-    map: Array2<f32>,
+    /// The scene's side (pixels), pixel spacing (m), side in chips and wakes.
+    pub side: usize,
+    pub pixel_spacing: f64,
+    pub chips: usize,
+    pub wakes: Vec<WakePlacement>,
+    /// The detector's threshold and the largest window probability in the scene.
     pub threshold: f64,
-    /// Largest window probability in the scene.
     pub probability: f64,
     pub peak_on_wake: bool,
-    pub mean_on_wake: f64,
-    pub mean_off_wake: f64,
+    /// Mean probability of the cells on and off the wake (None: no such cell).
+    pub mean_on_wake: Option<f64>,
+    pub mean_off_wake: Option<f64>,
     /// Share of the off-wake cells at or above the threshold.
     pub false_alarm_cells: f64,
     /// The threshold that flags [`CHIP_FALSE_ALARMS`] of the detector's no-wake test chips, and
@@ -67,11 +70,20 @@ pub struct WholeScene {
     pub chip_threshold: Option<ChipThreshold>,
 }
 
+/// One band's scan with its pictures: the image as rendered (radar sigma0, IR in K), the mean
+/// window probability per stride cell (NaN: unscored) and the band's physics mask of the wakes.
+pub struct WholeScene {
+    pub numbers: WholeSceneBand,
+    pub image: Array2<f32>,
+    pub map: Array2<f32>,
+    pub mask: Array2<u8>,
+}
+
 /// The share of no-wake test chips a [`chip_threshold`] flags.
 pub const CHIP_FALSE_ALARMS: f64 = 0.05;
 
 /// A whole scene's cells at the threshold calibrated on the detector's test chips.
-#[derive(Debug, Clone, Copy, PartialEq)]
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 pub struct ChipThreshold {
     pub threshold: f64,
     /// Off-wake cells above it (false alarms) and wake cells above it (detections).
@@ -204,30 +216,132 @@ fn split_cells(map: &Array2<f32>, stride: usize, wake: &Array2<u8>, slicks: Opti
     split
 }
 
-/// Scan the scene with every single band's "base" detector of the run in `dir`; bands without
-/// a saved detector are left out.
-pub fn scan_whole_scene(dir: &Path, study: &Study, run: &StudyRun) -> Result<Vec<WholeScene>> {
-    let bands: Vec<Band> = run.inputs.iter().filter_map(|i| i.as_single()).collect();
-    let model = |band: Band| {
-        let input = Input::single(band);
-        crate::output::detector_path(&dir.join("learn").join(input.name()), &input, Architecture::Base)
-    };
-    let bands: Vec<Band> = bands.into_iter().filter(|&b| model(b).exists()).collect();
-    if bands.is_empty() {
-        return Ok(Vec::new());
+/// The scan's folder in the run directory.
+pub fn scan_dir(run_dir: &Path) -> PathBuf {
+    run_dir.join("whole_scene")
+}
+
+/// `whole_scene.json`: the scan's key, the seconds it took and every band's numbers.
+#[derive(Serialize, Deserialize)]
+struct CachedScan {
+    key: String,
+    seconds: f64,
+    bands: Vec<WholeSceneBand>,
+}
+
+/// The picture files of `band` in the scan's folder: image, probability map, wake mask.
+fn picture_paths(dir: &Path, band: Band) -> [PathBuf; 3] {
+    ["image", "probability", "mask"].map(|what| dir.join(format!("{}_{what}.npy", band.name())))
+}
+
+/// What the scan depends on: the dataset (its manifest), the scene's configuration, the saved
+/// detectors' bytes and wakelab's version.
+fn scan_key(run_dir: &Path, manifest_hash: &str, pair: &ScenePair, bands: &[Band]) -> Result<String> {
+    let mut text = format!("{manifest_hash} {:?} {}", pair.config, env!("CARGO_PKG_VERSION"));
+    for &band in bands {
+        let path = model_path(run_dir, band);
+        let bytes = std::fs::read(&path).map_err(|e| WakelabError::io(&path, e))?;
+        text.push_str(&format!(" {band} {:016x}", wakelab_dataset::fnv(bytes)));
     }
-    let Some((pair, chips)) = scene_pair(study)? else {
-        return Ok(Vec::new());
+    Ok(fnv_hex(&text))
+}
+
+/// The saved "base" detector of `band` in the run directory.
+fn model_path(run_dir: &Path, band: Band) -> PathBuf {
+    let input = Input::single(band);
+    crate::output::detector_path(&run_dir.join("learn").join(input.name()), &input, Architecture::Base)
+}
+
+/// The scan step: scan the scene (or reuse the scan in `whole_scene/` when its key matches) and
+/// write its files.
+pub fn scan_step(run_dir: &Path, study: &Study, run: &StudyRun, manifest_hash: &str) -> Result<StepTime> {
+    let start = Instant::now();
+    let dir = scan_dir(run_dir);
+    std::fs::create_dir_all(&dir).map_err(|e| WakelabError::io(&dir, e))?;
+    let bands: Vec<Band> = run.inputs.iter().filter_map(|i| i.as_single()).collect();
+    let bands: Vec<Band> = bands.into_iter().filter(|&b| model_path(run_dir, b).exists()).collect();
+    let pair = if bands.is_empty() { None } else { scene_pair(study)? };
+    let key = match &pair {
+        Some((pair, _)) => scan_key(run_dir, manifest_hash, pair, &bands)?,
+        None => fnv_hex("no scene"),
     };
+    let json = dir.join("whole_scene.json");
+    let cached: Option<CachedScan> = std::fs::read_to_string(&json)
+        .ok()
+        .and_then(|t| serde_json::from_str(&t).ok())
+        .filter(|c: &CachedScan| c.key == key);
+    let complete = |c: &CachedScan| {
+        c.bands
+            .iter()
+            .all(|b| picture_paths(&dir, b.band).iter().all(|p| p.exists()))
+    };
+    if let Some(c) = cached.filter(complete) {
+        return Ok(step_time("scan", start, Some(c.seconds)));
+    }
+    let scans = match pair {
+        Some((pair, chips)) => scan_whole_scene(run_dir, &pair, chips, &bands, run)?,
+        None => Vec::new(),
+    };
+    for scan in &scans {
+        let [image, probability, mask] = picture_paths(&dir, scan.numbers.band);
+        wakelab_dataset::write_npy_atomically(&image, &scan.image)?;
+        wakelab_dataset::write_npy_atomically(&probability, &scan.map)?;
+        wakelab_dataset::write_npy_atomically(&mask, &scan.mask)?;
+    }
+    let cached = CachedScan {
+        key,
+        seconds: start.elapsed().as_secs_f64(),
+        bands: scans.into_iter().map(|s| s.numbers).collect(),
+    };
+    write_atomically(&json, serde_json::to_string_pretty(&cached)?.as_bytes())?;
+    Ok(step_time("scan", start, None))
+}
+
+/// The scan the scan step wrote into `run_dir` (empty: no scene fitted or no detector was
+/// saved).
+pub fn load_whole_scene(run_dir: &Path) -> Result<Vec<WholeScene>> {
+    let dir = scan_dir(run_dir);
+    let json = dir.join("whole_scene.json");
+    let text = std::fs::read_to_string(&json).map_err(|e| WakelabError::io(&json, e))?;
+    let cached: CachedScan = serde_json::from_str(&text).map_err(|e| anyhow::anyhow!("{}: {e}", json.display()))?;
+    let read = |path: &Path| -> Result<Array2<f32>> {
+        ndarray_npy::read_npy(path).map_err(|e| anyhow::anyhow!("{}: {e}", path.display()))
+    };
+    cached
+        .bands
+        .into_iter()
+        .map(|numbers| {
+            let [image, probability, mask] = picture_paths(&dir, numbers.band);
+            let mask: Array2<u8> =
+                ndarray_npy::read_npy(&mask).map_err(|e| anyhow::anyhow!("{}: {e}", mask.display()))?;
+            Ok(WholeScene {
+                image: read(&image)?,
+                map: read(&probability)?,
+                mask,
+                numbers,
+            })
+        })
+        .collect()
+}
+
+/// Scan the scene `pair` (`chips` chips wide) with the saved "base" detector of every band of
+/// `bands`.
+fn scan_whole_scene(
+    run_dir: &Path,
+    pair: &ScenePair,
+    chips: usize,
+    bands: &[Band],
+    run: &StudyRun,
+) -> Result<Vec<WholeScene>> {
     let map = wakelab_dataset::hydro_map(&run.dataset.dir, &pair.config)?;
-    let (rendered, _, _) = render_pair(&pair, &map, &bands);
+    let (rendered, _, _) = render_pair(pair, &map, bands);
     let slicks = rendered.slick_mask;
     let device = wakelab_learn::device::parse_device("cpu")?;
     let mut out = Vec::new();
     for band_pair in rendered.bands {
         let band = band_pair.band;
         let chip = pair.config.scene.size / chips;
-        let (detector, info) = load_detector(&model(band), Some((Architecture::Base, chip)), &device)?;
+        let (detector, info) = load_detector(&model_path(run_dir, band), Some((Architecture::Base, chip)), &device)?;
         let options = ScanOptions {
             scale: RadarScale::Linear,
             ..ScanOptions::default()
@@ -238,13 +352,7 @@ pub fn scan_whole_scene(dir: &Path, study: &Study, run: &StudyRun) -> Result<Vec
         let cells = split_cells(&map, stride, &mask, slicks.as_ref());
         let alarms = cells.off_wake.iter().filter(|&&p| p >= found.threshold).count();
         let (on, off, on_slick, open_sea) = (cells.on_wake, cells.off_wake, cells.on_slick, cells.open_sea);
-        let mean = |v: &[f64]| {
-            if v.is_empty() {
-                f64::NAN
-            } else {
-                v.iter().sum::<f64>() / v.len() as f64
-            }
-        };
+        let mean = |v: &[f64]| (!v.is_empty()).then(|| v.iter().sum::<f64>() / v.len() as f64);
         let peak = (
             (found.peak.row / stride as f64).floor() as usize,
             (found.peak.col / stride as f64).floor() as usize,
@@ -257,10 +365,8 @@ pub fn scan_whole_scene(dir: &Path, study: &Study, run: &StudyRun) -> Result<Vec
             slick_cells: (!on_slick.is_empty()).then(|| share_above(&on_slick, t)),
             open_sea_cells: share_above(&open_sea, t),
         });
-        let display = crate::pictures::display_values(&band_pair.wake, band.is_radar());
-        out.push(WholeScene {
+        let numbers = WholeSceneBand {
             band,
-            display,
             side: band_pair.wake.nrows(),
             pixel_spacing: pair.config.scene.pixel_spacing,
             chips,
@@ -272,119 +378,15 @@ pub fn scan_whole_scene(dir: &Path, study: &Study, run: &StudyRun) -> Result<Vec
             probability: found.probability,
             threshold: found.threshold,
             chip_threshold,
-            mask,
+        };
+        out.push(WholeScene {
+            numbers,
+            image: band_pair.wake,
             map,
+            mask,
         });
     }
     Ok(out)
-}
-
-/// A share as a whole percentage, "-" when there is none.
-fn percent(share: Option<f64>) -> String {
-    share.map_or("-".into(), |v| format!("{:.0}%", 100.0 * v))
-}
-
-/// The scans as a table, one row per band.
-pub fn whole_scene_table(scans: &[WholeScene]) -> Table {
-    let rows = scans
-        .iter()
-        .map(|w| {
-            vec![
-                w.band.to_string(),
-                format!("{:.2}", w.probability),
-                if w.peak_on_wake { "yes" } else { "no" }.into(),
-                format!("{:.2}", w.mean_on_wake),
-                format!("{:.2}", w.mean_off_wake),
-                format!("{:.0}%", 100.0 * w.false_alarm_cells),
-                w.chip_threshold.map_or("-".into(), |c| format!("{:.2}", c.threshold)),
-                percent(w.chip_threshold.map(|c| c.false_alarm_cells)),
-                percent(w.chip_threshold.map(|c| c.wake_cells)),
-                percent(w.chip_threshold.and_then(|c| c.slick_cells)),
-                percent(w.chip_threshold.map(|c| c.open_sea_cells)),
-            ]
-        })
-        .collect();
-    let Some(first) = scans.first() else {
-        return Table {
-            id: "whole_scene".into(),
-            title: "Detection on a whole scene".into(),
-            caption: "Not run: the study's simulated wake is too short for a scene of two chips or more.".into(),
-            header: vec!["band".into()],
-            rows: Vec::new(),
-        };
-    };
-    Table {
-        id: "whole_scene".into(),
-        title: "Detection on a whole scene".into(),
-        caption: format!(
-            "The study's first pair's sea made {chips} chips wide ({side} x {side} px of {dx} m), natural slicks \
-             over {slicks:.0}% of it and {count} wake(s) of the study's ship ({wakes}), scanned by each band's \
-             \"base\" detector (its last repetition) with windows of its input at half that stride. Cells on the \
-             wake hold a pixel of the band's physics mask (all wakes); a false-alarm cell is an off-wake cell at \
-             or above the threshold ({threshold}). The chips' threshold is the one that flags {chips_fa:.0}% of the \
-             detector's no-wake test chips (the same repetition's): the share of off-wake cells above it says \
-             whether that false-alarm rate holds on a whole scene, the share of wake cells above it what is found; \
-             the off-wake cells are split into those holding a natural slick's pixel and the open sea.",
-            chips = first.chips,
-            side = first.side,
-            dx = first.pixel_spacing,
-            slicks = 100.0 * SLICKS,
-            count = first.wakes.len(),
-            wakes = first
-                .wakes
-                .iter()
-                .map(|w| format!(
-                    "{:.1} km behind the stern, course {:.0} degrees, {:.0} m off the centre",
-                    w.along_track / 1000.0,
-                    w.heading,
-                    w.cross_track.abs()
-                ))
-                .collect::<Vec<_>>()
-                .join("; "),
-            threshold = first.threshold,
-            chips_fa = 100.0 * CHIP_FALSE_ALARMS,
-        ),
-        header: [
-            "band",
-            "scene probability",
-            "peak on the wake",
-            "mean on the wake",
-            "mean off the wake",
-            "false-alarm cells",
-            "chips' 5% threshold",
-            "false-alarm cells there",
-            "wake cells there",
-            "slick cells flagged there",
-            "open-sea cells flagged there",
-        ]
-        .map(String::from)
-        .to_vec(),
-        rows,
-    }
-}
-
-/// The scans as HTML: per band, the image, the probability map and the wake mask.
-pub fn whole_scene_html(scans: &[WholeScene]) -> Result<String> {
-    let mut s = String::new();
-    for w in scans {
-        let caption = format!("{0} x {0} px", w.side);
-        let units = if w.band.is_radar() { "dB" } else { "K" };
-        let map: Vec<f32> = w.map.iter().copied().collect();
-        let mask: Vec<f32> = w.mask.iter().map(|&m| f32::from(m)).collect();
-        let square = (w.side, w.side);
-        let _ = write!(s, "<h4>{}</h4><div class=\"grid\">", w.band);
-        for (values, shape, title, units, range) in [
-            (&w.display, square, "scene", units, crate::pictures::stretch(&w.display)),
-            (&map, w.map.dim(), "wake probability", "probability", (0.0, 1.0)),
-            (&mask, square, "wake mask", "1 = wake", (0.0, 1.0)),
-        ] {
-            let title = format!("{} {title}", w.band);
-            let png = crate::pictures::field_png(values, shape, title.clone(), units, (256, &caption), range)?;
-            let _ = write!(s, "<figure><img alt=\"{title}\" src=\"{png}\"></figure>");
-        }
-        s.push_str("</div>");
-    }
-    Ok(s)
 }
 
 #[cfg(test)]

@@ -1,10 +1,11 @@
 //! The report page: one self-contained HTML file (styles inline, pictures as base64 PNG, plots
 //! as inline SVG), so it opens in a browser with no network and can be mailed as one file.
 
-use crate::pictures::{display_values, field_png, stretch};
-use crate::report::{confusion_rows, Table};
-use crate::stages::StudyRun;
-use crate::svg::{escape, roc_points, LinePlot, Series};
+use super::learning_tables::confusion_rows;
+use super::pictures::{display_values, field_png, stretch};
+use super::svg::{escape, roc_points, LinePlot, Series};
+use super::table::Table;
+use crate::steps::StudyRun;
 use crate::Result;
 use ndarray::Array2;
 use std::collections::BTreeMap;
@@ -345,7 +346,7 @@ pub fn report_page(
          \"base\" scored highest and lowest, with and without a wake, and every detector's verdict (SAR in \
          dB, IR in K, each image stretched over its 2nd-98th percentile).</p>",
     );
-    s.push_str(&crate::test_scenes::test_scene_grid(run)?);
+    s.push_str(&super::test_scenes::test_scene_grid(run)?);
     s.push_str(
         "<h2 id=\"whole-scene\">Detection on a whole scene</h2><p>Each band's \"base\" detector scanned over one \
          scene eight chips wide, as <code>wakelab detect</code> does (table \"Detection on a whole scene\", with the \

@@ -1,8 +1,8 @@
-//! The report's table of the U-Net's wake masks against the physics masks (issue 14): how much
+//! The report's table of the U-Net's wake masks against the physics masks: how much
 //! of each test wake the "unet" detector's mask covers, per input.
 
-use crate::report::Table;
-use crate::stages::StudyRun;
+use super::table::Table;
+use crate::steps::StudyRun;
 use wakelab_learn::masks::{summarise_masks, MASK_LEVEL};
 
 /// Mean IoU (± sample standard deviation over repetitions), the share of masks reaching IoU 0.5 and the number

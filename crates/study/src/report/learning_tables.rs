@@ -1,48 +1,12 @@
-//! The study's tables (mirroring the spec's Tables 4.4-4.6 and 5.1-5.3, with the paper's own
-//! numbers beside ours), written as CSV and Markdown; `html` puts them into the report page.
+//! The learning tables: Tables 4.4-4.6 and 5.1-5.3 with the paper's own numbers beside ours,
+//! SAR + IR fusion, confusion counts and the wall time of every step.
 
-use crate::stages::StudyRun;
-use crate::Result;
-use std::fmt::Write as _;
-use std::path::{Path, PathBuf};
-use wakelab_core::config::NamedDirection;
-use wakelab_core::io::{csv_record, write_atomically};
-use wakelab_core::WakelabError;
-use wakelab_dataset::study::Study;
+use super::table::{plus_minus, Table};
+use crate::steps::StudyRun;
 use wakelab_learn::evaluate::Summary;
 use wakelab_learn::models::Architecture;
 use wakelab_schema::band::{Band, Input};
 use wakelab_schema::fusion_row::{Method, Source};
-
-/// A table of the report.
-pub struct Table {
-    /// File stem of its CSV (`table_4_4_base`).
-    pub id: String,
-    pub title: String,
-    pub caption: String,
-    pub header: Vec<String>,
-    pub rows: Vec<Vec<String>>,
-}
-
-impl Table {
-    pub fn markdown(&self) -> String {
-        let mut s = format!("### {}\n\n{}\n\n", self.title, self.caption);
-        let _ = writeln!(s, "| {} |", self.header.join(" | "));
-        let _ = writeln!(s, "|{}", " --- |".repeat(self.header.len()));
-        for r in &self.rows {
-            let _ = writeln!(s, "| {} |", r.join(" | "));
-        }
-        s.push('\n');
-        s
-    }
-
-    pub fn csv(&self) -> String {
-        std::iter::once(&self.header)
-            .chain(&self.rows)
-            .map(|r| csv_record(r))
-            .collect()
-    }
-}
 
 /// The paper's MCC and accuracy (Tables 4.4-4.6 and 5.1-5.3) for a row of ours.
 pub fn paper_value(architecture: Architecture, row: &str) -> Option<(f64, f64)> {
@@ -70,14 +34,6 @@ pub fn paper_value(architecture: Architecture, row: &str) -> Option<(f64, f64)> 
     })
 }
 
-pub(crate) fn plus_minus(mean: f64, spread: f64, percent: bool) -> String {
-    if percent {
-        format!("{:.1}% ± {:.1}", 100.0 * mean, 100.0 * spread)
-    } else {
-        format!("{mean:.2} ± {spread:.2}")
-    }
-}
-
 fn paper_cells(architecture: Architecture, row: &Source) -> [String; 2] {
     match paper_value(architecture, &row.to_string()) {
         Some((mcc, acc)) => [format!("{mcc:.2}"), format!("{:.0}%", 100.0 * acc)],
@@ -103,7 +59,7 @@ fn table_numbers(a: Architecture) -> (&'static str, &'static str) {
 }
 
 /// Tables 4.4-4.6: every input of one architecture.
-fn single_input_table(run: &StudyRun, a: Architecture) -> Table {
+pub(crate) fn single_input_table(run: &StudyRun, a: Architecture) -> Table {
     let (number, _) = table_numbers(a);
     let rows = run
         .inputs
@@ -139,7 +95,7 @@ fn single_input_table(run: &StudyRun, a: Architecture) -> Table {
 }
 
 /// Tables 5.1-5.3: feature- and decision-level fusion of one architecture.
-fn fusion_table(run: &StudyRun, a: Architecture) -> Table {
+pub(crate) fn fusion_table(run: &StudyRun, a: Architecture) -> Table {
     let (_, number) = table_numbers(a);
     let mut rows = Vec::new();
     for input in run.inputs.iter().filter(|i| i.is_fused()) {
@@ -191,7 +147,7 @@ fn fusion_row(a: Architecture, s: &Summary, level: &str, conflict: Option<f64>) 
 }
 
 /// Every fusion involving an infrared band (the spec's 5.4 and future work).
-fn sar_ir_table(run: &StudyRun) -> Table {
+pub(crate) fn sar_ir_table(run: &StudyRun) -> Table {
     let mut rows = Vec::new();
     for a in Architecture::ALL {
         for input in run.inputs.iter().filter(|i| i.is_fused() && i.has_infrared()) {
@@ -256,7 +212,7 @@ pub fn confusion_rows(run: &StudyRun) -> Vec<Summary> {
     rows
 }
 
-fn confusion_table(run: &StudyRun) -> Table {
+pub(crate) fn confusion_table(run: &StudyRun) -> Table {
     Table {
         id: "confusion".into(),
         title: "Confusion counts".into(),
@@ -282,13 +238,13 @@ fn confusion_table(run: &StudyRun) -> Table {
     }
 }
 
-fn timing_table(run: &StudyRun) -> Table {
-    let total = |f: fn(&crate::StageTime) -> f64| format!("{:.1}", run.times.iter().map(f).sum::<f64>());
+pub(crate) fn timing_table(run: &StudyRun) -> Table {
+    let total = |f: fn(&crate::StepTime) -> f64| format!("{:.1}", run.times.iter().map(f).sum::<f64>());
     Table {
         id: "timing".into(),
-        title: "Wall time per stage".into(),
-        caption: "Seconds of this run; a reused stage shows the time it took when it was computed.".into(),
-        header: ["stage", "this run (s)", "computed in (s)", "reused"]
+        title: "Wall time per step".into(),
+        caption: "Seconds of this run; a reused step shows the time it took when it was computed.".into(),
+        header: ["step", "this run (s)", "computed in (s)", "reused"]
             .map(String::from)
             .to_vec(),
         rows: run
@@ -296,7 +252,7 @@ fn timing_table(run: &StudyRun) -> Table {
             .iter()
             .map(|t| {
                 vec![
-                    t.stage.clone(),
+                    t.step.clone(),
                     format!("{:.1}", t.seconds),
                     format!("{:.1}", t.computed_seconds),
                     if t.reused { "yes" } else { "no" }.into(),
@@ -309,98 +265,5 @@ fn timing_table(run: &StudyRun) -> Table {
                 String::new(),
             ]))
             .collect(),
-    }
-}
-
-/// Every result table, in report order (timing is separate: it differs run to run).
-pub fn result_tables(run: &StudyRun) -> Vec<Table> {
-    let mut tables: Vec<Table> = Architecture::ALL.iter().map(|&a| single_input_table(run, a)).collect();
-    tables.extend(Architecture::ALL.iter().map(|&a| fusion_table(run, a)));
-    tables.push(sar_ir_table(run));
-    tables.push(confusion_table(run));
-    tables.push(crate::stability::robustness_table(run));
-    tables.push(crate::stability::score_change_table(run));
-    tables.push(crate::mask_quality::mask_iou_table(run));
-    tables.push(crate::test_scenes::test_scene_table(run));
-    let bands: Vec<Band> = run.inputs.iter().filter_map(|i| i.as_single()).collect();
-    tables.push(crate::visibility::visibility_table(
-        &run.dataset.records,
-        &run.outputs,
-        &bands,
-    ));
-    tables
-}
-
-/// Write `report/`: the HTML page, `report.md` and one CSV per table; returns the paths.
-pub fn write_report(dir: &Path, study: &Study, run: &StudyRun) -> Result<Vec<PathBuf>> {
-    let out = dir.join("report");
-    let tables_dir = out.join("tables");
-    std::fs::create_dir_all(&tables_dir).map_err(|e| WakelabError::io(&tables_dir, e))?;
-    let mut tables = result_tables(run);
-    let scans = crate::whole_scene::scan_whole_scene(dir, study, run)?;
-    tables.push(crate::whole_scene::whole_scene_table(&scans));
-    let whole_scene_html = crate::whole_scene::whole_scene_html(&scans)?;
-    let base = study.base_config()?;
-    let environments = crate::environments::spec_environments(&base, &run.dataset.dir)?;
-    let age = crate::environments::environment_config(&base, NamedDirection::Calm)
-        .scene
-        .along_track;
-    tables.push(crate::environments::environment_table(&environments, age));
-    let timing = timing_table(run);
-    let mut markdown = format!(
-        "# wakelab study \"{}\"\n\nwakelab {}, run {} on {}; {} scenes; see report.html for pictures and plots.\n\n",
-        study.study.name,
-        env!("CARGO_PKG_VERSION"),
-        run.started,
-        run.device,
-        run.dataset.records.len()
-    );
-    for t in tables.iter().chain(std::iter::once(&timing)) {
-        markdown.push_str(&t.markdown());
-        write_atomically(tables_dir.join(format!("{}.csv", t.id)), t.csv().as_bytes())?;
-    }
-    let md = write_atomically(out.join("report.md"), markdown.as_bytes())?;
-    // the radar-physics figures, also as files a user can open or put in a paper
-    let mut figures = crate::radar::sigma0_against_cmod5n(&base);
-    figures.extend(crate::radar::across_wake_contrast(run)?);
-    let names = [
-        "sigma0_vs_cmod5n_upwind",
-        "sigma0_vs_cmod5n_crosswind",
-        "across_wake_contrast",
-    ];
-    let svgs: Vec<String> = figures.iter().map(|f| f.to_svg()).collect();
-    for (name, svg) in names.iter().zip(&svgs) {
-        write_atomically(out.join(format!("{name}.svg")), svg.as_bytes())?;
-    }
-    let page = crate::html::report_page(study, run, &tables, &timing, &svgs, &whole_scene_html)?;
-    let html = write_atomically(out.join("report.html"), page.as_bytes())?;
-    Ok(vec![html, md, tables_dir])
-}
-
-/// The headline numbers on the terminal.
-pub fn print_summary(run: &StudyRun) {
-    let fusions: std::collections::BTreeSet<Source> = run.fusion.iter().map(|(s, _)| s.bands.clone()).collect();
-    let rows: Vec<Source> = run.inputs.iter().cloned().map(Source::Input).chain(fusions).collect();
-    let w = rows.iter().map(|r| r.to_string().len()).max().unwrap_or(5).max(5);
-    println!("test MCC, mean over {} repetitions:", run.plan.repetitions);
-    print!("{:<w$}", "input");
-    for a in Architecture::ALL {
-        print!(" {:>6}", a.name());
-    }
-    println!();
-    for input in rows {
-        print!("{input:<w$}");
-        for a in Architecture::ALL {
-            let s = run
-                .summaries
-                .iter()
-                .chain(run.fusion.iter().map(|(s, _)| s))
-                .find(|s| s.bands == input && s.architecture == a);
-            match s {
-                Some(s) => print!(" {:>6.2}", s.mcc),
-                None => print!(" {:>6}", "-"),
-            }
-        }
-        println!();
     }
 }

@@ -4,8 +4,8 @@
 //! never showed, partly occluded, noisier, shifted), over the test images of every repetition.
 //! MCC only counts the scores that cross the threshold; this counts every move.
 
-use crate::report::{plus_minus, Table};
-use crate::stages::StudyRun;
+use super::table::{plus_minus, Table};
+use crate::steps::StudyRun;
 use std::collections::HashMap;
 use wakelab_learn::evaluate::{summarise_split, Output, Summary};
 use wakelab_learn::models::Architecture;

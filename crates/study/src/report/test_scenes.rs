@@ -1,10 +1,10 @@
-//! The report's grid of test scenes (issue 14): for every band and wind speed, the test scenes of
+//! The report's grid of test scenes: for every band and wind speed, the test scenes of
 //! the first repetition that "base" scored highest and lowest among the wake scenes and among
 //! the no-wake scenes, with every architecture's score and whether it decided right. Picked by
 //! score, not by hand, so the grid shows the detectors' clearest hits and their worst mistakes.
 
-use crate::report::Table;
-use crate::stages::StudyRun;
+use super::table::Table;
+use crate::steps::StudyRun;
 use crate::Result;
 use base64::Engine as _;
 use image::{imageops, GrayImage, Luma};
@@ -192,8 +192,8 @@ pub fn test_scene_table(run: &StudyRun) -> Table {
 /// A thumbnail of a scene's image in `band` (radar in dB), stretched over its 2nd-98th percentile.
 fn thumbnail(run: &StudyRun, record: &SceneRecord, band: Band) -> Result<String> {
     let image: Array2<f32> = ndarray_npy::read_npy(run.dataset.dir.join(&record.images[&band]))?;
-    let values = crate::pictures::display_values(&image, band.is_radar());
-    let (lo, hi) = crate::pictures::stretch(&values);
+    let values = super::pictures::display_values(&image, band.is_radar());
+    let (lo, hi) = super::pictures::stretch(&values);
     let (rows, cols) = image.dim();
     let small = GrayImage::from_fn(cols as u32, rows as u32, |x, y| {
         let v = (values[y as usize * cols + x as usize] as f64 - lo) / (hi - lo);

@@ -44,16 +44,20 @@ pub struct Sigma0Report {
 /// The [`Sigma0Report`] of a configuration's sea (its wind, swell and water) in `band`, looking
 /// `look_from_wind_deg` degrees from the wind direction (0: down-wind), with the configured
 /// polarisation and incidence, seen in cells of side `cell` (m; the scene's pixel spacing for an
-/// image's background, [`crate::gmf::CELL_SIZE`] for CMOD5.N's): what `wakelab sar sigma0`
-/// prints.
+/// image's background, [`crate::gmf::CELL_SIZE`] for CMOD5.N's; None: the pixel spacing): what
+/// `wakelab sar sigma0` prints. A cell outside 0.1 m-1000 km is refused naming `--cell`.
 pub fn sigma0_of_config(
     cfg: &wakelab_core::WakelabConfig,
     band: wakelab_core::units::RadarBand,
     look_from_wind_deg: f64,
-    cell: f64,
-) -> Sigma0Report {
+    cell: Option<f64>,
+) -> Result<Sigma0Report, wakelab_core::ConfigError> {
+    let cell = cell.unwrap_or(cfg.scene.pixel_spacing);
+    if !(0.1..=1e6).contains(&cell) {
+        return Err(wakelab_core::ConfigError::new("--cell", cell, "in [0.1, 1000000] m"));
+    }
     let env = &cfg.environment;
-    sigma0_of_sea(
+    Ok(sigma0_of_sea(
         &wakelab_surface::background_spectrum(cfg),
         band,
         crate::sar_image::surface_permittivity(cfg, band),
@@ -61,7 +65,7 @@ pub fn sigma0_of_config(
         (env.wind.direction - look_from_wind_deg).to_radians(),
         cfg.platform.incidence,
         cell,
-    )
+    ))
 }
 
 /// Compute the [`Sigma0Report`] of the undisturbed sea.

@@ -53,3 +53,31 @@ pub fn emit_dataset_slurm(study: &Study, name: &str, out: &Path, tasks: usize) -
     let line = format!("wrote {} ({pairs} pairs over {tasks} tasks)", path.display());
     Ok((path, line))
 }
+
+/// `wakelab dataset`: the study named `name` written as a Slurm script of `slurm_tasks` array
+/// tasks, or its pairs (shard `shard`, "K/N", of them) rendered into `out` and merged when whole
+/// or when `merge` asks; what was done, a line each.
+pub fn dataset_command(
+    name: &str,
+    out: &Path,
+    shard: Option<&str>,
+    merge: bool,
+    slurm_tasks: Option<usize>,
+    quiet: bool,
+) -> Result<Vec<String>> {
+    let study = crate::load_study(name)?;
+    if let Some(tasks) = slurm_tasks {
+        return Ok(vec![emit_dataset_slurm(&study, name, out, tasks)?.1]);
+    }
+    let shard: Option<Shard> = shard
+        .map(|text| text.parse().map_err(|e| anyhow::anyhow!("--shard {text}: {e}")))
+        .transpose()?;
+    let mut said = Vec::new();
+    if !merge {
+        said.push(render_dataset(&study, out, shard, quiet)?);
+    }
+    if shard.is_none() || merge {
+        said.push(merge_dataset(&study, out)?);
+    }
+    Ok(said)
+}

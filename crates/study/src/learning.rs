@@ -139,6 +139,112 @@ pub fn train_into(
     Ok(Trained { path, export, test })
 }
 
+/// What `wakelab train` and `wakelab eval` are asked to do: the dataset, the inputs
+/// (comma-separated; None: every band), both recipes, the threshold, the seed, the backend and
+/// the output folder (None: `DATASET/learn`).
+pub struct LearnRequest {
+    pub dataset: PathBuf,
+    pub bands: Option<String>,
+    pub classifier: wakelab_learn::train::Recipe,
+    pub unet: wakelab_learn::train::Recipe,
+    pub threshold: f64,
+    pub seed: u64,
+    pub device: String,
+    pub out: Option<PathBuf>,
+}
+
+impl LearnRequest {
+    /// The evaluation options of this request for `architectures` and `repetitions`.
+    fn options(&self, dataset: &Dataset, architectures: Vec<Architecture>, repetitions: usize) -> Result<EvalOptions> {
+        let options = EvalOptions {
+            architectures,
+            band_sets: dataset.inputs(self.bands.as_deref())?,
+            repetitions,
+            test_fraction: dataset.test_fraction(),
+            classifier: self.classifier.clone(),
+            unet: self.unet.clone(),
+            threshold: self.threshold,
+            seed: self.seed,
+            perturbations: Vec::new(),
+        };
+        options.validate()?;
+        Ok(options)
+    }
+
+    fn out_dir(&self) -> PathBuf {
+        self.out.clone().unwrap_or_else(|| self.dataset.join("learn"))
+    }
+}
+
+/// A finished `wakelab eval`: the evaluation, the decision-level fusion rows with their mean
+/// conflict, and the folder written.
+pub struct Evaluated {
+    pub evaluation: Evaluation,
+    pub fusion: Vec<(Summary, f64)>,
+    pub dir: PathBuf,
+}
+
+/// `wakelab eval`: Algorithm 2 on the request's dataset for `architectures` and `repetitions`
+/// (or with the recipe of `study`'s `[learning]` table), its files written; `progress` hears
+/// (epochs in all, what was just trained) after every epoch.
+pub fn eval_command(
+    request: &LearnRequest,
+    architectures: &[Architecture],
+    repetitions: usize,
+    study: Option<&str>,
+    progress: &mut (dyn FnMut(u64, String) + Send),
+) -> Result<Evaluated> {
+    let dataset = Dataset::open(&request.dataset)?;
+    let device = wakelab_learn::device::parse_device(&request.device)?;
+    let options = match study {
+        None => request.options(&dataset, architectures.to_vec(), repetitions)?,
+        Some(name) => {
+            let options = crate::plan::study_eval_options(name, &dataset, architectures, request.bands.as_deref())?;
+            options.validate()?;
+            options
+        }
+    };
+    let total = total_epochs(&options);
+    let dir = request.out_dir();
+    let (evaluation, fusion) = evaluate_into(&dataset, &options, &dir, &device, &mut |p| {
+        progress(total, p.describe(options.repetitions))
+    })?;
+    Ok(Evaluated {
+        evaluation,
+        fusion,
+        dir,
+    })
+}
+
+/// `wakelab train`: one detector of `architecture` on the request's one input, saved at `model`
+/// (None: in the output folder) and tested; `progress` hears (epochs in all, what was just
+/// trained) after every epoch.
+pub fn train_command(
+    request: &LearnRequest,
+    architecture: Architecture,
+    model: Option<&Path>,
+    progress: &mut dyn FnMut(u64, String),
+) -> Result<Trained> {
+    let dataset = Dataset::open(&request.dataset)?;
+    let device = wakelab_learn::device::parse_device(&request.device)?;
+    let options = request.options(&dataset, vec![architecture], 1)?;
+    let [bands] = &options.band_sets[..] else {
+        anyhow::bail!("--bands: `train` trains one input (a band, or bands joined by +)");
+    };
+    let total = total_epochs(&options);
+    let dir = request.out_dir();
+    train_into(
+        &dataset,
+        architecture,
+        bands,
+        &options,
+        &dir,
+        model,
+        &device,
+        &mut |network, e| progress(total, format!("{bands} {network} {}", e.describe())),
+    )
+}
+
 /// A mask of values in [0, 1] as an 8-bit grey PNG (0 black, 1 white), written atomically.
 pub fn write_mask_png(path: &Path, mask: &ndarray::Array2<f32>) -> Result<()> {
     let (h, w) = mask.dim();

@@ -51,6 +51,35 @@ pub fn render_scene(cfg: &WakelabConfig, map: &wakelab_hydro::SurfaceMap, dir: &
     })
 }
 
+/// `wakelab scene` (`images`) and `wakelab wake`: the wake of `cfg` in `dir`, then (for a scene)
+/// its sea surface and every band's image; each finished part described to `say`.
+pub fn scene_command(
+    cfg: &WakelabConfig,
+    dir: &Path,
+    quiet: bool,
+    images: bool,
+    say: &mut dyn FnMut(String),
+) -> Result<()> {
+    let start = Instant::now();
+    let wake = simulate_wake(cfg, dir, quiet)?;
+    say(wake.describe(cfg, start.elapsed().as_secs_f64()));
+    wake.files.iter().for_each(|f| say(format!("wrote {}", f.display())));
+    if images {
+        let rendered = render_scene(cfg, &wake.map, dir)?;
+        say(rendered.describe(cfg));
+        rendered
+            .files
+            .iter()
+            .for_each(|f| say(format!("wrote {}", f.display())));
+        let seconds = start.elapsed().as_secs_f64();
+        say(format!(
+            "study finished in {seconds:.1} s; results in {}",
+            dir.display()
+        ));
+    }
+    Ok(())
+}
+
 /// The wake of a configuration, its files and the solver's steps.
 pub struct SimulatedWake {
     pub map: wakelab_hydro::SurfaceMap,

@@ -178,6 +178,28 @@ pub fn write_slurm_script(study: &Study, run: &SlurmRun) -> Result<PathBuf> {
     Ok(path)
 }
 
+/// `wakelab run --emit-slurm`: the script of `study` (named `name` by the user) into `dir`, and
+/// a line saying what it holds and how to submit it.
+pub fn emit_run_script(
+    name: &str,
+    study: &Study,
+    dir: &Path,
+    device: &str,
+    tasks: Option<usize>,
+    cpus: Option<usize>,
+) -> Result<String> {
+    let run = SlurmRun::new(name, study, dir, device, tasks, cpus)?;
+    let script = write_slurm_script(study, &run)?;
+    Ok(format!(
+        "wrote {} ({} pairs over {} dataset tasks, {} learning jobs); submit it with `bash {}`",
+        script.display(),
+        study.pairs()?.len(),
+        run.tasks,
+        SlurmRun::learning_jobs(study),
+        script.display()
+    ))
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -1,10 +1,12 @@
 //! Command-line arguments.
 
-use crate::learn::LearnArgs;
 use crate::Result;
 use clap::{Args, Parser, Subcommand};
 use std::path::PathBuf;
 use wakelab_core::config::{Preset, WakelabConfig};
+use wakelab_learn::train::Recipe;
+use wakelab_schema::recipe;
+use wakelab_study::learning::LearnRequest;
 
 /// wakelab: simulate a ship's persistent wake from first principles, render what SAR and
 /// infrared sensors would see, and train and fuse the detectors that find it.
@@ -19,6 +21,9 @@ use wakelab_core::config::{Preset, WakelabConfig};
 pub struct Cli {
     #[command(subcommand)]
     pub command: Command,
+    /// No progress bars (every command; -q).
+    #[arg(long, short, global = true)]
+    pub quiet: bool,
 }
 
 #[derive(Args, Debug, Clone)]
@@ -42,15 +47,10 @@ impl ConfigArgs {
 
     /// The configuration with the command line's --wind and --incidence applied, validated.
     pub fn load_with(&self, wind: Option<f64>, incidence: Option<f64>) -> Result<WakelabConfig> {
-        let mut cfg = self.load()?;
-        cfg.environment.wind.speed = wind.unwrap_or(cfg.environment.wind.speed);
-        cfg.platform.incidence = incidence.unwrap_or(cfg.platform.incidence);
-        cfg.validate()?;
-        Ok(cfg)
+        Ok(self.load()?.with_wind_and_incidence(wind, incidence)?)
     }
 }
 
-/// Options of the commands that run stages.
 #[derive(Args, Debug, Clone)]
 pub struct RunArgs {
     #[command(flatten)]
@@ -58,15 +58,11 @@ pub struct RunArgs {
     /// Run directory (default: the configuration's output.dir).
     #[arg(long, value_name = "DIR")]
     pub out: Option<PathBuf>,
-    /// No progress bar.
-    #[arg(long)]
-    pub quiet: bool,
 }
 
-/// Options of `wakelab run`.
 #[derive(Args, Debug, Clone)]
 pub struct StudyArgs {
-    /// Study: `default` (embedded, about ten minutes on a 2-core laptop), `paper` (the spec's
+    /// Study: `default` (embedded, about 4 minutes on a 2-core machine), `paper` (the spec's
     /// scale and recipe) or a study TOML file (see configs/study/default.toml).
     #[arg(long, value_name = "NAME|FILE")]
     pub study: Option<String>,
@@ -83,13 +79,13 @@ pub struct StudyArgs {
     /// Write a Slurm script, DIR/wakelab_run.slurm, that runs the study as jobs chained by
     /// `afterok` (dataset shards, then one job per input of the learning stage and one for the
     /// held-out environments, then fusion and the report) instead of running it here.
-    #[arg(long, conflicts_with = "stage")]
+    #[arg(long, conflicts_with_all = ["stage", "input"])]
     pub emit_slurm: bool,
-    /// Array tasks of the Slurm script's dataset stage (with --emit-slurm).
-    #[arg(long, value_name = "N")]
+    /// Array tasks of the Slurm script's dataset step (with --emit-slurm).
+    #[arg(long, value_name = "N", requires = "emit_slurm")]
     pub tasks: Option<usize>,
     /// Cores per Slurm job (with --emit-slurm).
-    #[arg(long, value_name = "N")]
+    #[arg(long, value_name = "N", requires = "emit_slurm")]
     pub cpus: Option<usize>,
     /// Run one learning stage only, on the run directory's finished dataset (what the Slurm
     /// jobs run): `learning` (one input, --input) or `held-out`; `wakelab run` reuses it.
@@ -98,9 +94,6 @@ pub struct StudyArgs {
     /// The input of `--stage learning`: a band (S, C, X, MWIR, LWIR) or bands as channels (S+X).
     #[arg(long, value_name = "NAME")]
     pub input: Option<String>,
-    /// No progress bar.
-    #[arg(long)]
-    pub quiet: bool,
 }
 
 /// A learning stage that `wakelab run --stage` runs on its own.
@@ -173,7 +166,6 @@ pub enum ConfigAction {
     },
 }
 
-/// Options of `idp`.
 #[derive(Args, Debug)]
 pub struct IdpArgs {
     #[command(flatten)]
@@ -186,7 +178,6 @@ pub struct IdpArgs {
     pub write: Option<PathBuf>,
 }
 
-/// Options of `spectrum`.
 #[derive(Args, Debug)]
 pub struct SpectrumArgs {
     #[command(flatten)]
@@ -202,7 +193,6 @@ pub struct SpectrumArgs {
     pub json: bool,
 }
 
-/// Options of `optics`.
 #[derive(Args, Debug)]
 pub struct OpticsArgs {
     #[command(flatten)]
@@ -224,7 +214,6 @@ pub struct OpticsArgs {
     pub json: bool,
 }
 
-/// Options of `dataset`.
 #[derive(Args, Debug)]
 pub struct DatasetArgs {
     /// Study file (TOML), or `default` / `paper` for the embedded studies.
@@ -245,12 +234,89 @@ pub struct DatasetArgs {
     /// Array tasks of the Slurm script.
     #[arg(long, default_value_t = 16)]
     pub tasks: usize,
-    /// No progress bar.
-    #[arg(long)]
-    pub quiet: bool,
 }
 
-/// Options of `train`.
+#[derive(clap::Args, Debug, Clone)]
+pub struct LearnArgs {
+    /// Dataset directory (written by `wakelab dataset`).
+    pub dataset: PathBuf,
+    /// Inputs, comma-separated; `S+X` is one input of two bands as channels (feature-level
+    /// fusion). Default: every band of the dataset, one at a time.
+    #[arg(long, value_name = "LIST")]
+    pub bands: Option<String>,
+    /// Classifier epochs (spec: 60).
+    #[arg(long, default_value_t = recipe::CLASSIFIER_EPOCHS)]
+    pub epochs: usize,
+    /// U-Net epochs (spec: 60).
+    #[arg(long, default_value_t = recipe::UNET_EPOCHS)]
+    pub unet_epochs: usize,
+    /// U-Net batch size (spec: 4).
+    #[arg(long, default_value_t = recipe::UNET_BATCH_SIZE)]
+    pub unet_batch_size: usize,
+    /// First-level channels of the U-Net (Table 4.2: 64; narrower trains faster).
+    #[arg(long, default_value_t = recipe::UNET_WIDTH)]
+    pub unet_width: usize,
+    /// Classifier batch size.
+    #[arg(long, default_value_t = recipe::CLASSIFIER_BATCH_SIZE)]
+    pub batch_size: usize,
+    /// Classifier learning rate (spec: 1e-3, SGD).
+    #[arg(long, default_value_t = recipe::CLASSIFIER_LEARNING_RATE, allow_negative_numbers = true)]
+    pub learning_rate: f64,
+    /// Classifier optimiser: sgd (spec 4.1) or adam (the spec's U-Net optimiser; learns in far
+    /// fewer steps).
+    #[arg(long, default_value = "sgd", value_name = "sgd|adam")]
+    pub optimiser: wakelab_schema::recipe::Optimiser,
+    /// Classifier L2 weight decay (spec: 0.1).
+    #[arg(long, default_value_t = recipe::CLASSIFIER_WEIGHT_DECAY, allow_negative_numbers = true)]
+    pub weight_decay: f64,
+    /// Decision threshold on the wake probability (spec 4.2: 0.5).
+    #[arg(long, default_value_t = recipe::THRESHOLD, allow_negative_numbers = true)]
+    pub threshold: f64,
+    /// Seed of the weights, splits, batch order and augmentation.
+    #[arg(long, default_value_t = 0)]
+    pub seed: u64,
+    /// How training inputs vary: quarter_turns (spec 4.2) or geometric (rotations by any angle,
+    /// flips and shifts).
+    #[arg(long, default_value = "quarter_turns", value_name = "quarter_turns|geometric")]
+    pub augmentation: wakelab_schema::recipe::Augmentation,
+    /// Backend: cpu, or wgpu / cuda in builds with those features.
+    #[arg(long, default_value = "cpu")]
+    pub device: String,
+    /// Output directory (default: DATASET/learn).
+    #[arg(long, value_name = "DIR")]
+    pub out: Option<PathBuf>,
+}
+
+impl LearnArgs {
+    /// What `train` and `eval` are asked to do.
+    pub fn request(&self) -> LearnRequest {
+        LearnRequest {
+            dataset: self.dataset.clone(),
+            bands: self.bands.clone(),
+            classifier: Recipe {
+                epochs: self.epochs,
+                batch_size: self.batch_size,
+                learning_rate: self.learning_rate,
+                optimiser: self.optimiser,
+                weight_decay: self.weight_decay,
+                augmentation: self.augmentation,
+                ..Recipe::classifier()
+            },
+            unet: Recipe {
+                epochs: self.unet_epochs,
+                batch_size: self.unet_batch_size,
+                width: self.unet_width,
+                augmentation: self.augmentation,
+                ..Recipe::unet()
+            },
+            threshold: self.threshold,
+            seed: self.seed,
+            device: self.device.clone(),
+            out: self.out.clone(),
+        }
+    }
+}
+
 #[derive(Args, Debug)]
 pub struct TrainArgs {
     #[command(flatten)]
@@ -263,7 +329,6 @@ pub struct TrainArgs {
     pub model: Option<PathBuf>,
 }
 
-/// Options of `eval`.
 #[derive(Args, Debug)]
 pub struct EvalArgs {
     #[command(flatten)]
@@ -305,27 +370,30 @@ pub struct ReadArgs {
     /// A raster of the input's size, non-zero on pixels to ignore (land, anything).
     #[arg(long, value_name = "FILE")]
     pub exclude: Option<PathBuf>,
+    /// The scale of a radar image's pixels: linear (sigma0), db, amplitude (sqrt sigma0) or
+    /// display (an 8-bit stretch; probabilities uncalibrated). Default: what the file's band
+    /// unit states, else linear. Infrared images are brightness temperatures (K).
+    #[arg(long, value_name = "linear|db|amplitude|display")]
+    pub scale: Option<wakelab_products::InputScale>,
+    /// Ground pixel spacing of a bare array (m); products state their own.
+    #[arg(long, value_name = "M")]
+    pub pixel_spacing: Option<f64>,
 }
 
 impl ReadArgs {
     /// The products crate's options (the quantity is set by the detector's band).
-    pub fn options(
-        &self,
-        scale: Option<wakelab_products::InputScale>,
-        pixel_spacing: Option<f64>,
-    ) -> wakelab_products::ReadOptions {
+    pub fn options(&self) -> wakelab_products::ReadOptions {
         wakelab_products::ReadOptions {
-            scale,
+            scale: self.scale,
             polarisation: self.pol.clone(),
             keep_noise: self.keep_noise,
             exclude: self.exclude.clone(),
-            pixel_spacing,
+            pixel_spacing: self.pixel_spacing,
             ..Default::default()
         }
     }
 }
 
-/// Options of `detect`.
 #[derive(Args, Debug)]
 pub struct DetectArgs {
     /// The image: a Sentinel-1 GRD product (.SAFE directory, its manifest.safe, or the .zip), a
@@ -350,14 +418,6 @@ pub struct DetectArgs {
     /// Also write the wake mask (PNG) here.
     #[arg(long, value_name = "FILE")]
     pub mask: Option<PathBuf>,
-    /// The scale of a radar image's pixels: linear (sigma0), db, amplitude (sqrt sigma0) or
-    /// display (an 8-bit stretch; probabilities uncalibrated). Default: what the file's band
-    /// unit states, else linear. Infrared images are brightness temperatures (K).
-    #[arg(long, value_name = "linear|db|amplitude|display")]
-    pub scale: Option<wakelab_products::InputScale>,
-    /// Ground pixel spacing of a bare array (m); products state their own.
-    #[arg(long, value_name = "M")]
-    pub pixel_spacing: Option<f64>,
     #[command(flatten)]
     pub read: ReadArgs,
     /// Backend: cpu, or wgpu / cuda in builds with those features.
@@ -366,12 +426,8 @@ pub struct DetectArgs {
     /// Print JSON.
     #[arg(long)]
     pub json: bool,
-    /// No progress bar.
-    #[arg(long)]
-    pub quiet: bool,
 }
 
-/// Options of `calibrate`.
 #[derive(Args, Debug)]
 pub struct CalibrateArgs {
     /// The product: a Sentinel-1 GRD (.SAFE directory, manifest.safe or .zip), a TerraSAR-X MGD
@@ -383,20 +439,13 @@ pub struct CalibrateArgs {
     /// Write sigma0 in dB (default: linear).
     #[arg(long)]
     pub db: bool,
-    /// The scale of a GeoTIFF's pixels when its band unit does not state it.
-    #[arg(long, value_name = "linear|db|amplitude")]
-    pub scale: Option<wakelab_products::InputScale>,
     #[command(flatten)]
     pub read: ReadArgs,
     /// Print JSON (the product's metadata and what reading did).
     #[arg(long)]
     pub json: bool,
-    /// No progress bar.
-    #[arg(long)]
-    pub quiet: bool,
 }
 
-/// Options of `sar sigma0`.
 #[derive(Args, Debug)]
 pub struct Sigma0Args {
     #[command(flatten)]

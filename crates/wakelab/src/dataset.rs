@@ -2,22 +2,10 @@
 
 use crate::cli::DatasetArgs;
 use crate::Result;
-use wakelab_study::dataset::{emit_dataset_slurm, merge_dataset, render_dataset};
 
-pub fn run_dataset(args: &DatasetArgs) -> Result<()> {
-    let study = wakelab_study::load_study(&args.study)?;
-    if args.emit_slurm {
-        eprintln!("{}", emit_dataset_slurm(&study, &args.study, &args.out, args.tasks)?.1);
-        return Ok(());
-    }
-    let shard: Option<wakelab_dataset::Shard> = (args.shard.as_deref())
-        .map(|text| text.parse().map_err(|e| anyhow::anyhow!("--shard {text}: {e}")))
-        .transpose()?;
-    if !args.merge {
-        eprintln!("{}", render_dataset(&study, &args.out, shard, args.quiet)?);
-    }
-    if shard.is_none() || args.merge {
-        eprintln!("{}", merge_dataset(&study, &args.out)?);
-    }
+pub fn run_dataset(args: &DatasetArgs, quiet: bool) -> Result<()> {
+    let (shard, slurm) = (args.shard.as_deref(), args.emit_slurm.then_some(args.tasks));
+    let said = wakelab_study::dataset::dataset_command(&args.study, &args.out, shard, args.merge, slurm, quiet)?;
+    said.iter().for_each(|line| eprintln!("{line}"));
     Ok(())
 }

@@ -29,26 +29,24 @@ fn main() {
 }
 
 fn dispatch(cli: Cli) -> Result<()> {
+    let quiet = cli.quiet;
     match cli.command {
-        Command::Run(args) => study::run_study_command(&args),
-        Command::Scene(args) => scene::run_pipeline(&args),
-        Command::Wake(args) => scene::run_wake_only(&args),
+        Command::Run(args) => study::run_study_command(&args, quiet),
+        Command::Scene(args) => scene::run_pipeline(&args, quiet),
+        Command::Wake(args) => scene::run_wake_only(&args, quiet),
         Command::Idp(args) => reports::idp(&args),
         Command::Spectrum(args) => reports::spectrum(&args),
         Command::Optics(args) => reports::optics(&args),
         Command::Sar {
             action: SarAction::Sigma0(args),
         } => reports::sar_sigma0(&args),
-        Command::Dataset(args) => dataset::run_dataset(&args),
-        Command::Train(args) => learn::run_train(&args),
-        Command::Eval(args) => learn::run_eval(&args),
-        Command::Detect(args) => detect::run_detect(&args),
-        Command::Calibrate(args) => detect::run_calibrate(&args),
+        Command::Dataset(args) => dataset::run_dataset(&args, quiet),
+        Command::Train(args) => learn::run_train(&args, quiet),
+        Command::Eval(args) => learn::run_eval(&args, quiet),
+        Command::Detect(args) => detect::run_detect(&args, quiet),
+        Command::Calibrate(args) => detect::run_calibrate(&args, quiet),
         Command::Config {
             action: ConfigAction::Show { config },
-        } => {
-            print!("{}", config.load()?.to_toml_string());
-            Ok(())
-        }
+        } => reports::config_show(&config),
     }
 }

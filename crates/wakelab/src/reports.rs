@@ -1,6 +1,6 @@
 //! The commands that print reports: `idp`, `spectrum`, `sar sigma0`, `optics`.
 
-use crate::cli::{IdpArgs, OpticsArgs, Sigma0Args, SpectrumArgs};
+use crate::cli::{ConfigArgs, IdpArgs, OpticsArgs, Sigma0Args, SpectrumArgs};
 use crate::Result;
 
 /// `wakelab idp`.
@@ -35,16 +35,15 @@ pub fn optics(args: &OpticsArgs) -> Result<()> {
 /// `wakelab sar sigma0`.
 pub fn sar_sigma0(args: &Sigma0Args) -> Result<()> {
     let mut cfg = args.config.load_with(args.wind, args.incidence)?;
-    if let Some(p) = args.polarisation {
-        cfg.sar.polarisation = p;
-    }
-    cfg.validate()?;
-    let cell = args.cell.unwrap_or(cfg.scene.pixel_spacing);
-    if !(0.1..=1e6).contains(&cell) {
-        return Err(wakelab_core::ConfigError::new("--cell", cell, "in [0.1, 1000000] m").into());
-    }
-    let report = wakelab_sensors::sigma0_report::sigma0_of_config(&cfg, args.band, args.look, cell);
+    cfg.sar.polarisation = args.polarisation.unwrap_or(cfg.sar.polarisation);
+    let report = wakelab_sensors::sigma0_report::sigma0_of_config(&cfg, args.band, args.look, args.cell)?;
     emit(&report, args.json)
+}
+
+/// `wakelab config show`: the effective configuration as TOML.
+pub fn config_show(config: &ConfigArgs) -> Result<()> {
+    print!("{}", config.load()?.to_toml_string());
+    Ok(())
 }
 
 /// Print a report as JSON or as aligned lines.

@@ -1,0 +1,113 @@
+//! `wakelab detect` and `wakelab calibrate` on a user's product, from the paths and options the
+//! command line gives to the files written: the binary only draws the progress and prints.
+
+use crate::product_scan::{scan_product, ScanProgress, Scanner};
+use crate::scan::{default_scan_dir, write_asked_mask, write_scan, ScanFiles, Scanned};
+use anyhow::Result;
+use std::path::{Path, PathBuf};
+use wakelab_learn::detect::{Detection, ScanOptions};
+use wakelab_learn::device::parse_device;
+use wakelab_learn::store::load_detector;
+use wakelab_products::cog::{write_sigma0, write_sigma0_rows};
+use wakelab_products::{ProductMeta, Quantity, ReadOptions, ReadReport, Source};
+
+/// What `wakelab detect` scans, with what and where it writes.
+pub struct DetectRequest<'a> {
+    pub image: &'a Path,
+    pub model: &'a Path,
+    pub read: ReadOptions,
+    pub options: ScanOptions,
+    /// Backend name (`cpu`, `wgpu`, `cuda`).
+    pub device: &'a str,
+    /// Output folder (None: `detect-<image name>`).
+    pub out: Option<PathBuf>,
+    /// Where to write the U-Net's mask as a PNG (`--mask`).
+    pub mask: Option<&'a Path>,
+}
+
+/// A finished `wakelab detect`: the detection, what the user should know, and the files.
+pub struct Detected {
+    pub detection: Detection,
+    pub notes: Vec<String>,
+    pub files: ScanFiles,
+}
+
+/// Load the detector, read and scan the product, and write the scan's files.
+pub fn detect(request: DetectRequest, progress: ScanProgress) -> Result<Detected> {
+    let device = parse_device(request.device)?;
+    let (detector, info) = load_detector(request.model, None, &device)?;
+    let scanner = Scanner {
+        detector: &detector,
+        info: &info,
+        options: request.options,
+        device: &device,
+    };
+    let scan = scan_product(request.image, &request.read, scanner, progress)?;
+    let dir = request.out.unwrap_or_else(|| default_scan_dir(request.image));
+    let scanned = Scanned {
+        path: &scan.path,
+        meta: &scan.meta,
+        product_frame: &scan.product_frame,
+        frame: &scan.frame,
+        overlay: &scan.overlay,
+        factor: scan.factor,
+        band: scan.band,
+        model: request.model,
+        notes: &scan.notes,
+    };
+    let files = write_scan(&dir, &scanned, &scan.detection)?;
+    let mut notes = scan.notes;
+    if let Some(path) = request.mask {
+        let architecture = info.architecture.to_string();
+        notes.extend(write_asked_mask(path, &scan.detection, request.model, &architecture)?);
+    }
+    Ok(Detected {
+        detection: scan.detection,
+        notes,
+        files,
+    })
+}
+
+/// A finished `wakelab calibrate`: the product's metadata, what reading it did, its size
+/// (rows, columns) and the COG written.
+pub struct Calibrated {
+    pub meta: ProductMeta,
+    pub report: ReadReport,
+    pub dim: (usize, usize),
+    pub path: PathBuf,
+}
+
+/// The calibrated, masked sigma0 of `product` as a COG at `out` (in dB with `db`); a Sentinel-1
+/// product is written a band of rows at a time, reporting `progress` (rows done, total).
+pub fn calibrate(
+    product: &Path,
+    read: ReadOptions,
+    out: &Path,
+    db: bool,
+    progress: &mut dyn FnMut(usize, usize),
+) -> Result<Calibrated> {
+    let read = ReadOptions {
+        quantity: Quantity::Sigma0,
+        ..read
+    };
+    Ok(match wakelab_products::open_source(product, &read, &mut |_, _| {})? {
+        Source::Rows(source) => {
+            let (path, report) = write_sigma0_rows(&source, out, db, progress)?;
+            Calibrated {
+                meta: source.meta.clone(),
+                report,
+                dim: source.dim(),
+                path,
+            }
+        }
+        Source::Whole(product) => {
+            let (meta, report, dim) = (product.meta.clone(), product.report.clone(), product.image.dim());
+            Calibrated {
+                meta,
+                report,
+                dim,
+                path: write_sigma0(*product, out, db)?,
+            }
+        }
+    })
+}

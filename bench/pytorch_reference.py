@@ -1,4 +1,4 @@
-"""PyTorch reference for wakelab's learning benchmark (issue: speed beside a reference).
+"""PyTorch reference for wakelab's learning benchmark (its speed beside a reference).
 
 The same networks as wakelab-learn (spec Tables 4.1-4.3), the same recipes (SGD lr 1e-3, L2 0.1 on
 BCE for "base"; Adam lr 1e-4, weight decay 1e-4 on 0.7 BCE + 0.3 log-Dice for the U-Net), timed

@@ -1,5 +1,5 @@
-//! Training-step throughput of the spec's networks on the CPU backend, at the sizes the issue
-//! names: "base" at 256 x 256 (batch 8) and the U-Net at 128 x 128 (batch 4). Compare with
+//! Training-step throughput of the spec's networks on the CPU backend, at the sizes that were
+//! asked for: "base" at 256 x 256 (batch 8) and the U-Net at 128 x 128 (batch 4). Compare with
 //! PyTorch through `bench/learning_vs_pytorch.sh`, which runs both side by side.
 
 use burn::tensor::{Device, Int, Tensor, TensorData};

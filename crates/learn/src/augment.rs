@@ -7,7 +7,7 @@
 //! Nearest, not bilinear: a turn must change the wake's direction, not the image's texture.
 //! Bilinear interpolation averages neighbouring pixels, which lowers the variance of speckle and
 //! sensor noise (by half at a half-pixel offset) and gives an image no sensor makes. Measured on
-//! the default study (stop 29, "base", 3 repetitions): test images turned 30 degrees bilinearly
+//! the default study ("base", 3 repetitions, November 2026): test images turned 30 degrees bilinearly
 //! moved the radar detectors' scores by 0.20-0.36 on average, by nearest pixel 0.10-0.13; trained
 //! with bilinear turns the radar MCCs fell from 0.25 / 0.29 / 0.20 (S / C / X, quarter turns) to
 //! 0.20 / 0.20 / 0.08, with nearest-pixel turns they stay at 0.31 / 0.27 / 0.13.

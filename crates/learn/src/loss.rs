@@ -18,7 +18,7 @@ pub fn bce_with_logits<const D: usize>(logits: Tensor<D>, targets: Tensor<D, Int
 ///
 /// Departs from the spec (4.1, erratum 9: plain BCE) in the BCE's weights: the wake covers a few
 /// per cent of the pixels, and with plain BCE the background outweighed it so far that no pixel
-/// ever reached the mask level (mask IoU 0.00 on every input of the default study, stop 28). As
+/// ever reached the mask level (mask IoU 0.00 on every input of the default study as it stood in November 2026). As
 /// for thin edges (Xie & Tu 2015, HED, Eq. 2), each class is weighted by the other's share of the
 /// batch: [`balanced_bce_with_logits`].
 pub fn unet_loss(logits: Tensor<4>, masks: Tensor<4, Int>) -> Tensor<1> {

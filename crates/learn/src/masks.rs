@@ -1,5 +1,5 @@
 //! How well the U-Net's wake masks cover the physics masks: intersection over union on the test
-//! wake scenes (issue 14; the spec reports the U-Net only through its classifier's MCC).
+//! wake scenes (the spec reports the U-Net only through its classifier's MCC).
 
 use ndarray::Array2;
 use serde::{Deserialize, Serialize};

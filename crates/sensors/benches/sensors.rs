@@ -1,6 +1,6 @@
 //! All five images (S, C, X, MWIR, LWIR) of a 1024 x 1024 scene, given the surface stage's
 //! output for the `quick` wake (computed once, not timed); and a scene like a real acquisition
-//! (issue "Scenes like real acquisitions": heading, slicks, wind variation, speckle, noise,
+//! (the scenes like real acquisitions: heading, slicks, wind variation, speckle, noise,
 //! bunching, IR NETD and blur), surface stage plus five images, end to end.
 
 // As in the `wakelab` binary, whose allocator keeps large buffers instead of handing them back

@@ -24,7 +24,7 @@ fn surface(c: &mut Criterion) {
         b.iter(|| wakelab_surface::synthesis::synthesise_surface(&sea, 1024, 5.0, 0.0, cfg.sea.window, 1))
     });
     g.finish();
-    // the Kelvin waves alone (issue goal: 0.3 s), on a scene that holds the ship, heading 30 deg
+    // the Kelvin waves alone (goal: 0.3 s), on a scene that holds the ship, heading 30 deg
     let ship_near = WakelabConfig::from_toml_str(
         "[scene]\nsize = 1024\npixel_spacing = 5.0\nalong_track = 2000.0\nheading = 30.0\n",
         "bench",

@@ -119,7 +119,7 @@ fn every_bad_input_is_refused_by_name_without_a_panic_or_leftovers() {
     image::RgbImage::from_pixel(48, 48, image::Rgb([10, 200, 30]))
         .save(dir.join("rgb.png"))
         .unwrap();
-    // the silent wrong answers: the scene in dB under the default linear scale, a 3-D
+    // silent wrong answers refused: the scene in dB under the default linear scale, a 3-D
     // array, a truncated array, a file that is no image
     let sea = scene.mapv(|v| if v.is_finite() { v } else { 0.01 });
     ndarray_npy::write_npy(dir.join("db.npy"), &sea.mapv(|v| 10.0 * v.log10())).unwrap();

@@ -237,6 +237,9 @@ study_axes! {
     heading: f64 = Geometry, "scene.heading" => scene.heading;
     incidence: f64 = Geometry, "platform.incidence" => platform.incidence;
     look_direction: f64 = Imaging, "platform.look_direction" => platform.look_direction;
+    /// Slant range over the platform's velocity, R/V (s): how far a moving target's return is
+    /// displaced in azimuth (spaceborne SARs: 40-130 s).
+    range_to_velocity: f64 = Imaging, "sar.range_to_velocity" => sar.range_to_velocity;
     polarisation: Polarisation = Imaging, "sar.polarisation" => sar.polarisation;
     /// Looks of the SAR's speckle (0: the perfect SAR).
     looks: u32 = Imaging, "sar.looks" => sar.looks;
@@ -348,7 +351,7 @@ mod tests {
             checked += 1;
         }
         assert_eq!(
-            checked, 15,
+            checked, 16,
             "every axis but swell direction, stratification and polarisation"
         );
     }

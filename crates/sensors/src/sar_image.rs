@@ -351,8 +351,11 @@ fn line_of_sight_velocity(config: &WakelabConfig, scene: &SurfaceScene) -> Array
 }
 
 /// Velocity bunching (Alpers & Rufenach 1979): each scatterer appears shifted in azimuth by
-/// (R/V) v_r, v_r its line-of-sight orbital velocity `v`; the intensity is moved with bilinear
-/// weights, so the image's total is conserved.
+/// -(R/V) v_r, v_r its line-of-sight velocity `v` away from the radar: a scatterer approaching
+/// the radar adds Doppler, which the processor places where the platform had passed it, ahead
+/// in the flight direction (Raney 1971); one receding, behind. The intensity is moved with
+/// bilinear weights across the scene's periodic edges (its sea is synthesised by FFT), so the
+/// image's total is conserved.
 pub fn velocity_bunching(
     config: &WakelabConfig,
     grid: &SceneGrid,
@@ -368,7 +371,7 @@ pub fn velocity_bunching(
     let rv = config.sar.range_to_velocity;
     // where each source pixel lands: column and row, fractional
     let target = |r: usize, c: usize| {
-        let shift = rv * v[[r, c]];
+        let shift = -rv * v[[r, c]];
         (r as f64 - az_n * shift / dx, c as f64 + az_e * shift / dx)
     };
     // how many rows any pixel moves at most: a band of output rows gathers from its own rows
@@ -385,9 +388,14 @@ pub fn velocity_bunching(
         .for_each(|(band, mut rows)| {
             let first = band * band_rows;
             let last = first + rows.nrows();
-            for r in first.saturating_sub(reach)..(last + reach).min(n) {
+            // the scene is periodic (its random sea is synthesised by FFT): what leaves one edge
+            // enters the other, so the scene's mean is kept; source row k stands for row k mod n
+            let (first_k, last_k) = (first as i64 - reach as i64, (last + reach) as i64);
+            for k in first_k..last_k {
+                let r = k.rem_euclid(n as i64) as usize;
                 for c in 0..n {
                     let (row, col) = target(r, c);
+                    let row = row + (k - r as i64) as f64;
                     let (r0, c0) = (row.floor(), col.floor());
                     let (fr, fc) = (row - r0, col - c0);
                     for (dr, wr) in [(0.0, 1.0 - fr), (1.0, fr)] {
@@ -397,8 +405,8 @@ pub fn velocity_bunching(
                             continue;
                         }
                         for (dc, wc) in [(0.0, 1.0 - fc), (1.0, fc)] {
-                            let cc = c0 + dc;
-                            if cc >= 0.0 && (cc as usize) < n {
+                            let cc = (c0 + dc).rem_euclid(n as f64);
+                            if cc.is_finite() {
                                 rows[[rr as usize - first, cc as usize]] += sigma0[[r, c]] * wr * wc;
                             }
                         }

@@ -64,8 +64,9 @@ fn the_ship_returns_its_cross_section() {
 }
 
 /// With velocity bunching, a ship whose course has a component along the look direction moves
-/// in azimuth by (R/V) U cos(look) sin(incidence), like any moving target; looking across its
-/// course it stays on its track.
+/// in azimuth by (R/V) U cos(look) sin(incidence), like any moving target, behind in the flight
+/// direction when it recedes from the radar (Raney 1971); looking across its course it stays on
+/// its track.
 #[test]
 fn a_moving_ship_leaves_its_wake_in_azimuth() {
     let extra = "[sar]\nvelocity_bunching = true\nrange_to_velocity = 40.0\n[platform]\nincidence = 30.0\nlook_direction = 0.0\n";
@@ -89,14 +90,15 @@ fn a_moving_ship_leaves_its_wake_in_azimuth() {
     };
     let moved = centroid(&c, &no_ship);
     let still = centroid(&across, &across_none);
-    // heading east, looking along the course (east): azimuth is north, rows decrease
+    // heading east, looking along the course (east): the ship recedes; azimuth is north, so it
+    // appears south of its track, rows increase
     let shift = 40.0 * c.ship.speed * 30f64.to_radians().sin() / 5.0;
     eprintln!(
         "azimuth offset {:.2} rows vs (R/V) U sin(theta) / dx = {shift:.2}",
-        still.0 - moved.0
+        moved.0 - still.0
     );
     assert!(
-        (still.0 - moved.0 - shift).abs() < 0.5,
+        (moved.0 - still.0 - shift).abs() < 0.5,
         "moved {moved:?}, still {still:?}, want {shift} rows"
     );
     assert!(

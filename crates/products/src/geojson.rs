@@ -19,13 +19,15 @@ pub enum Kind {
 }
 
 /// One finding at a pixel position (GDAL's convention: column and row from the image's
-/// top-left corner) with its own properties.
+/// top-left corner) with its own properties; a finding with a `line` (a wake: its vertices as
+/// (row, column)) is a LineString, any other a Point.
 #[derive(Debug, Clone)]
 pub struct Finding {
     pub kind: Kind,
     pub row: f64,
     pub col: f64,
     pub properties: Map<String, Value>,
+    pub line: Option<Vec<(f64, f64)>>,
 }
 
 /// Decimal places of a coordinate (1e-7 degrees is 1 cm; RFC 7946 section 11.2 advises
@@ -35,8 +37,16 @@ const PLACES: f64 = 1e7;
 /// The findings on `frame` as a FeatureCollection; `common` is added to every feature's
 /// properties.
 pub fn feature_collection(frame: &Frame, findings: &[Finding], common: &Map<String, Value>) -> Value {
-    let points: Vec<(f64, f64)> = findings.iter().map(|f| (f.col, f.row)).collect();
+    // every point and every line vertex placed at once: GDAL's transformer is built once
+    let mut points: Vec<(f64, f64)> = findings.iter().map(|f| (f.col, f.row)).collect();
+    let mut vertices = Vec::new();
+    for f in findings {
+        let first = points.len();
+        points.extend(f.line.iter().flatten().map(|&(r, c)| (c, r)));
+        vertices.push(first..points.len());
+    }
     let lonlat = frame.lonlat(&points);
+    let rounded = |p: (f64, f64)| [(p.0 * PLACES).round() / PLACES, (p.1 * PLACES).round() / PLACES];
     let features: Vec<Value> = findings
         .iter()
         .enumerate()
@@ -47,13 +57,20 @@ pub fn feature_collection(frame: &Frame, findings: &[Finding], common: &Map<Stri
             properties.insert("col".into(), json!(f.col));
             properties.extend(f.properties.clone());
             properties.extend(common.clone());
-            let geometry = match &lonlat {
-                Some(p) => json!({
-                    "type": "Point",
-                    "coordinates": [(p[i].0 * PLACES).round() / PLACES, (p[i].1 * PLACES).round() / PLACES],
+            let geometry = match (&lonlat, &f.line) {
+                (Some(p), Some(_)) => json!({
+                    "type": "LineString",
+                    "coordinates": p[vertices[i].clone()].iter().map(|&q| rounded(q)).collect::<Vec<_>>(),
                 }),
-                None => Value::Null,
+                (Some(p), None) => json!({ "type": "Point", "coordinates": rounded(p[i]) }),
+                (None, _) => Value::Null,
             };
+            if let Some(line) = &f.line {
+                properties.insert(
+                    "line_rows_cols".into(),
+                    json!(line.iter().map(|&(r, c)| [r, c]).collect::<Vec<_>>()),
+                );
+            }
             json!({ "type": "Feature", "geometry": geometry, "properties": properties })
         })
         .collect();

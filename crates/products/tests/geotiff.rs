@@ -86,9 +86,34 @@ fn a_utm_geotiff_places_findings_where_gdal_does() {
             row,
             col,
             properties: Default::default(),
+            line: None,
         })
         .collect();
     let collection = feature_collection(&product.frame, &findings, &Default::default());
+    // a wake's line: a LineString through its vertices, each where GDAL places it
+    let wake = Finding {
+        kind: Kind::Wake,
+        row: 5.5,
+        col: 6.5,
+        properties: Default::default(),
+        line: Some(vec![(5.5, 6.5), (30.5, 40.5)]),
+    };
+    let lines = feature_collection(&product.frame, std::slice::from_ref(&wake), &Default::default());
+    let geometry = &lines["features"][0]["geometry"];
+    assert_eq!(geometry["type"], "LineString");
+    for (vertex, &(row, col)) in geometry["coordinates"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .zip(wake.line.as_ref().unwrap())
+    {
+        let (lon, lat) = (vertex[0].as_f64().unwrap(), vertex[1].as_f64().unwrap());
+        let (want_lon, want_lat) = gdal_lonlat(col, row);
+        assert!(
+            (lon - want_lon).abs() < 1e-7 && (lat - want_lat).abs() < 1e-7,
+            "{vertex:?}"
+        );
+    }
     for (f, feature) in findings.iter().zip(collection["features"].as_array().unwrap()) {
         let xy = feature["geometry"]["coordinates"].as_array().unwrap();
         let (lon, lat) = (xy[0].as_f64().unwrap(), xy[1].as_f64().unwrap());

@@ -15,6 +15,8 @@
 //! - scan (`whole_scene/`): each band's detector scanned over one scene eight chips wide;
 //! - environments (`environments/`): the spec's calm, head and following seas per radar band,
 //!   and the open sea's sigma0 against CMOD5.N;
+//! - ships (`ships/`): the classic ship and wake detectors ([`wakelab_ships`]) on simulated
+//!   scenes whose truth is known: detection, false alarms, course and speed errors;
 //! - report (`report/`): HTML, Markdown and CSV, rendered from what the steps wrote ([`report`]
 //!   runs no physics and trains nothing).
 //!
@@ -35,6 +37,7 @@ pub mod products;
 pub mod report;
 pub mod scan;
 pub mod scene;
+pub mod sea_findings;
 pub mod slurm;
 pub mod steps;
 
@@ -181,7 +184,7 @@ impl StudyOutcome {
 }
 
 /// The number of steps a full run shows in its progress display.
-const STEPS: usize = 7;
+const STEPS: usize = 8;
 
 /// `wakelab run`: every step of `study` in `dir` (reusing what is finished), then the report.
 /// `quiet` hides the progress bar.

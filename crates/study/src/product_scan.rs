@@ -6,6 +6,7 @@
 //! band of rows at a time, so memory holds one band, not the product. What was assumed is said in
 //! the scan's notes.
 
+use crate::sea_findings::{product_geometry, search_image, SeaFindings};
 use anyhow::Result;
 use std::path::Path;
 use wakelab_core::ConfigError;
@@ -51,6 +52,18 @@ pub struct ProductScan {
     pub band: Band,
     pub notes: Vec<String>,
     pub detection: Detection,
+    /// Ships and wakes (radar images), in the scanned grid's pixels.
+    pub sea: Option<SeaFindings>,
+}
+
+/// The ground spacing (m between rows, columns) of the grid scanned at `factor` product pixels
+/// per pixel: the product's, else the detector's.
+fn scanned_spacing(meta: &ProductMeta, info: &ModelInfo, factor: (f64, f64)) -> (f64, f64) {
+    match (&meta.pixel_spacing, info.pixel_spacing) {
+        (Some(s), _) => (s.rows * factor.0, s.columns * factor.1),
+        (None, Some(p)) => (p, p),
+        (None, None) => (10.0, 10.0),
+    }
 }
 
 /// Product pixels per detector pixel along (rows, columns), and notes on what was assumed.
@@ -174,6 +187,11 @@ pub fn scan_product(path: &Path, read: &ReadOptions, scanner: Scanner, progress:
     scan.feed(0, image.view(), device, progress.scanning);
     let mut overlay = crate::scan::OverlayMeans::new(image.dim(), band);
     overlay.add(0, image.view());
+    let sea = band.is_radar().then(|| {
+        let (geometry, sea_notes) = product_geometry(&product.meta, scanned_spacing(&product.meta, info, factor));
+        notes.extend(sea_notes);
+        search_image(image.view(), geometry)
+    });
     notes.splice(0..0, product.report.notes.iter().cloned());
     masked_note(&mut notes, masked);
     Ok(ProductScan {
@@ -188,6 +206,7 @@ pub fn scan_product(path: &Path, read: &ReadOptions, scanner: Scanner, progress:
         band,
         notes,
         detection: scan.finish()?,
+        sea,
     })
 }
 
@@ -221,6 +240,11 @@ fn scan_by_bands(
     let (n, stride) = scan.window_and_stride();
     let height = n + BAND_ROWS.div_ceil(stride * fr) * stride;
     let mut overlay = crate::scan::OverlayMeans::new(scanned, band);
+    let mut sea = band.is_radar().then(|| {
+        let (geometry, sea_notes) = product_geometry(&source.meta, scanned_spacing(&source.meta, info, factor));
+        notes.extend(sea_notes);
+        SeaFindings::empty(geometry)
+    });
     // scanned rows counted (masked, floored, overlay) so far: a band's overlap with the last
     // is not
     let (mut counted, mut masked, mut floored) = (0, 0, 0);
@@ -241,6 +265,9 @@ fn scan_by_bands(
         };
         let strip = strip.slice(ndarray::s![..end - start, ..]);
         overlay.add(start + fresh, strip.slice(ndarray::s![fresh.., ..]));
+        if let Some(sea) = sea.as_mut() {
+            sea.add_band(strip, start, start + fresh..end);
+        }
         counted = end;
         (progress.reading)(last, rows);
         scan.feed(start, strip, device, progress.scanning);
@@ -262,5 +289,6 @@ fn scan_by_bands(
         band,
         notes,
         detection,
+        sea,
     })
 }

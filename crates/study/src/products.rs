@@ -30,6 +30,22 @@ pub struct Detected {
     pub detection: Detection,
     pub notes: Vec<String>,
     pub files: ScanFiles,
+    /// The ships and wakes found (radar images).
+    pub sea: Option<crate::sea_findings::SeaFindings>,
+}
+
+impl Detected {
+    /// The detection as `detect --json` prints it: with the ships and wakes as
+    /// `detections.json` holds them.
+    pub fn json(&self) -> Result<serde_json::Value> {
+        let mut out = serde_json::to_value(&self.detection)?;
+        let path = &self.files.detections;
+        let text = std::fs::read_to_string(path).map_err(|e| anyhow::anyhow!("{}: {e}", path.display()))?;
+        let written: serde_json::Value = serde_json::from_str(&text)?;
+        out["ships"] = written["ships"].clone();
+        out["wakes"] = written["wakes"].clone();
+        Ok(out)
+    }
 }
 
 /// Load the detector, read and scan the product, and write the scan's files.
@@ -54,6 +70,7 @@ pub fn detect(request: DetectRequest, progress: ScanProgress) -> Result<Detected
         band: scan.band,
         model: request.model,
         notes: &scan.notes,
+        sea: scan.sea.as_ref(),
     };
     let files = write_scan(&dir, &scanned, &scan.detection)?;
     let mut notes = scan.notes;
@@ -65,6 +82,7 @@ pub fn detect(request: DetectRequest, progress: ScanProgress) -> Result<Detected
         detection: scan.detection,
         notes,
         files,
+        sea: scan.sea,
     })
 }
 

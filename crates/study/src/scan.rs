@@ -6,6 +6,7 @@
 //! pixel and ground coordinates, a PNG of the image with the map over it, and the U-Net's mask
 //! where there is one.
 
+use crate::sea_findings::SeaFindings;
 use anyhow::Result;
 use image::{Rgb, RgbImage};
 use rayon::prelude::*;
@@ -66,6 +67,11 @@ struct DetectionsFile<'a> {
     /// The map's strongest cell.
     peak: Located<'a, Peak>,
     detections: Vec<Located<'a, Found>>,
+    /// The ships and wakes the classic searches found (null for infrared), and the targets
+    /// they rejected.
+    ships: Value,
+    wakes: Value,
+    ghosts: Option<Value>,
 }
 
 /// What a scan wrote.
@@ -122,6 +128,8 @@ pub struct Scanned<'a> {
     pub model: &'a Path,
     /// What the user should know (reading, resampling).
     pub notes: &'a [String],
+    /// The ships and wakes found (radar images).
+    pub sea: Option<&'a SeaFindings>,
 }
 
 impl Scanned<'_> {
@@ -175,15 +183,18 @@ pub fn write_scan(dir: &Path, scanned: &Scanned, detection: &Detection) -> Resul
         )?;
     }
     let picture = AtomicFile::new(&files.overlay)?;
-    scanned
-        .overlay
-        .picture(detection)
-        .save_with_format(picture.temporary_path(), image::ImageFormat::Png)?;
+    let mut drawn = scanned.overlay.picture(detection);
+    if let Some(sea) = scanned.sea {
+        sea.draw(&mut drawn, scanned.overlay.scale());
+    }
+    drawn.save_with_format(picture.temporary_path(), image::ImageFormat::Png)?;
     picture.commit()?;
 
     // every point placed at once: GDAL's transformer is built once per call
     let mut points: Vec<(f64, f64)> = detection.detections.iter().map(|f| (f.row, f.col)).collect();
     points.push((detection.peak.row, detection.peak.col));
+    let sea_first = points.len();
+    points.extend(scanned.sea.map(SeaFindings::points).unwrap_or_default());
     let in_product: Vec<(f64, f64)> = points.iter().map(|&(r, c)| scanned.in_product(r, c)).collect();
     let frame = scanned.product_frame;
     let lonlat = frame.lonlat(&in_product.iter().map(|&(r, c)| (c, r)).collect::<Vec<_>>());
@@ -210,6 +221,14 @@ pub fn write_scan(dir: &Path, scanned: &Scanned, detection: &Detection) -> Resul
             lat: ll.map(|p| p.1),
         }
     }
+    let sea_entries = match scanned.sea {
+        Some(sea) => {
+            let (ships, wakes, found) =
+                sea.entries(&in_product[sea_first..], lonlat.as_deref().map(|l| &l[sea_first..]));
+            (ships, wakes, found)
+        }
+        None => (Value::Null, Value::Null, Vec::new()),
+    };
     let detections: Vec<Located<Found>> = detection
         .detections
         .iter()
@@ -230,8 +249,17 @@ pub fn write_scan(dir: &Path, scanned: &Scanned, detection: &Detection) -> Resul
         georeferenced: lonlat.is_some(),
         resampled: scanned.factor,
         notes: scanned.notes,
-        peak: located(&detection.peak, place(points.len() - 1)),
+        peak: located(&detection.peak, place(sea_first - 1)),
         detections,
+        ships: sea_entries.0,
+        wakes: sea_entries.1,
+        ghosts: scanned.sea.map(|s| {
+            json!({
+                "azimuth_ambiguities": s.ambiguities,
+                "sidelobes": s.sidelobes,
+                "too_long_for_ships": s.too_long,
+            })
+        }),
     };
     write_atomically(&files.detections, serde_json::to_string_pretty(&report)?.as_bytes())?;
 
@@ -249,6 +277,7 @@ pub fn write_scan(dir: &Path, scanned: &Scanned, detection: &Detection) -> Resul
                 row,
                 col,
                 properties,
+                line: None,
             }
         })
         .collect();
@@ -258,6 +287,8 @@ pub fn write_scan(dir: &Path, scanned: &Scanned, detection: &Detection) -> Resul
     common.insert("product_id".into(), json!(meta.product_id));
     common.insert("acquisition_time".into(), json!(meta.acquisition_time));
     common.insert("polarisation".into(), json!(meta.polarisation));
+    let mut findings = findings;
+    findings.extend(sea_entries.2);
     let collection = feature_collection(frame, &findings, &common);
     write_atomically(&files.geojson, serde_json::to_string_pretty(&collection)?.as_bytes())?;
     Ok(files)
@@ -276,6 +307,11 @@ pub struct OverlayMeans {
 }
 
 impl OverlayMeans {
+    /// Image pixels per picture pixel.
+    pub fn scale(&self) -> f64 {
+        self.factor as f64
+    }
+
     /// For an image of `size` (rows, columns) in `band`.
     pub fn new(size: (usize, usize), band: Band) -> Self {
         let (h, w) = size;

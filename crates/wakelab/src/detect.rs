@@ -35,10 +35,13 @@ pub fn run_detect(args: &DetectArgs, quiet: bool) -> Result<()> {
         eprintln!("note: {note}");
     }
     if args.json {
-        println!("{}", serde_json::to_string_pretty(&found.detection)?);
+        println!("{}", serde_json::to_string_pretty(&found.json()?)?);
     } else {
         let files = &found.files;
         println!("{}: {}", args.image.display(), found.detection.describe());
+        if let Some(sea) = &found.sea {
+            println!("ships and wakes: {}", sea.describe());
+        }
         println!(
             "wrote {} (map), {}, {} and {}",
             files.map.display(),

@@ -337,3 +337,106 @@ fn a_sentinel1_product_is_calibrated_and_scanned_on_its_ground() {
     assert_eq!(banded.len(), (lines / 2).div_ceil(16) * (SIDE / 2).div_ceil(16));
     assert!(banded.iter().zip(&read_whole).all(|(a, b)| a.to_bits() == b.to_bits()));
 }
+
+/// A ship and its wake on a UTM GeoTIFF (4-look speckle, a 150 m return 30 dB over the sea, a
+/// trough 3 dB dark and 40 m wide for 2.5 km behind it, course 45 degrees): `detect` finds the
+/// ship where it is and the wake's course, and writes them as a GeoJSON Point and LineString
+/// (the wake's vertices where GDAL places them) and in `detect --json`; a GeoTIFF states no orbit,
+/// so the azimuth offset gives no speed, and the notes say so.
+#[test]
+fn a_ship_and_its_wake_come_out_as_geojson() {
+    let dir = tempfile::tempdir().unwrap();
+    let side = 400;
+    let looks: Vec<Array2<f32>> = (0..4).map(|k| sea_of(side * (k + 1))).collect();
+    let mut image = Array2::from_shape_fn((side, SIDE.max(side)), |(r, c)| {
+        looks
+            .iter()
+            .enumerate()
+            .map(|(k, l)| l[[side * k + r, c % SIDE]])
+            .sum::<f32>()
+            / 4.0
+    });
+    let (ship_r, ship_c) = (300.0, 100.0);
+    let course = 45f64.to_radians();
+    let (north, east) = (course.cos(), course.sin());
+    for d in 6..250 {
+        for x in -2..=2 {
+            // behind the ship: minus the course, across: the course turned right
+            let r = ship_r + d as f64 * north - x as f64 * east;
+            let c = ship_c - d as f64 * east - x as f64 * north;
+            if r >= 0.0 && c >= 0.0 && (r as usize) < side && (c as usize) < image.ncols() {
+                image[[r as usize, c as usize]] *= 0.5;
+            }
+        }
+    }
+    for d in -7..=7 {
+        let (r, c) = (ship_r - d as f64 * north, ship_c + d as f64 * east);
+        image[[r.round() as usize, c.round() as usize]] = 10.0;
+    }
+    let tif = dir.path().join("ship.tif");
+    write_tif(&tif, &image, &utm(TRANSFORM, image.dim()), "linear");
+    let model = detector(dir.path());
+    let out = dir.path().join("scan");
+    let report = detect(&tif, &model, &out, &[]);
+    let ships = report["ships"].as_array().unwrap();
+    assert_eq!(ships.len(), 1, "{ships:?}");
+    let ship = &ships[0];
+    let (row, col) = (
+        ship["product_row"].as_f64().unwrap(),
+        ship["product_col"].as_f64().unwrap(),
+    );
+    assert!((row - ship_r).abs() < 2.0 && (col - ship_c).abs() < 2.0, "{ship}");
+    let wake = &report["wakes"].as_array().unwrap()[0];
+    assert_eq!(wake["ship"], 0, "{wake}");
+    let image_course = wake["course_image_deg"].as_f64().unwrap();
+    assert!((image_course - 45.0).abs() < 2.0, "{wake}");
+    // UTM 33N at 13.45 E, 55 N: grid north is 1.3 degrees east of true north there
+    assert!((wake["course_deg"].as_f64().unwrap() - 45.0).abs() < 2.0, "{wake}");
+    // it leaves the image 1.41 km behind the ship
+    assert!(wake["length_m"].as_f64().unwrap() > 1200.0, "{wake}");
+    assert!(
+        wake["speed_offset"]["unknown"].as_str().unwrap().contains("R/V"),
+        "{wake}"
+    );
+    let notes = report["notes"].as_array().unwrap();
+    assert!(
+        notes.iter().any(|n| n.as_str().unwrap().contains("no orbit")),
+        "{notes:?}"
+    );
+    let geojson: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(out.join("detections.geojson")).unwrap()).unwrap();
+    let features = geojson["features"].as_array().unwrap();
+    let point = features
+        .iter()
+        .find(|f| f["properties"]["kind"] == "ship")
+        .expect("a ship");
+    assert_eq!(point["geometry"]["type"], "Point");
+    let line = features
+        .iter()
+        .find(|f| f["properties"]["kind"] == "wake")
+        .expect("a wake");
+    assert_eq!(line["geometry"]["type"], "LineString");
+    let start = &line["geometry"]["coordinates"][0];
+    let (want_lon, want_lat) = gdal_lonlat(
+        wake["product_start"][1].as_f64().unwrap(),
+        wake["product_start"][0].as_f64().unwrap(),
+    );
+    assert!(
+        (start[0].as_f64().unwrap() - want_lon).abs() < 1e-6 && (start[1].as_f64().unwrap() - want_lat).abs() < 1e-6
+    );
+    // detect --json carries the same ships and wakes
+    let o = wakelab(&[
+        "detect",
+        tif.to_str().unwrap(),
+        "--model",
+        model.to_str().unwrap(),
+        "--out",
+        dir.path().join("again").to_str().unwrap(),
+        "--json",
+        "-q",
+    ]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let printed: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
+    assert_eq!(printed["ships"], report["ships"]);
+    assert_eq!(printed["wakes"], report["wakes"]);
+}

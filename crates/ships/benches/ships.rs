@@ -1,0 +1,66 @@
+//! The ship and wake searches on 100 km^2 of 10 m pixels (1000 x 1000, 4-look speckle, one ship
+//! with its wake): the CFAR, the normalisation, one ship's wake search, the free wakes, and the
+//! whole search, whose time is the "per 100 km^2" figure.
+
+use criterion::{criterion_group, criterion_main, Criterion};
+use ndarray::Array2;
+use rand::SeedableRng;
+use rand_distr::{Distribution, Exp1};
+use wakelab_ships::cfar::{find_ships, CfarOptions};
+use wakelab_ships::radon::SearchImage;
+use wakelab_ships::wake::{free_wakes, ship_wake, WakeOptions};
+use wakelab_ships::{search, Geometry, BACKGROUND_M};
+
+fn scene() -> (Array2<f32>, Geometry) {
+    let g = Geometry {
+        spacing: (10.0, 10.0),
+        azimuth_deg: 0.0,
+        look_deg: 90.0,
+        incidence_deg: 35.0,
+        range_over_velocity: Some(110.0),
+    };
+    let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(1);
+    let mut image = Array2::from_shape_fn((1000, 1000), |_| {
+        (0.01 * (0..4).map(|_| -> f64 { Exp1.sample(&mut rng) }).sum::<f64>() / 4.0) as f32
+    });
+    // a wake 3 km long from (500, 500) heading 210 (the ship on course 30), 3 dB dark, 40 m wide
+    let (ur, uc) = g.step(210.0);
+    let (vr, vc) = g.step(300.0);
+    for i in 5..300 {
+        for j in -2..=2 {
+            let (r, c) = (
+                500.0 + ur * 10.0 * i as f64 + vr * 10.0 * j as f64,
+                500.0 + uc * 10.0 * i as f64 + vc * 10.0 * j as f64,
+            );
+            image[[r.round() as usize, c.round() as usize]] *= 0.5;
+        }
+    }
+    for r in 495..505 {
+        for c in 498..502 {
+            image[[r, c]] = 3.0;
+        }
+    }
+    (image, g)
+}
+
+fn bench(c: &mut Criterion) {
+    let (image, g) = scene();
+    let (cfar, wakes) = (CfarOptions::default(), WakeOptions::default());
+    let mut group = c.benchmark_group("ships_100km2");
+    group.sample_size(10);
+    group.bench_function("cfar", |b| b.iter(|| find_ships(image.view(), &g, &cfar)));
+    group.bench_function("normalise", |b| {
+        b.iter(|| SearchImage::new(image.view(), &g, BACKGROUND_M))
+    });
+    let ships = find_ships(image.view(), &g, &cfar);
+    let normalised = SearchImage::new(image.view(), &g, BACKGROUND_M);
+    group.bench_function("ship_wake", |b| {
+        b.iter(|| ship_wake(&normalised, &ships.ships[0], 0, &wakes))
+    });
+    group.bench_function("free_wakes", |b| b.iter(|| free_wakes(&normalised, &[], &wakes)));
+    group.bench_function("search", |b| b.iter(|| search(image.view(), &g, &cfar, &wakes)));
+    group.finish();
+}
+
+criterion_group!(benches, bench);
+criterion_main!(benches);

@@ -1,0 +1,124 @@
+//! wakelab-ships: ships and their wakes in a SAR image, by the field's classic detectors, as an
+//! analyst works a scene (Eldhuset 1996; Graziano et al. 2017; Karakus et al. 2020): find the
+//! ships, look for each ship's wake, and read from the wake where the ship went and how fast.
+//!
+//! - [`cfar`]: ships as bright targets, by a two-parameter CFAR on the image in dB (guard and
+//!   background windows in metres, a stated false-alarm probability), clustered into targets,
+//!   azimuth ambiguities and sidelobe ghosts rejected, masked pixels (NaN) left out;
+//! - [`wake`]: each ship's wake, by a Radon search of the normalised image along rays from the
+//!   ship's true position (the detected return is displaced in azimuth by its range velocity),
+//!   the dark turbulent trough with the bright arms of the narrow V beside it; and the free
+//!   wakes, whose ship has left the image, by the Radon transform of the whole image;
+//! - [`kelvin`]: the ship's speed from the wavelength of its transverse Kelvin waves.
+//!
+//! Everything works on linear sigma0 (NaN for no data) in the image's pixels, with the
+//! [`Geometry`] that places them: no physics model, no deep learning.
+
+pub mod cfar;
+pub mod kelvin;
+pub mod radon;
+pub mod wake;
+
+use cfar::{find_ships, CfarOptions, ShipSearch};
+use ndarray::ArrayView2;
+use serde::Serialize;
+use wake::{free_wakes, ship_wake, Wake, WakeOptions};
+
+/// Where the image's pixels lie: their ground spacing and the radar's geometry.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+pub struct Geometry {
+    /// Ground distance between rows and between columns (m).
+    pub spacing: (f64, f64),
+    /// The platform's flight (azimuth) direction in the image, degrees clockwise from up (a
+    /// ground-range product in radar geometry: 0 or 180, along the rows).
+    pub azimuth_deg: f64,
+    /// The horizontal direction the radar looks in (degrees clockwise from up): the azimuth
+    /// plus 90 for a right-looking sensor (Sentinel-1, TerraSAR-X, COSMO-SkyMed by default).
+    pub look_deg: f64,
+    /// Incidence angle at the scene (degrees).
+    pub incidence_deg: f64,
+    /// Slant range over the platform's velocity, R/V (s), where the product's orbit tells it:
+    /// a moving ship's return is displaced in azimuth by R v_r / V.
+    pub range_over_velocity: Option<f64>,
+}
+
+impl Geometry {
+    /// The ground distance (m) of a step of (rows, columns) pixels.
+    pub fn metres(&self, rows: f64, cols: f64) -> f64 {
+        (rows * self.spacing.0).hypot(cols * self.spacing.1)
+    }
+
+    /// A unit step on the ground in direction `heading_deg` (clockwise from up) in pixels:
+    /// (rows, columns) per metre.
+    pub fn step(&self, heading_deg: f64) -> (f64, f64) {
+        let (s, c) = heading_deg.to_radians().sin_cos();
+        (-c / self.spacing.0, s / self.spacing.1)
+    }
+
+    /// The direction (degrees clockwise from up, in [0, 360)) of a step of (rows, columns)
+    /// pixels.
+    pub fn heading_of(&self, rows: f64, cols: f64) -> f64 {
+        let (north, east) = (-rows * self.spacing.0, cols * self.spacing.1);
+        east.atan2(north).to_degrees().rem_euclid(360.0)
+    }
+}
+
+/// What the searches found in an image: the ships (with the targets rejected as ghosts) and the
+/// wakes, each ship's first, then the free ones.
+#[derive(Debug, Clone, Serialize)]
+pub struct Findings {
+    pub ships: ShipSearch,
+    pub wakes: Vec<Wake>,
+}
+
+/// The scale (m) over which the wake searches take the sea's local mean.
+pub const BACKGROUND_M: f64 = 2000.0;
+
+/// Ships, their wakes and the free wakes of `image` (linear sigma0, NaN for no data).
+pub fn search(image: ArrayView2<f32>, geometry: &Geometry, cfar: &CfarOptions, wakes: &WakeOptions) -> Findings {
+    let ships = find_ships(image, geometry, cfar);
+    let normalised = radon::SearchImage::new(image, geometry, BACKGROUND_M);
+    let mut found: Vec<Wake> = ships
+        .ships
+        .iter()
+        .enumerate()
+        .filter_map(|(i, ship)| ship_wake(&normalised, ship, i, wakes))
+        .collect();
+    let free = free_wakes(&normalised, &found, wakes);
+    found.extend(free);
+    Findings { ships, wakes: found }
+}
+
+/// `a - b` folded into [-180, 180) degrees.
+pub fn angle_difference(a: f64, b: f64) -> f64 {
+    (a - b + 180.0).rem_euclid(360.0) - 180.0
+}
+
+/// Standard gravity (m/s^2), for the Kelvin wavelength.
+pub const GRAVITY: f64 = 9.806_65;
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn steps_and_headings_are_inverse_on_a_rectangular_grid() {
+        let g = Geometry {
+            spacing: (10.0, 5.0),
+            azimuth_deg: 0.0,
+            look_deg: 90.0,
+            incidence_deg: 35.0,
+            range_over_velocity: None,
+        };
+        for heading in [0.0, 30.0, 90.0, 200.0, 359.0] {
+            let (r, c) = g.step(heading);
+            assert!((g.metres(r, c) - 1.0).abs() < 1e-12);
+            assert!(angle_difference(g.heading_of(r, c), heading).abs() < 1e-9, "{heading}");
+        }
+        // up is north: a step of one row up is heading 0, one column right heading 90
+        assert!((g.heading_of(-1.0, 0.0) - 0.0).abs() < 1e-12);
+        assert!((g.heading_of(0.0, 1.0) - 90.0).abs() < 1e-12);
+        assert_eq!(angle_difference(10.0, 350.0), 20.0);
+        assert_eq!(angle_difference(350.0, 10.0), -20.0);
+    }
+}

@@ -1,0 +1,817 @@
+//! Wakes: each ship's, by a Radon search along rays from the ship's true position, and the free
+//! ones whose ship is gone, by the Radon transform of the whole image (the field's classic
+//! baseline: Rey et al. 1990, Eldhuset 1996, Graziano et al. 2017, Karakus et al. 2020).
+//!
+//! A moving ship's return is displaced in azimuth from its true position by R v_r / V (v_r its
+//! velocity along the line of sight away from the radar, R/V the slant range over the
+//! platform's velocity), so its wake points not at the return but at a point on the azimuth
+//! line through it. The anchored search therefore scans apex positions along that line and ray
+//! directions from each: the wake's turbulent trough is the ray darker than the bands either
+//! side of it, significant against every other direction from the same apex (a robust z over
+//! the directions). Beside the trough it looks for the bright arms of the narrow V (half-angles
+//! of a few degrees) and the Kelvin cusps (19.47 degrees).
+//!
+//! What the wake tells:
+//! - the ship's course: opposite the trough's direction from the apex (the ship is at the apex
+//!   and the V opens behind it, which resolves the 180-degree ambiguity of a line);
+//! - the visible length, while the trough stays darker than its sides;
+//! - the speed from the azimuth offset t of the apex ahead of the return (along the flight
+//!   direction), with R/V known: a receding target appears behind its true place (Raney 1971),
+//!   so v_r = t / (R/V) away from the radar and U = v_r / (sin(incidence) cos(course - look)),
+//!   i.e. U = |v_r| / (sin(incidence) |sin(course - azimuth)|); "unknown" for tracks within 15
+//!   degrees of the azimuth, where the offset says nothing;
+//! - the speed from the transverse Kelvin wavelength ([`crate::kelvin`]).
+
+use crate::cfar::Ship;
+use crate::kelvin::{kelvin_speed, KelvinReading, Speed};
+use crate::radon::{median, Normalised, SearchImage};
+use crate::{angle_difference, Geometry};
+use rayon::prelude::*;
+use serde::Serialize;
+
+/// The wake searches' settings.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+pub struct WakeOptions {
+    /// How far from the apex the trough is searched (m).
+    pub length_m: f64,
+    /// Half-width of the trough's band and the distance and half-width of the side bands (m).
+    pub trough_half_width_m: f64,
+    pub side_offset_m: f64,
+    pub side_half_width_m: f64,
+    /// The largest azimuth offset of a return from its ship searched (m): 130 s x 12 m/s of
+    /// range velocity.
+    pub max_offset_m: f64,
+    /// Significance of a trough among the directions from its apex (robust z).
+    pub min_z: f64,
+    /// Least contrast of the trough to its sides (in the sea's standard deviations).
+    pub min_contrast: f64,
+    /// The fastest ship searched (m/s): with R/V known it bounds the return's offset from its
+    /// wake for each course.
+    pub max_speed: f64,
+    /// The free-wake search: its significance among all lines, and the least visible length (m).
+    pub free_min_z: f64,
+    pub free_min_length_m: f64,
+}
+
+impl Default for WakeOptions {
+    fn default() -> Self {
+        Self {
+            length_m: 2500.0,
+            trough_half_width_m: 20.0,
+            side_offset_m: 190.0,
+            side_half_width_m: 100.0,
+            max_offset_m: 1500.0,
+            min_z: 5.0,
+            min_contrast: 0.25,
+            max_speed: 15.0,
+            free_min_z: 8.0,
+            free_min_length_m: 1000.0,
+        }
+    }
+}
+
+/// Bright arms beside a trough: their half-angle from it (degrees) and their brightness over
+/// the sea (standard deviations).
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+pub struct Arms {
+    pub half_angle_deg: f64,
+    pub brightness: f64,
+    /// "narrow V" (half-angle under 10 degrees) or "Kelvin" (the cusps, about 19.5).
+    pub kind: &'static str,
+}
+
+/// A speed read two ways, or why not.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct SpeedReadings {
+    /// From the azimuth offset of the ship's return from its wake's apex.
+    pub offset: Result<Speed, String>,
+    /// From the transverse Kelvin wavelength.
+    pub kelvin: Result<KelvinReading, String>,
+}
+
+/// A wake found in the image.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct Wake {
+    /// The index of its ship in the search's ships (None: a free wake).
+    pub ship: Option<usize>,
+    /// Where the wake begins (the ship's true position for a ship's wake) and where it fades
+    /// (fractional pixels).
+    pub start: (f64, f64),
+    pub end: (f64, f64),
+    /// The wake's direction from its start (degrees clockwise from up).
+    pub axis_deg: f64,
+    /// The ship's course (degrees clockwise from up): the opposite of the axis; None for a free
+    /// wake, whose ship is not at either end to tell.
+    pub course_deg: Option<f64>,
+    /// The visible length (m).
+    pub length_m: f64,
+    /// The trough's darkness under its sides (the sea's standard deviations) and its
+    /// significance (robust z among the directions, or among all lines for a free wake).
+    pub contrast: f64,
+    pub z: f64,
+    pub arms: Option<Arms>,
+    /// The azimuth offset of the ship's return from the apex (m along the flight direction;
+    /// ships' wakes only).
+    pub offset_m: Option<f64>,
+    pub speed: Option<SpeedReadings>,
+}
+
+/// The darkness of the trough along direction `heading` from `apex` under the darker of its
+/// side bands.
+fn trough_contrast(image: &Normalised, apex: (f64, f64), heading: f64, near: f64, o: &WakeOptions, far: f64) -> f64 {
+    let (trough, n) = image.ray_mean(apex, heading, (near, far), 0.0, o.trough_half_width_m);
+    if n < 8 {
+        return f64::NAN;
+    }
+    let left = image
+        .ray_mean(apex, heading, (near, far), -o.side_offset_m, o.side_half_width_m)
+        .0;
+    let right = image
+        .ray_mean(apex, heading, (near, far), o.side_offset_m, o.side_half_width_m)
+        .0;
+    // a trough is darker than both its sides; an edge (a slick's, a coast's) than one only
+    let sides = match (left.is_finite(), right.is_finite()) {
+        (true, true) => left.min(right),
+        (true, false) => left,
+        (false, true) => right,
+        _ => return f64::NAN,
+    };
+    sides - trough
+}
+
+/// A wake's score along `heading` from `apex`: its trough's contrast less the contrast the
+/// other way (where that is dark too). A wake is a half-line, open sea ahead of its ship; a
+/// swell's trough or a slick's edge through the apex is a whole line, dark both ways.
+fn wake_score(image: &Normalised, apex: (f64, f64), heading: f64, near: f64, o: &WakeOptions, far: f64) -> f64 {
+    let ahead = trough_contrast(image, apex, heading + 180.0, near, o, far);
+    trough_contrast(image, apex, heading, near, o, far) - if ahead.is_finite() { ahead.max(0.0) } else { 0.0 }
+}
+
+/// Robust z of `best` among `all`: (best - median) / (1.4826 MAD).
+fn robust_z(best: f64, all: &[f64]) -> f64 {
+    let m = median(all.iter().map(|&v| v as f32)).unwrap_or(0.0);
+    let mad = median(all.iter().map(|&v| (v - m).abs() as f32))
+        .unwrap_or(0.0)
+        .max(1e-6);
+    (best - m) / (1.4826 * mad)
+}
+
+/// The length of the coarse pass's rays (m).
+const COARSE_LENGTH_M: f64 = 1200.0;
+
+/// The best (contrast, offset, heading) over candidate headings, each with its offsets (m
+/// along the flight direction from `origin`, in `image`'s pixels).
+fn best_ray(
+    image: &Normalised,
+    origin: (f64, f64),
+    candidates: &[(f64, Vec<f64>)],
+    near: f64,
+    o: &WakeOptions,
+    far: f64,
+) -> (f64, f64, f64) {
+    let g = &image.geometry;
+    let az = g.step(g.azimuth_deg);
+    candidates
+        .par_iter()
+        .flat_map_iter(|(h, offsets)| {
+            offsets.iter().map(move |&t| {
+                let apex = (origin.0 + az.0 * t, origin.1 + az.1 * t);
+                (wake_score(image, apex, *h, near, o, far), t, *h)
+            })
+        })
+        .filter(|c| c.0.is_finite())
+        .reduce(|| (f64::NEG_INFINITY, 0.0, 0.0), |a, b| if b.0 > a.0 { b } else { a })
+}
+
+/// The offsets (m along the flight direction, every `step`) at which a ship whose wake runs
+/// along `axis` can lie ahead of its return: with R/V known, between 0 and R/V times the
+/// fastest speed's velocity away from the radar on that course (plus `margin`); else anywhere
+/// within `max_offset_m`.
+fn admissible_offsets(g: &Geometry, axis: f64, o: &WakeOptions, margin: f64, step: f64) -> Vec<f64> {
+    let (lo, hi) = match g.range_over_velocity {
+        Some(rv) => {
+            let along_look = angle_difference(axis + 180.0, g.look_deg).to_radians().cos();
+            let t_max = rv * o.max_speed * g.incidence_deg.to_radians().sin() * along_look;
+            (t_max.min(0.0) - margin, t_max.max(0.0) + margin)
+        }
+        None => (-o.max_offset_m, o.max_offset_m),
+    };
+    let (lo, hi) = (lo.max(-o.max_offset_m), hi.min(o.max_offset_m));
+    let n = ((hi - lo) / step).ceil().max(0.0) as usize;
+    (0..=n).map(|i| (lo + step * i as f64).min(hi)).collect()
+}
+
+/// `n` values from `lo` to `hi` inclusive.
+fn span(lo: f64, hi: f64, step: f64) -> Vec<f64> {
+    let n = ((hi - lo) / step).round() as usize;
+    (0..=n).map(|i| lo + step * i as f64).collect()
+}
+
+/// The wake of `ship` in `image`, if it has one.
+pub fn ship_wake(image: &SearchImage, ship: &Ship, index: usize, o: &WakeOptions) -> Option<Wake> {
+    let fine = &image.fine;
+    let g = fine.geometry;
+    let pixel = g.spacing.0.max(g.spacing.1);
+    let coarse_step = image.coarse.geometry.spacing.0.max(image.coarse.geometry.spacing.1);
+    let near = (0.5 * ship.length_m + 2.0 * pixel).max(60.0);
+    let far = o.length_m;
+    // coarse: on the coarse image, rays of COARSE_LENGTH_M every degree (a degree's error is 21 m
+    // at the end) from every coarse pixel of the
+    // admissible offsets
+    let coarse_far = far.min(COARSE_LENGTH_M);
+    let candidates: Vec<(f64, Vec<f64>)> = span(0.0, 359.0, 1.0)
+        .into_iter()
+        .map(|h| (h, admissible_offsets(&g, h, o, 2.0 * coarse_step, coarse_step)))
+        .collect();
+    let origin = image.to_coarse((ship.row, ship.col));
+    let (_, t0, h0) = best_ray(&image.coarse, origin, &candidates, near, o, coarse_far);
+    // fine: quarter degrees and every pixel around the best, the whole length, on the image itself
+    let fine_candidates: Vec<(f64, Vec<f64>)> = span(h0 - 1.5, h0 + 1.5, 0.25)
+        .into_iter()
+        .map(|h| (h, span(t0 - coarse_step, t0 + coarse_step, pixel)))
+        .collect();
+    let (score, offset, axis) = best_ray(fine, (ship.row, ship.col), &fine_candidates, near, o, far);
+    let axis = axis.rem_euclid(360.0);
+    let az = g.step(g.azimuth_deg);
+    let apex = (ship.row + az.0 * offset, ship.col + az.1 * offset);
+    let contrast = trough_contrast(fine, apex, axis, near, o, far);
+    // significance among every direction from this apex
+    let all: Vec<f64> = span(0.0, 359.0, 1.0)
+        .par_iter()
+        .map(|&h| wake_score(fine, apex, h, near, o, far))
+        .filter(|c| c.is_finite())
+        .collect();
+    let z = robust_z(score, &all);
+    if z < o.min_z || contrast < o.min_contrast {
+        return None;
+    }
+    let length = visible_length(fine, apex, axis, near, o);
+    let (ur, uc) = g.step(axis);
+    let end = (apex.0 + ur * length, apex.1 + uc * length);
+    let course = (axis + 180.0).rem_euclid(360.0);
+    let arms = find_arms(fine, apex, axis, near, length.min(o.length_m), o);
+    let speed = SpeedReadings {
+        offset: offset_speed(&g, offset, course, 2.0 * pixel),
+        kelvin: kelvin_along(fine, apex, axis, near, length, o),
+    };
+    Some(Wake {
+        ship: Some(index),
+        start: apex,
+        end,
+        axis_deg: axis,
+        course_deg: Some(course),
+        length_m: length,
+        contrast,
+        z,
+        arms,
+        offset_m: Some(offset),
+        speed: Some(speed),
+    })
+}
+
+/// The Kelvin speed from the profile along the wake's axis over its first 1.5 km, against the
+/// profiles of parallel rays outside the Kelvin wedge (half-angle 19.47 degrees): what both
+/// hold (swell, wind waves) is not the ship's.
+fn kelvin_along(
+    image: &Normalised,
+    apex: (f64, f64),
+    axis: f64,
+    near: f64,
+    length: f64,
+    o: &WakeOptions,
+) -> Result<KelvinReading, String> {
+    let g = image.geometry;
+    let span_m = (near, near + length.clamp(300.0, 1500.0));
+    let profile = image.ray_profile(apex, axis, span_m, o.trough_half_width_m);
+    let outside = span_m.1 * 19.47f64.to_radians().tan() + 2.0 * o.trough_half_width_m;
+    let (vr, vc) = g.step(axis + 90.0);
+    let sides: Vec<Vec<f32>> = [-outside, outside]
+        .iter()
+        .map(|&x| image.ray_profile((apex.0 + vr * x, apex.1 + vc * x), axis, span_m, o.trough_half_width_m))
+        .filter(|p| p.iter().filter(|v| v.is_finite()).count() * 2 > p.len())
+        .collect();
+    let pixel = g.spacing.0.max(g.spacing.1);
+    kelvin_speed(
+        &profile,
+        &sides,
+        g.spacing.0.min(g.spacing.1),
+        2.0 * pixel,
+        o.max_speed * 1.5,
+    )
+}
+
+/// The largest uncertainty (m/s) of a speed read from the azimuth offset that is reported.
+pub const MAX_SPEED_SIGMA: f64 = 2.5;
+
+/// The speed from the azimuth offset `t` (m; the apex lies `t` along the flight direction from
+/// the return) of a ship on `course`, or why not; `resolution` (m) bounds the offset's error.
+pub fn offset_speed(g: &Geometry, t: f64, course: f64, resolution: f64) -> Result<Speed, String> {
+    let Some(rv) = g.range_over_velocity else {
+        return Err("the product states no orbit (R/V): the azimuth offset gives no speed".into());
+    };
+    let along_look = angle_difference(course, g.look_deg).to_radians().cos();
+    if along_look.abs() < 15f64.to_radians().sin() {
+        return Err("the track runs within 15 degrees of the azimuth: its offset tells no speed".into());
+    }
+    let sin_incidence = g.incidence_deg.to_radians().sin();
+    // the return moves back along the azimuth by R/V times the velocity away from the radar
+    // (Raney 1971), so the apex lies t = (R/V) v_away ahead of it
+    let v_away = t / rv;
+    let speed = v_away / (sin_incidence * along_look);
+    let sigma = resolution / rv / (sin_incidence * along_look.abs());
+    if speed < -2.0 * sigma {
+        return Err(format!(
+            "the offset ({t:.0} m) points the other way from the course: no consistent speed"
+        ));
+    }
+    if sigma > MAX_SPEED_SIGMA {
+        return Err(format!(
+            "the offset ({t:.0} m) is too small against its resolution to tell the speed (+-{sigma:.1} m/s)"
+        ));
+    }
+    Ok(Speed {
+        value: speed.max(0.0),
+        sigma,
+    })
+}
+
+/// How far along `axis` from `apex` the trough stays darker than its sides: segments of 250 m,
+/// until two in a row fall under half the search's least contrast.
+fn visible_length(image: &Normalised, apex: (f64, f64), axis: f64, near: f64, o: &WakeOptions) -> f64 {
+    let segment = 250.0;
+    let (mut end, mut misses, mut d) = (near, 0, near);
+    while d < 30_000.0 {
+        let c = trough_contrast(image, apex, axis, d, o, d + segment);
+        if !c.is_finite() {
+            break;
+        }
+        if c >= 0.5 * o.min_contrast {
+            end = d + segment;
+            misses = 0;
+        } else {
+            misses += 1;
+            if misses >= 2 {
+                break;
+            }
+        }
+        d += segment;
+    }
+    end
+}
+
+/// Bright arms symmetric about the trough: the half-angle (1-25 degrees) where the weaker of the
+/// two rays is brightest, if it stands 3 robust z above the directions' brightness.
+fn find_arms(image: &Normalised, apex: (f64, f64), axis: f64, near: f64, far: f64, o: &WakeOptions) -> Option<Arms> {
+    let width = o.trough_half_width_m * 0.5;
+    let bright = |h: f64| image.ray_mean(apex, h, (near, far), 0.0, width).0;
+    let all: Vec<f64> = span(0.0, 359.0, 1.0)
+        .iter()
+        .map(|&h| bright(axis + h))
+        .filter(|v| v.is_finite())
+        .collect();
+    let (best, alpha) = span(1.0, 25.0, 0.5)
+        .iter()
+        .map(|&a| (bright(axis + a).min(bright(axis - a)), a))
+        .filter(|v| v.0.is_finite())
+        .fold((f64::NEG_INFINITY, 0.0), |a, b| if b.0 > a.0 { b } else { a });
+    let z = robust_z(best, &all);
+    (z >= 3.0 && best > 0.0).then_some(Arms {
+        half_angle_deg: alpha,
+        brightness: best,
+        kind: if alpha < 10.0 { "narrow V" } else { "Kelvin" },
+    })
+}
+
+/// Free wakes: dark lines of the whole image, significant among the lines of their direction
+/// (robust z of the trough contrast over the offsets: a swell's troughs are many), at least `free_min_length_m` long, and not
+/// the wake of a ship already found (`known`). The image is read every `cell` metres.
+pub fn free_wakes(search: &SearchImage, known: &[Wake], o: &WakeOptions) -> Vec<Wake> {
+    let fine = &search.fine;
+    let (h, w) = fine.values.dim();
+    let g = fine.geometry;
+    let diagonal = (h as f64 * g.spacing.0).hypot(w as f64 * g.spacing.1);
+    // read on a grid of at least 20 m and at most ~2000 cells along the diagonal
+    let pixel = g.spacing.0.max(g.spacing.1);
+    let factor = ((diagonal / 2000.0).max(20.0) / pixel).ceil().max(1.0) as usize;
+    let coarse = fine.coarsened(factor);
+    let to_fine = |(r, c): (f64, f64)| ((r + 0.5) * factor as f64 - 0.5, (c + 0.5) * factor as f64 - 0.5);
+    let image = &coarse;
+    let g = image.geometry;
+    let (h, w) = image.values.dim();
+    let cell = g.spacing.0.max(g.spacing.1);
+    let o = &WakeOptions {
+        trough_half_width_m: o.trough_half_width_m.max(0.5 * cell),
+        side_half_width_m: o.side_half_width_m.max(cell),
+        side_offset_m: o.side_offset_m.max(3.0 * cell),
+        ..*o
+    };
+    let known: Vec<Wake> = known
+        .iter()
+        .map(|k| Wake {
+            start: (
+                (k.start.0 + 0.5) / factor as f64 - 0.5,
+                (k.start.1 + 0.5) / factor as f64 - 0.5,
+            ),
+            ..k.clone()
+        })
+        .collect();
+    let centre = (0.5 * (h - 1) as f64, 0.5 * (w - 1) as f64);
+    let lines = radon_lines(image, o, diagonal);
+    if lines.is_empty() {
+        return Vec::new();
+    }
+    // each line's z among the lines of its own direction: a swell darkens many parallel lines
+    // (its troughs), a wake one
+    let mut by_heading: std::collections::BTreeMap<i64, Vec<f64>> = Default::default();
+    for l in &lines {
+        by_heading.entry((l.1 * 4.0).round() as i64).or_default().push(l.0);
+    }
+    let spread: std::collections::BTreeMap<i64, (f64, f64)> = by_heading
+        .into_iter()
+        .map(|(k, v)| {
+            let m = median(v.iter().map(|&x| x as f32)).unwrap_or(0.0);
+            let mad = median(v.iter().map(|&x| (x - m).abs() as f32)).unwrap_or(0.0).max(1e-6);
+            (k, (m, 1.4826 * mad))
+        })
+        .collect();
+    let z_of = |l: &(f64, f64, f64)| {
+        let (m, s) = spread[&((l.1 * 4.0).round() as i64)];
+        (l.0 - m) / s
+    };
+    let mut order: Vec<usize> = (0..lines.len()).collect();
+    order.sort_by(|&a, &b| z_of(&lines[b]).total_cmp(&z_of(&lines[a])));
+    let mut found: Vec<Wake> = Vec::new();
+    for i in order {
+        let (c, hd, off) = lines[i];
+        let z = z_of(&lines[i]);
+        if z < o.free_min_z || found.len() >= 10 {
+            break;
+        }
+        // not beside a stronger one (5 degrees, 5 cells)
+        if found.iter().any(|f| {
+            let start = (
+                (f.start.0 + 0.5) / factor as f64 - 0.5,
+                (f.start.1 + 0.5) / factor as f64 - 0.5,
+            );
+            angle_difference(f.axis_deg, hd)
+                .abs()
+                .min(angle_difference(f.axis_deg, hd + 180.0).abs())
+                < 5.0
+                && line_distance(&g, start, f.axis_deg, centre_offset(&g, centre, hd, off)) < 5.0 * cell
+        }) {
+            continue;
+        }
+        let (vr, vc) = g.step(hd + 90.0);
+        let through = (centre.0 + vr * off, centre.1 + vc * off);
+        let Some((start, end, length)) = dark_extent(image, through, hd, diagonal, o) else {
+            continue;
+        };
+        if length < o.free_min_length_m {
+            continue;
+        }
+        // a ship's wake already found: same direction, its apex near the line
+        if known.iter().any(|k| {
+            angle_difference(k.axis_deg, hd)
+                .abs()
+                .min(angle_difference(k.axis_deg, hd + 180.0).abs())
+                < 5.0
+                && line_distance(&g, through, hd, k.start) < 300.0
+        }) {
+            continue;
+        }
+        found.push(Wake {
+            ship: None,
+            start: to_fine(start),
+            end: to_fine(end),
+            axis_deg: hd,
+            course_deg: None,
+            length_m: length,
+            contrast: c,
+            z,
+            arms: None,
+            offset_m: None,
+            speed: None,
+        });
+    }
+    found
+}
+
+/// Every line's trough contrast (contrast, heading, offset across from the centre in metres),
+/// headings every degree over [0, 180) and offsets every cell: the Radon transform by
+/// projection (each pixel binned by its distance across the heading, its bin's mean the line's
+/// mean), the trough one bin wide, the sides the bins `side_offset_m` +- `side_half_width_m`
+/// away, the darker side counted (a trough is darker than both). Lines shorter than a third of the diagonal are left out.
+fn radon_lines(image: &Normalised, o: &WakeOptions, diagonal: f64) -> Vec<(f64, f64, f64)> {
+    let g = image.geometry;
+    let (h, w) = image.values.dim();
+    let cell = g.spacing.0.max(g.spacing.1);
+    let (rc, cc) = (0.5 * (h - 1) as f64, 0.5 * (w - 1) as f64);
+    let bins = (diagonal / cell).ceil() as usize + 2;
+    let half = bins as f64 / 2.0;
+    let side = (
+        ((o.side_offset_m - o.side_half_width_m) / cell).round().max(1.0) as usize,
+        ((o.side_offset_m + o.side_half_width_m) / cell).round().max(1.0) as usize,
+    );
+    let min_count = diagonal / 3.0 / cell;
+    span(0.0, 179.0, 1.0)
+        .par_iter()
+        .flat_map_iter(|&hd| {
+            let (s, c) = hd.to_radians().sin_cos();
+            let (mut sum, mut count) = (vec![0f64; bins], vec![0f64; bins]);
+            for ((r, col), &v) in image.values.indexed_iter() {
+                if !v.is_finite() {
+                    continue;
+                }
+                let (north, east) = (-(r as f64 - rc) * g.spacing.0, (col as f64 - cc) * g.spacing.1);
+                let across = east * c - north * s;
+                let bin = (across / cell + half).floor();
+                if bin >= 0.0 && (bin as usize) < bins {
+                    sum[bin as usize] += v as f64;
+                    count[bin as usize] += 1.0;
+                }
+            }
+            let mean = |b: usize| (count[b] >= 0.5 * min_count).then(|| sum[b] / count[b]);
+            (0..bins)
+                .filter_map(|b| {
+                    if count[b] < min_count {
+                        return None;
+                    }
+                    let trough = sum[b] / count[b];
+                    let side_mean = |bins: Vec<usize>| {
+                        let v: Vec<f64> = bins.into_iter().filter_map(mean).collect();
+                        (!v.is_empty()).then(|| v.iter().sum::<f64>() / v.len() as f64)
+                    };
+                    let left = side_mean((side.0..=side.1).filter_map(|k| b.checked_sub(k)).collect());
+                    let right = side_mean((side.0..=side.1).map(|k| b + k).filter(|&k| k < bins).collect());
+                    // darker than both sides: a trough, not an edge
+                    let sides = match (left, right) {
+                        (Some(l), Some(r)) => l.min(r),
+                        (Some(s), None) | (None, Some(s)) => s,
+                        (None, None) => return None,
+                    };
+                    let offset = (b as f64 + 0.5 - half) * cell;
+                    Some((sides - trough, hd, offset))
+                })
+                .collect::<Vec<_>>()
+        })
+        .collect()
+}
+
+/// A point on the line through `centre` offset `off` metres across heading `hd`.
+fn centre_offset(g: &Geometry, centre: (f64, f64), hd: f64, off: f64) -> (f64, f64) {
+    let (vr, vc) = g.step(hd + 90.0);
+    (centre.0 + vr * off, centre.1 + vc * off)
+}
+
+/// The ground distance (m) of `point` from the line through `through` along `heading`.
+fn line_distance(g: &Geometry, through: (f64, f64), heading: f64, point: (f64, f64)) -> f64 {
+    let (dr, dc) = (point.0 - through.0, point.1 - through.1);
+    let (north, east) = (-dr * g.spacing.0, dc * g.spacing.1);
+    let (s, c) = heading.to_radians().sin_cos();
+    // the component across the heading (east, north) = (sin, cos)
+    (east * c - north * s).abs()
+}
+
+/// A line's dark stretch: its ends (fractional pixels) and its length (m).
+type Extent = ((f64, f64), (f64, f64), f64);
+
+/// The longest run of 250 m segments along the line where the trough is darker than its sides
+/// (one weak segment allowed): its ends and length.
+fn dark_extent(
+    image: &Normalised,
+    through: (f64, f64),
+    heading: f64,
+    diagonal: f64,
+    o: &WakeOptions,
+) -> Option<Extent> {
+    let segment = 250.0;
+    let g = image.geometry;
+    let starts = span(-0.5 * diagonal, 0.5 * diagonal - segment, segment);
+    let dark: Vec<Option<bool>> = starts
+        .iter()
+        .map(|&d| {
+            let c = trough_contrast(image, through, heading, d, o, d + segment);
+            c.is_finite().then_some(c >= 0.5 * o.min_contrast)
+        })
+        .collect();
+    let (mut best, mut run_start, mut misses) = (None::<(usize, usize)>, None::<usize>, 0);
+    let mut last_good = 0;
+    for (i, d) in dark.iter().enumerate() {
+        match d {
+            Some(true) => {
+                run_start.get_or_insert(i);
+                last_good = i;
+                misses = 0;
+            }
+            _ => {
+                misses += 1;
+                if misses >= 2 || d.is_none() {
+                    if let Some(s) = run_start.take() {
+                        if best.is_none_or(|(a, b)| last_good - s > b - a) {
+                            best = Some((s, last_good));
+                        }
+                    }
+                    misses = 0;
+                }
+            }
+        }
+    }
+    if let Some(s) = run_start {
+        if best.is_none_or(|(a, b)| last_good - s > b - a) {
+            best = Some((s, last_good));
+        }
+    }
+    let (a, b) = best?;
+    let (d0, d1) = (starts[a], starts[b] + segment);
+    let (ur, uc) = g.step(heading);
+    Some((
+        (through.0 + ur * d0, through.1 + uc * d0),
+        (through.0 + ur * d1, through.1 + uc * d1),
+        d1 - d0,
+    ))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::cfar::{find_ships, CfarOptions};
+    use ndarray::Array2;
+    use rand::SeedableRng;
+    use rand_distr::{Distribution, Exp1};
+
+    /// A synthetic scene: 4-look speckle on sigma0 0.01 with a ship on `course` at (row, col),
+    /// its turbulent trough 3 dB dark and 60 m wide for 3 km behind it, narrow-V arms at +-4
+    /// degrees 2 dB bright, transverse Kelvin waves of speed `speed` over the first 800 m, and
+    /// its return displaced by R/V x its velocity away from a right-looking radar flying up
+    /// the rows. Returns the image, the geometry and the return's true displacement (m along
+    /// the flight direction).
+    fn scene(course: f64, speed: f64, seed: u64) -> (Array2<f32>, Geometry, (f64, f64), f64) {
+        let g = Geometry {
+            spacing: (5.0, 5.0),
+            azimuth_deg: 0.0,
+            look_deg: 90.0,
+            incidence_deg: 35.0,
+            range_over_velocity: Some(110.0),
+        };
+        let n = 1200;
+        let ship = (600.0, 600.0);
+        let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(seed);
+        let lambda = 2.0 * std::f64::consts::PI * speed * speed / crate::GRAVITY;
+        let axis = (course + 180.0).to_radians();
+        let (sa, ca) = axis.sin_cos();
+        let mut image = Array2::from_shape_fn((n, n), |(r, c)| {
+            let speckle: f64 = (0..4).map(|_| -> f64 { Exp1.sample(&mut rng) }).sum::<f64>() / 4.0;
+            // the pixel in metres along the wake's axis (behind the ship) and across it
+            let (north, east) = (-(r as f64 - ship.0) * g.spacing.0, (c as f64 - ship.1) * g.spacing.1);
+            let along = east * sa + north * ca;
+            let across = east * ca - north * sa;
+            let mut db = 0.0;
+            if along > 0.0 && along < 3000.0 {
+                if across.abs() < 30.0 {
+                    db -= 3.0;
+                }
+                let arm = (across.abs() - along * 4f64.to_radians().tan()).abs();
+                if arm < 7.0 {
+                    db += 2.0;
+                }
+                if along < 800.0 && across.abs() < 0.3 * along {
+                    db += 1.5 * (2.0 * std::f64::consts::PI * along / lambda).cos();
+                }
+            }
+            (0.01 * speckle * 10f64.powf(db / 10.0)) as f32
+        });
+        // the return: 120 m x 16 m along the course, displaced back along the azimuth (flight
+        // up the image) by R/V times the velocity away from the radar
+        let v_away =
+            speed * angle_difference(course, g.look_deg).to_radians().cos() * g.incidence_deg.to_radians().sin();
+        let shift = -110.0 * v_away;
+        let (ur, uc) = g.step(course);
+        let (vr, vc) = g.step(course + 90.0);
+        let (ar, ac) = g.step(0.0);
+        for i in -12..=12 {
+            for j in -1..=1 {
+                let r = ship.0 + ur * 5.0 * i as f64 + vr * 5.0 * j as f64 + ar * shift;
+                let c = ship.1 + uc * 5.0 * i as f64 + vc * 5.0 * j as f64 + ac * shift;
+                image[[r.round() as usize, c.round() as usize]] = 3.0;
+            }
+        }
+        (image, g, ship, shift)
+    }
+
+    /// Courses all round, speeds 6-12 m/s: the ship is found, its wake's course within 3
+    /// degrees, the offset within 15 m, both speeds within 10 % (the offset's where the track
+    /// is not near the azimuth).
+    #[test]
+    fn a_ships_wake_tells_course_and_speed() {
+        for (k, &(course, speed)) in [(30.0, 8.0), (120.0, 10.0), (250.0, 6.0), (300.0, 12.0)]
+            .iter()
+            .enumerate()
+        {
+            let (image, g, truth, shift) = scene(course, speed, 10 + k as u64);
+            let ships = find_ships(image.view(), &g, &CfarOptions::default());
+            assert_eq!(ships.ships.len(), 1, "course {course}: {:?}", ships.ships);
+            let normalised = SearchImage::new(image.view(), &g, 2000.0);
+            let wake = ship_wake(&normalised, &ships.ships[0], 0, &WakeOptions::default()).expect("a wake");
+            let course_error = angle_difference(wake.course_deg.unwrap(), course);
+            assert!(course_error.abs() < 3.0, "course {course}: found {wake:?}");
+            let apex_error = g.metres(wake.start.0 - truth.0, wake.start.1 - truth.1);
+            assert!(
+                apex_error < 20.0,
+                "course {course}: apex {apex_error} m off; shift {shift}"
+            );
+            assert!(wake.length_m > 2000.0, "{}", wake.length_m);
+            let readings = wake.speed.as_ref().unwrap();
+            let by_offset = readings.offset.as_ref().expect("an offset speed");
+            assert!(
+                (by_offset.value - speed).abs() < 0.1 * speed + by_offset.sigma,
+                "course {course}: {by_offset:?}"
+            );
+            let by_kelvin = readings.kelvin.as_ref().expect("a Kelvin speed");
+            assert!(
+                (by_kelvin.speed.value - speed).abs() < 0.1 * speed,
+                "course {course}: {by_kelvin:?}"
+            );
+            let arms = wake.arms.expect("arms");
+            assert!((arms.half_angle_deg - 4.0).abs() <= 1.0, "{arms:?}");
+        }
+    }
+
+    /// A track along the azimuth: the course is read, the offset speed is "unknown".
+    #[test]
+    fn a_track_along_the_azimuth_tells_no_offset_speed() {
+        let g = Geometry {
+            spacing: (5.0, 5.0),
+            azimuth_deg: 0.0,
+            look_deg: 90.0,
+            incidence_deg: 35.0,
+            range_over_velocity: Some(110.0),
+        };
+        assert!(offset_speed(&g, 100.0, 5.0, 10.0).is_err());
+        assert!(offset_speed(
+            &Geometry {
+                range_over_velocity: None,
+                ..g
+            },
+            100.0,
+            90.0,
+            10.0
+        )
+        .is_err());
+        // a ship going right (away from a radar looking right) appears shifted back along the
+        // flight direction: its apex lies ahead of the return
+        let s = offset_speed(&g, 110.0 * 10.0 * 35f64.to_radians().sin(), 90.0, 10.0).unwrap();
+        assert!((s.value - 10.0).abs() < 1e-9);
+    }
+
+    /// Speckle alone holds no free wake; a dark line 4 km long through an empty scene is one.
+    #[test]
+    fn free_wakes_are_long_dark_lines() {
+        let g = Geometry {
+            spacing: (10.0, 10.0),
+            azimuth_deg: 0.0,
+            look_deg: 90.0,
+            incidence_deg: 35.0,
+            range_over_velocity: None,
+        };
+        let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(5);
+        let mut image = Array2::from_shape_fn((600, 600), |_| {
+            (0.01 * (0..4).map(|_| -> f64 { Exp1.sample(&mut rng) }).sum::<f64>() / 4.0) as f32
+        });
+        let empty = free_wakes(
+            &SearchImage::new(image.view(), &g, 2000.0),
+            &[],
+            &WakeOptions::default(),
+        );
+        assert!(empty.is_empty(), "{empty:?}");
+        // a line at 60 degrees through (300, 300), 4 km long, 3 dB dark and 60 m wide
+        let (ur, uc) = g.step(60.0);
+        let (vr, vc) = g.step(150.0);
+        for i in -200..=200 {
+            for j in -3..=3 {
+                let (r, c) = (
+                    300.0 + ur * 10.0 * i as f64 + vr * 10.0 * j as f64,
+                    300.0 + uc * 10.0 * i as f64 + vc * 10.0 * j as f64,
+                );
+                if (0.0..600.0).contains(&r) && (0.0..600.0).contains(&c) {
+                    image[[r.round() as usize, c.round() as usize]] *= 0.5;
+                }
+            }
+        }
+        let found = free_wakes(
+            &SearchImage::new(image.view(), &g, 2000.0),
+            &[],
+            &WakeOptions::default(),
+        );
+        assert_eq!(found.len(), 1, "{found:?}");
+        let wake = &found[0];
+        assert!(
+            angle_difference(wake.axis_deg, 60.0)
+                .abs()
+                .min(angle_difference(wake.axis_deg, 240.0).abs())
+                < 2.0,
+            "{wake:?}"
+        );
+        assert!(wake.length_m > 3000.0, "{wake:?}");
+        assert!(wake.course_deg.is_none());
+    }
+}

@@ -1,0 +1,357 @@
+//! `wakelab detect`'s ships and wakes: the classic searches ([`wakelab_ships`]) on the product
+//! as scanned, with the geometry its metadata gives, and their findings placed on the ground for
+//! the files users open (`detections.json`, `detections.geojson`, the overlay).
+//!
+//! A product in radar geometry (Sentinel-1 GRD, TerraSAR-X MGD, COSMO-SkyMed DGM) has its lines
+//! in azimuth-time order and its columns in ground range: the flight runs down the image and
+//! the radar looks towards the columns' increase. R/V is the product's mid-swath slant range
+//! over its platform's speed where both are annotated. Other inputs state no orbit: their
+//! azimuth is taken along the rows and the azimuth offset gives no speed (said in the notes).
+//! Courses are given in the image (clockwise from up) and, on a georeferenced product, as true
+//! bearings.
+
+use image::{Rgb, RgbImage};
+use ndarray::ArrayView2;
+use serde_json::{json, Map, Value};
+use std::ops::Range;
+use wakelab_products::geojson::{Finding, Kind};
+use wakelab_products::ProductMeta;
+use wakelab_ships::cfar::{CfarOptions, Ship};
+use wakelab_ships::wake::{Wake, WakeOptions};
+use wakelab_ships::{search, Geometry};
+
+/// The ships and wakes found in a scanned product, in the scanned grid's pixels, with the
+/// geometry that placed them.
+#[derive(Debug, Clone)]
+pub struct SeaFindings {
+    pub ships: Vec<Ship>,
+    pub wakes: Vec<Wake>,
+    /// Targets rejected as azimuth ambiguities and sidelobes, and as too long for ships.
+    pub ambiguities: usize,
+    pub sidelobes: usize,
+    pub too_long: usize,
+    pub geometry: Geometry,
+}
+
+/// Whether `meta` is a product in radar geometry (lines in azimuth time, columns in range).
+fn radar_geometry(meta: &ProductMeta) -> bool {
+    ["Sentinel-1", "TerraSAR-X", "COSMO-SkyMed"]
+        .iter()
+        .any(|m| meta.format.contains(m))
+}
+
+/// The geometry of a product scanned at `spacing` (m between rows, columns), and what it had
+/// to assume.
+pub fn product_geometry(meta: &ProductMeta, spacing: (f64, f64)) -> (Geometry, Vec<String>) {
+    let mut notes = Vec::new();
+    let (azimuth_deg, look_deg) = if radar_geometry(meta) {
+        (180.0, 90.0)
+    } else {
+        notes.push(
+            "ships and wakes: the input states no orbit; the azimuth is taken along the rows and the ships' azimuth \
+             offsets give no speed"
+                .to_string(),
+        );
+        (0.0, 90.0)
+    };
+    let incidence_deg = match &meta.incidence {
+        Some(i) => i.mid_deg,
+        None => {
+            notes.push("ships and wakes: no incidence angle annotated; 35 degrees assumed".into());
+            35.0
+        }
+    };
+    let range_over_velocity = match (meta.slant_range_mid, meta.platform_velocity) {
+        (Some(r), Some(v)) if v > 0.0 && radar_geometry(meta) => Some(r / v),
+        _ => {
+            if radar_geometry(meta) {
+                notes.push(
+                    "ships and wakes: the product annotates no platform speed, so R/V and the speeds from azimuth \
+                     offsets are unknown"
+                        .into(),
+                );
+            }
+            None
+        }
+    };
+    (
+        Geometry {
+            spacing,
+            azimuth_deg,
+            look_deg,
+            incidence_deg,
+            range_over_velocity,
+        },
+        notes,
+    )
+}
+
+/// The searches on `image` (linear sigma0 as scanned).
+pub fn search_image(image: ArrayView2<f32>, geometry: Geometry) -> SeaFindings {
+    let found = search(image, &geometry, &CfarOptions::default(), &WakeOptions::default());
+    SeaFindings {
+        ambiguities: found.ships.ambiguities.len(),
+        sidelobes: found.ships.sidelobes,
+        too_long: found.ships.too_long,
+        ships: found.ships.ships,
+        wakes: found.wakes,
+        geometry,
+    }
+}
+
+impl SeaFindings {
+    /// No findings yet, for a product searched a band at a time.
+    pub fn empty(geometry: Geometry) -> Self {
+        Self {
+            ships: Vec::new(),
+            wakes: Vec::new(),
+            ambiguities: 0,
+            sidelobes: 0,
+            too_long: 0,
+            geometry,
+        }
+    }
+
+    /// Add the findings of a band of rows `first_row..` of the scanned image, keeping the ships
+    /// whose centre (and the free wakes whose middle) lies in `own` rows of the whole image:
+    /// the bands overlap, and a finding belongs to the band that owns its rows.
+    pub fn add_band(&mut self, band: ArrayView2<f32>, first_row: usize, own: Range<usize>) {
+        let found = search_image(band, self.geometry);
+        let shift = first_row as f64;
+        let owned = |row: f64| own.contains(&((row + shift).max(0.0) as usize));
+        let mut index = std::collections::BTreeMap::new();
+        for (i, mut ship) in found.ships.into_iter().enumerate() {
+            if owned(ship.row) {
+                ship.row += shift;
+                ship.peak_row += first_row;
+                index.insert(i, self.ships.len());
+                self.ships.push(ship);
+            }
+        }
+        for mut wake in found.wakes {
+            let keep = match wake.ship {
+                Some(i) => index.get(&i).copied().map(Some),
+                None => owned(0.5 * (wake.start.0 + wake.end.0)).then_some(None),
+            };
+            if let Some(ship) = keep {
+                wake.ship = ship;
+                wake.start.0 += shift;
+                wake.end.0 += shift;
+                self.wakes.push(wake);
+            }
+        }
+        self.ambiguities += found.ambiguities;
+        self.sidelobes += found.sidelobes;
+        self.too_long += found.too_long;
+    }
+
+    /// "2 ship(s), 1 wake(s) (1 of a ship, 0 free)".
+    pub fn describe(&self) -> String {
+        let anchored = self.wakes.iter().filter(|w| w.ship.is_some()).count();
+        format!(
+            "{} ship(s), {} wake(s) ({anchored} of a ship, {} free)",
+            self.ships.len(),
+            self.wakes.len(),
+            self.wakes.len() - anchored
+        )
+    }
+
+    /// The points to place on the ground: every ship's centre, then every wake's start, end and
+    /// a point 100 m along its course from its start (for the bearing), in scanned pixels
+    /// (row, column).
+    pub fn points(&self) -> Vec<(f64, f64)> {
+        let g = &self.geometry;
+        let mut points: Vec<(f64, f64)> = self.ships.iter().map(|s| (s.row, s.col)).collect();
+        for w in &self.wakes {
+            let course = w.course_deg.unwrap_or(w.axis_deg);
+            let (ur, uc) = g.step(course);
+            points.extend([w.start, w.end, (w.start.0 + 100.0 * ur, w.start.1 + 100.0 * uc)]);
+        }
+        points
+    }
+
+    /// The findings as JSON entries for `detections.json` and as GeoJSON findings, given where
+    /// each of [`Self::points`] lies in the product's pixels and on the ground (lon, lat).
+    pub fn entries(&self, product: &[(f64, f64)], lonlat: Option<&[(f64, f64)]>) -> (Value, Value, Vec<Finding>) {
+        let at = |k: usize| (product[k], lonlat.map(|l| l[k]));
+        let mut findings = Vec::new();
+        let ships: Vec<Value> = self
+            .ships
+            .iter()
+            .enumerate()
+            .map(|(k, s)| {
+                let ((row, col), ll) = at(k);
+                let mut properties = Map::new();
+                properties.insert("length_m".into(), json!(s.length_m));
+                properties.insert("width_m".into(), json!(s.width_m));
+                properties.insert("peak_sigma0_db".into(), json!(s.peak_db));
+                properties.insert("contrast_db".into(), json!(s.contrast_db));
+                properties.insert("ship".into(), json!(k));
+                findings.push(Finding {
+                    kind: Kind::Ship,
+                    row,
+                    col,
+                    properties: properties.clone(),
+                    line: None,
+                });
+                let mut entry = serde_json::to_value(s).expect("a ship serialises");
+                entry["product_row"] = json!(row);
+                entry["product_col"] = json!(col);
+                entry["lon"] = json!(ll.map(|p| p.0));
+                entry["lat"] = json!(ll.map(|p| p.1));
+                entry
+            })
+            .collect();
+        let first = self.ships.len();
+        let wakes: Vec<Value> = self
+            .wakes
+            .iter()
+            .enumerate()
+            .map(|(k, w)| {
+                let (start, ll_start) = at(first + 3 * k);
+                let (end, ll_end) = at(first + 3 * k + 1);
+                let (_, ll_ahead) = at(first + 3 * k + 2);
+                let bearing = ll_start.zip(ll_ahead).map(|(a, b)| bearing(a, b));
+                let entry = wake_entry(w, start, end, ll_start, ll_end, bearing);
+                let mut properties = Map::new();
+                for key in [
+                    "ship",
+                    "course_image_deg",
+                    "course_deg",
+                    "length_m",
+                    "speed_offset_ms",
+                    "speed_kelvin_ms",
+                ] {
+                    properties.insert(key.into(), entry[key].clone());
+                }
+                findings.push(Finding {
+                    kind: Kind::Wake,
+                    row: start.0,
+                    col: start.1,
+                    properties,
+                    line: Some(vec![start, end]),
+                });
+                entry
+            })
+            .collect();
+        (Value::Array(ships), Value::Array(wakes), findings)
+    }
+
+    /// Draw the ships (cyan squares) and the wakes (yellow lines from their start, the ship's
+    /// end marked) on an overlay picture of `scale` scanned pixels per picture pixel.
+    pub fn draw(&self, picture: &mut RgbImage, scale: f64) {
+        let (w, h) = (picture.width() as i64, picture.height() as i64);
+        let mut put = |r: f64, c: f64, colour: Rgb<u8>| {
+            let (r, c) = ((r / scale).round() as i64, (c / scale).round() as i64);
+            if (0..h).contains(&r) && (0..w).contains(&c) {
+                picture.put_pixel(c as u32, r as u32, colour);
+            }
+        };
+        let yellow = Rgb([255, 230, 0]);
+        for wake in &self.wakes {
+            let steps = ((wake.end.0 - wake.start.0).hypot(wake.end.1 - wake.start.1) / scale * 2.0)
+                .ceil()
+                .max(1.0);
+            for i in 0..=steps as usize {
+                let t = i as f64 / steps;
+                put(
+                    wake.start.0 + t * (wake.end.0 - wake.start.0),
+                    wake.start.1 + t * (wake.end.1 - wake.start.1),
+                    yellow,
+                );
+            }
+        }
+        let cyan = Rgb([0, 255, 255]);
+        for ship in &self.ships {
+            for d in -4..=4 {
+                let d = d as f64 * scale;
+                let side = 4.0 * scale;
+                put(ship.row - side, ship.col + d, cyan);
+                put(ship.row + side, ship.col + d, cyan);
+                put(ship.row + d, ship.col - side, cyan);
+                put(ship.row + d, ship.col + side, cyan);
+            }
+        }
+    }
+}
+
+/// The true bearing (degrees clockwise from north) from `a` to `b`, both (lon, lat) in degrees:
+/// the initial course of the great circle.
+fn bearing(a: (f64, f64), b: (f64, f64)) -> f64 {
+    let (l1, p1, l2, p2) = (a.0.to_radians(), a.1.to_radians(), b.0.to_radians(), b.1.to_radians());
+    let y = (l2 - l1).sin() * p2.cos();
+    let x = p1.cos() * p2.sin() - p1.sin() * p2.cos() * (l2 - l1).cos();
+    y.atan2(x).to_degrees().rem_euclid(360.0)
+}
+
+/// A wake as `detections.json` holds it.
+fn wake_entry(
+    w: &Wake,
+    start: (f64, f64),
+    end: (f64, f64),
+    ll_start: Option<(f64, f64)>,
+    ll_end: Option<(f64, f64)>,
+    bearing: Option<f64>,
+) -> Value {
+    let (mut offset, mut kelvin) = (json!({}), json!({}));
+    if let Some(s) = &w.speed {
+        offset = match &s.offset {
+            Ok(v) => json!({ "speed_ms": v.value, "sigma_ms": v.sigma }),
+            Err(why) => json!({ "unknown": why }),
+        };
+        kelvin = match &s.kelvin {
+            Ok(k) => json!({ "speed_ms": k.speed.value, "sigma_ms": k.speed.sigma, "wavelength_m": k.wavelength_m }),
+            Err(why) => json!({ "unknown": why }),
+        };
+    }
+    json!({
+        "ship": w.ship,
+        "kind": if w.ship.is_some() { "ship's wake" } else { "free wake (its ship not found: the course is 180 degrees ambiguous)" },
+        "product_start": [start.0, start.1],
+        "product_end": [end.0, end.1],
+        "lonlat_start": ll_start.map(|p| [p.0, p.1]),
+        "lonlat_end": ll_end.map(|p| [p.0, p.1]),
+        "axis_image_deg": w.axis_deg,
+        "course_image_deg": w.course_deg,
+        "course_deg": if w.course_deg.is_some() { bearing } else { None },
+        "length_m": w.length_m,
+        "contrast": w.contrast,
+        "z": w.z,
+        "arms": w.arms,
+        "azimuth_offset_m": w.offset_m,
+        "speed_offset": offset,
+        "speed_kelvin": kelvin,
+        "speed_offset_ms": w.speed.as_ref().and_then(|s| s.offset.as_ref().ok()).map(|v| v.value),
+        "speed_kelvin_ms": w.speed.as_ref().and_then(|s| s.kelvin.as_ref().ok()).map(|k| k.speed.value),
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn bearings_follow_the_compass() {
+        assert!((bearing((0.0, 0.0), (0.0, 1.0)) - 0.0).abs() < 1e-9);
+        assert!((bearing((0.0, 0.0), (1.0, 0.0)) - 90.0).abs() < 1e-9);
+        assert!((bearing((10.0, 50.0), (10.0, 49.0)) - 180.0).abs() < 1e-9);
+    }
+
+    /// A Sentinel-1 product's geometry: flight down the lines, look along the columns, R/V from
+    /// its slant range and platform speed; a bare array's: rows, no R/V, and notes saying so.
+    #[test]
+    fn geometry_follows_the_product() {
+        let s1 = ProductMeta {
+            format: "Sentinel-1 SAFE".into(),
+            slant_range_mid: Some(850_000.0),
+            platform_velocity: Some(7400.0),
+            ..Default::default()
+        };
+        let (g, notes) = product_geometry(&s1, (10.0, 10.0));
+        assert_eq!((g.azimuth_deg, g.look_deg), (180.0, 90.0));
+        assert!((g.range_over_velocity.unwrap() - 114.86).abs() < 0.01);
+        assert_eq!(notes.len(), 1, "{notes:?}"); // the incidence, not annotated here
+        let (g, notes) = product_geometry(&ProductMeta::default(), (10.0, 10.0));
+        assert!(g.range_over_velocity.is_none() && notes.len() == 2, "{notes:?}");
+    }
+}

@@ -48,6 +48,7 @@ fn each_crate_depends_only_on_the_floors_below_it() {
         ("products", &["core", "schema"][..]),
         ("learn", &["core", "schema"][..]),
         ("fusion", &["core", "schema"][..]),
+        ("ships", &[][..]),
     ]);
     let mut wrong = Vec::new();
     for krate in crates() {

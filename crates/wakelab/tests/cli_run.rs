@@ -122,6 +122,8 @@ fn run_does_the_whole_study_reuses_its_stages_and_repeats_its_tables() {
         "test_scenes",
         "whole_scene",
         "spec_environments",
+        "ships_and_wakes",
+        "ships_scenes",
         "timing",
     ] {
         assert!(report.join("tables").join(format!("{t}.csv")).exists(), "{t}.csv");
@@ -159,6 +161,7 @@ fn run_does_the_whole_study_reuses_its_stages_and_repeats_its_tables() {
             "fusion",
             "scan",
             "environments",
+            "ships",
             "report"
         ]
     );

@@ -9,6 +9,7 @@ mod learning_tables;
 mod mask_quality;
 mod pictures;
 mod radar;
+mod ships;
 mod stability;
 mod svg;
 pub mod table;
@@ -21,6 +22,7 @@ use learning_tables::{confusion_table, fusion_table, sar_ir_table, single_input_
 pub use table::Table;
 
 use crate::steps::environments::load_environments;
+use crate::steps::ships::load_ships;
 use crate::steps::whole_scene::load_whole_scene;
 use crate::steps::StudyRun;
 use crate::Result;
@@ -61,6 +63,9 @@ pub fn write_report(dir: &Path, study: &Study, run: &StudyRun) -> Result<Vec<Pat
         &environments.contrasts,
         environments.along_track,
     ));
+    let ships = load_ships(dir)?;
+    tables.push(ships::ships_table(&ships));
+    tables.push(ships::ships_scene_table(&ships));
     let timing = timing_table(run);
     let mut markdown = format!(
         "# wakelab study \"{}\"\n\nwakelab {}, run {} on {}; {} scenes; see report.html for pictures and plots.\n\n",

@@ -1,9 +1,10 @@
-//! The named steps of `wakelab run` (dataset, learning, held-out, fusion, scan, environments;
+//! The named steps of `wakelab run` (dataset, learning, held-out, fusion, scan, environments, ships;
 //! the report renders what they wrote), each reused when its inputs have not changed.
 
 mod context;
 pub mod environments;
 mod held_out;
+pub mod ships;
 mod study_run;
 pub mod whole_scene;
 
@@ -213,7 +214,8 @@ pub fn run_one_step(
     })
 }
 
-/// Run every step but the report: dataset, learning, held-out, fusion, scan and environments.
+/// Run every step but the report: dataset, learning, held-out, fusion, scan, environments and
+/// ships.
 pub fn run_steps(
     study: &Study,
     dir: &Path,
@@ -264,6 +266,8 @@ pub fn run_steps(
     let scan_time = whole_scene::scan_step(dir, study, &run, &manifest_hash)?;
     display.step(6, "environments", 1);
     let environments_time = environments::environments_step(dir, study)?;
-    run.times.extend([scan_time, environments_time]);
+    display.step(7, "ships", 1);
+    let ships_time = ships::ships_step(dir, study)?;
+    run.times.extend([scan_time, environments_time, ships_time]);
     Ok(run)
 }

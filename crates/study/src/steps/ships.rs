@@ -1,0 +1,293 @@
+//! The ships step of `wakelab run`: the classic ship and wake detectors ([`wakelab_ships`])
+//! proven where the truth is known. The study's base sea and SAR (speckle, noise, velocity
+//! bunching) image its ship in C-band VV on scenes of 5 km, with the ship inside: speeds of 6, 9
+//! and 12 m/s, any course, any look, R/V drawn over the spaceborne 40-130 s, winds of 4-10 m/s
+//! and incidences of 25-45 degrees; then the same seas without the ship (false alarms); and
+//! scenes whose ship has sailed out, leaving its wake alone (free wakes). Against the truth:
+//! ship detection (the return where its range velocity displaces it) and false alarms per 100
+//! km^2, wake detection, the course's error, and both speeds' errors where they are reported.
+//! It writes `ships/ships.json`, which the report renders.
+
+use super::context::{fnv_hex, step_time};
+use crate::{Result, StepTime};
+use ndarray::Array2;
+use rand::{RngExt, SeedableRng};
+use serde::{Deserialize, Serialize};
+use std::path::{Path, PathBuf};
+use std::time::Instant;
+use wakelab_core::io::write_atomically;
+use wakelab_core::units::RadarBand;
+use wakelab_core::{WakelabConfig, WakelabError};
+use wakelab_dataset::study::Study;
+use wakelab_ships::cfar::CfarOptions;
+use wakelab_ships::wake::WakeOptions;
+use wakelab_ships::{angle_difference, search, Geometry};
+use wakelab_surface::scene::SceneGrid;
+
+/// The ships' speeds (m/s), scenes per speed with the ship in view, and scenes of free wakes.
+pub const SPEEDS: [f64; 3] = [6.0, 9.0, 12.0];
+const SCENES_PER_SPEED: usize = 4;
+const FREE_SCENES: usize = 3;
+/// The scenes' side (pixels) and spacing (m): 5.12 km.
+const SIDE: usize = 512;
+const SPACING: f64 = 10.0;
+/// The scene centre behind the stern (m): the ship in view 1.2 km off the centre, or sailed out
+/// of it (4.5 km) for the free wakes.
+const IN_VIEW: f64 = 1200.0;
+const SAILED_OUT: f64 = 4500.0;
+
+/// One simulated scene and what the detectors found in it.
+#[derive(Debug, Clone, Serialize, Deserialize)]
+pub struct SceneResult {
+    pub speed: f64,
+    pub course: f64,
+    /// The look direction in the image (degrees clockwise from up), the incidence (degrees),
+    /// R/V (s) and the wind (m/s).
+    pub look: f64,
+    pub incidence: f64,
+    pub range_over_velocity: f64,
+    pub wind: f64,
+    /// Whether the ship is in view (else only its wake is).
+    pub ship_in_view: bool,
+    /// Whether a detected ship lies within its length of where the return should be, and the
+    /// detected ships that do not (false alarms), in this scene and in its twin without a ship.
+    pub ship_found: bool,
+    pub false_ships: usize,
+    pub false_ships_without: usize,
+    /// The ship's wake found (anchored on the found ship, or free), its course error (degrees;
+    /// for a free wake the axis's, modulo 180) and the speeds read (m/s) or why not.
+    pub wake_found: bool,
+    pub course_error: Option<f64>,
+    pub speed_offset: Option<f64>,
+    pub speed_kelvin: Option<f64>,
+    pub no_speed: Vec<String>,
+    /// Seconds the search took on this scene, and its area (km^2).
+    pub seconds: f64,
+    pub km2: f64,
+}
+
+/// `ships/ships.json`: the step's key and seconds, and every scene.
+#[derive(Serialize, Deserialize)]
+pub struct ShipsResults {
+    key: String,
+    seconds: f64,
+    pub scenes: Vec<SceneResult>,
+}
+
+fn results_file(run_dir: &Path) -> PathBuf {
+    run_dir.join("ships").join("ships.json")
+}
+
+/// What the ships step wrote into `run_dir`.
+pub fn load_ships(run_dir: &Path) -> Result<ShipsResults> {
+    let file = results_file(run_dir);
+    let text = std::fs::read_to_string(&file).map_err(|e| WakelabError::io(&file, e))?;
+    serde_json::from_str(&text).map_err(|e| anyhow::anyhow!("{}: {e}", file.display()))
+}
+
+/// The configuration of scene `k` of the step (`in_view`: the ship in the image), None when the
+/// study's simulated wake is too short for it: the scene (5.12 km, else 2.56 or 1.28) must end
+/// within the wake, and hold the ship (at most half its half-side off its centre) or not.
+fn scene_config(base: &WakelabConfig, k: usize, speed: f64, in_view: bool) -> Option<WakelabConfig> {
+    let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(base.seed ^ (0x5415_0000 + k as u64));
+    let mut c = base.clone();
+    c.seed = base.seed.wrapping_add(1000 + k as u64);
+    c.ship.speed = speed;
+    c.scene.pixel_spacing = SPACING;
+    c.scene.cross_track = 0.0;
+    c.scene.heading = rng.random_range(0.0..360.0);
+    c.scene.other_wakes.clear();
+    c.platform.look_direction = rng.random_range(0.0..360.0);
+    c.platform.incidence = rng.random_range(25.0..45.0);
+    c.sar.range_to_velocity = rng.random_range(40.0..130.0);
+    c.sar.velocity_bunching = true;
+    c.environment.wind.speed = [4.0, 7.0, 10.0][k % 3];
+    c.environment.wind.direction = rng.random_range(0.0..360.0);
+    c.slicks.coverage = 0.0;
+    let (sin, cos) = c.scene.heading.to_radians().sin_cos();
+    [SIDE, SIDE / 2, SIDE / 4].into_iter().find_map(|size| {
+        let half = 0.5 * size as f64 * SPACING;
+        // how far the scene reaches along the track either side of its centre
+        let reach = half * (sin.abs() + cos.abs());
+        let along = if in_view {
+            IN_VIEW.min(0.5 * half)
+        } else {
+            SAILED_OUT.max(reach + 500.0)
+        };
+        let mut scene = c.clone();
+        scene.scene.size = size;
+        scene.scene.along_track = along;
+        (along + reach <= scene.wake_end() && scene.validate().is_ok()).then_some(scene)
+    })
+}
+
+/// The image geometry of a scene: its look and flight directions in the image (clockwise from
+/// up; the configuration's look direction turns counter-clockwise from the ship's heading).
+pub fn scene_geometry(c: &WakelabConfig) -> Geometry {
+    let look = (c.scene.heading - c.platform.look_direction).rem_euclid(360.0);
+    Geometry {
+        spacing: (c.scene.pixel_spacing, c.scene.pixel_spacing),
+        azimuth_deg: (look - 90.0).rem_euclid(360.0),
+        look_deg: look,
+        incidence_deg: c.platform.incidence,
+        range_over_velocity: Some(c.sar.range_to_velocity),
+    }
+}
+
+/// Where the ship's return should appear (fractional pixels): the hull's centre moved back
+/// along the flight direction by R/V times its velocity away from the radar.
+fn expected_return(c: &WakelabConfig, grid: &SceneGrid, g: &Geometry) -> (f64, f64) {
+    let centre = grid.pixel_of(-0.5 * c.ship.length, 0.0);
+    let v_away = c.ship.speed * c.platform.look_direction.to_radians().cos() * c.platform.incidence.to_radians().sin();
+    let (ar, ac) = g.step(g.azimuth_deg);
+    let shift = -c.sar.range_to_velocity * v_away;
+    (centre.0 + ar * shift, centre.1 + ac * shift)
+}
+
+/// Scene `k`: render it with and without its ship, search both and score the findings.
+fn run_scene(c: &WakelabConfig, run_dir: &Path, in_view: bool) -> Result<SceneResult> {
+    c.validate()?;
+    let map = wakelab_dataset::hydro_map(&run_dir.join("dataset"), c)?;
+    let with = wakelab_surface::simulate_surface(c, Some(&map));
+    let without = wakelab_surface::simulate_surface(c, None);
+    let image = |scene| -> Array2<f32> {
+        wakelab_sensors::render_sar(c, scene, RadarBand::C)
+            .sigma0
+            .mapv(|v| v as f32)
+    };
+    let (wake_image, plain) = (image(&with), image(&without));
+    let g = scene_geometry(c);
+    let (cfar, wakes) = (CfarOptions::default(), WakeOptions::default());
+    let start = Instant::now();
+    let found = search(wake_image.view(), &g, &cfar, &wakes);
+    let seconds = start.elapsed().as_secs_f64();
+    let control = search(plain.view(), &g, &cfar, &wakes);
+    let expected = expected_return(c, &with.grid, &g);
+    let tolerance = c.ship.length.max(100.0);
+    let near = |s: &wakelab_ships::cfar::Ship| g.metres(s.row - expected.0, s.col - expected.1) <= tolerance;
+    let found_ship = in_view.then(|| found.ships.ships.iter().position(near)).flatten();
+    let false_ships = found.ships.ships.len() - usize::from(found_ship.is_some());
+    let wake = match found_ship {
+        Some(i) => found.wakes.iter().find(|w| w.ship == Some(i)),
+        // the ship out of view: a free wake along the track
+        None if !in_view => found.wakes.iter().find(|w| {
+            w.ship.is_none() && {
+                let e = angle_difference(w.axis_deg, c.scene.heading);
+                e.abs().min(180.0 - e.abs()) < 10.0
+            }
+        }),
+        None => None,
+    };
+    let mut no_speed = Vec::new();
+    let (mut speed_offset, mut speed_kelvin) = (None, None);
+    if let Some(readings) = wake.and_then(|w| w.speed.as_ref()) {
+        match &readings.offset {
+            Ok(s) => speed_offset = Some(s.value),
+            Err(why) => no_speed.push(format!("offset: {why}")),
+        }
+        match &readings.kelvin {
+            Ok(k) => speed_kelvin = Some(k.speed.value),
+            Err(why) => no_speed.push(format!("Kelvin: {why}")),
+        }
+    }
+    let course_error = wake.map(|w| match w.course_deg {
+        Some(course) => angle_difference(course, c.scene.heading),
+        None => {
+            let e = angle_difference(w.axis_deg, c.scene.heading);
+            if e.abs() > 90.0 {
+                e - 180.0f64.copysign(e)
+            } else {
+                e
+            }
+        }
+    });
+    Ok(SceneResult {
+        speed: c.ship.speed,
+        course: c.scene.heading,
+        look: g.look_deg,
+        incidence: c.platform.incidence,
+        range_over_velocity: c.sar.range_to_velocity,
+        wind: c.environment.wind.speed,
+        ship_in_view: in_view,
+        ship_found: found_ship.is_some(),
+        false_ships,
+        false_ships_without: control.ships.ships.len(),
+        wake_found: wake.is_some(),
+        course_error,
+        speed_offset,
+        speed_kelvin,
+        no_speed,
+        seconds,
+        km2: (c.scene.size as f64 * c.scene.pixel_spacing / 1000.0).powi(2),
+    })
+}
+
+/// The ships step: every scene searched and scored (reused when the base configuration and
+/// wakelab's version are unchanged).
+pub fn ships_step(run_dir: &Path, study: &Study) -> Result<StepTime> {
+    let start = Instant::now();
+    let base = study.base_config()?;
+    let key = fnv_hex(&format!("{base:?} {}", env!("CARGO_PKG_VERSION")));
+    if let Ok(found) = load_ships(run_dir) {
+        if found.key == key {
+            return Ok(step_time("ships", start, Some(found.seconds)));
+        }
+    }
+    let mut configs = Vec::new();
+    for (s, &speed) in SPEEDS.iter().enumerate() {
+        for j in 0..SCENES_PER_SPEED {
+            configs.extend(scene_config(&base, s * SCENES_PER_SPEED + j, speed, true).map(|c| (c, true)));
+        }
+    }
+    for j in 0..FREE_SCENES {
+        let k = SPEEDS.len() * SCENES_PER_SPEED + j;
+        configs.extend(scene_config(&base, k, SPEEDS[j % SPEEDS.len()], false).map(|c| (c, false)));
+    }
+    let scenes = configs
+        .iter()
+        .map(|(c, in_view)| run_scene(c, run_dir, *in_view))
+        .collect::<Result<Vec<_>>>()?;
+    let results = ShipsResults {
+        key,
+        seconds: start.elapsed().as_secs_f64(),
+        scenes,
+    };
+    let file = results_file(run_dir);
+    let dir = file.parent().expect("a folder");
+    std::fs::create_dir_all(dir).map_err(|e| WakelabError::io(dir, e))?;
+    write_atomically(&file, serde_json::to_string_pretty(&results)?.as_bytes())?;
+    Ok(step_time("ships", start, None))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A scene's look and flight directions: a ship heading east (90) seen by a radar looking
+    /// along its course (look direction 0) looks east and flies north.
+    #[test]
+    fn the_scene_geometry_turns_the_look_into_the_image() {
+        let mut c = WakelabConfig::default();
+        c.scene.heading = 90.0;
+        c.platform.look_direction = 0.0;
+        let g = scene_geometry(&c);
+        assert_eq!((g.look_deg, g.azimuth_deg), (90.0, 0.0));
+        // looking to port (90 counter-clockwise from the course): north
+        c.platform.look_direction = 90.0;
+        assert_eq!(scene_geometry(&c).look_deg, 0.0);
+    }
+
+    /// Every scene of the default study's base is a valid configuration.
+    #[test]
+    fn the_scenes_are_valid() {
+        let study = Study::from_toml_str(wakelab_dataset::study::DEFAULT_STUDY, "default").unwrap();
+        let base = study.base_config().unwrap();
+        for k in 0..SPEEDS.len() * SCENES_PER_SPEED + FREE_SCENES {
+            for in_view in [true, false] {
+                let c = scene_config(&base, k, 9.0, in_view).expect("a scene that fits");
+                c.validate().unwrap();
+                assert_eq!(c.scene.size, SIDE);
+            }
+        }
+    }
+}

@@ -12,13 +12,7 @@ use wakelab_ships::wake::{free_wakes, ship_wake, WakeOptions};
 use wakelab_ships::{search, Geometry, BACKGROUND_M};
 
 fn scene() -> (Array2<f32>, Geometry) {
-    let g = Geometry {
-        spacing: (10.0, 10.0),
-        azimuth_deg: 0.0,
-        look_deg: 90.0,
-        incidence_deg: 35.0,
-        range_over_velocity: Some(110.0),
-    };
+    let g = Geometry::along_rows(10.0, 35.0, Some(110.0));
     let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(1);
     let mut image = Array2::from_shape_fn((1000, 1000), |_| {
         (0.01 * (0..4).map(|_| -> f64 { Exp1.sample(&mut rng) }).sum::<f64>() / 4.0) as f32

@@ -384,26 +384,14 @@ fn describe(group: &[(usize, usize)], image: ArrayView2<f32>, mean: &Array2<f32>
 #[cfg(test)]
 mod tests {
     use super::*;
-    use rand::SeedableRng;
-    use rand_distr::{Distribution, Exp1};
 
     fn geometry() -> Geometry {
-        Geometry {
-            spacing: (10.0, 10.0),
-            azimuth_deg: 0.0,
-            look_deg: 90.0,
-            incidence_deg: 35.0,
-            range_over_velocity: None,
-        }
+        Geometry::along_rows(10.0, 35.0, None)
     }
 
-    /// Four-look speckle (a mean of four exponentials) on a sea of sigma0 0.01.
+    /// Four-look speckle on a sea of sigma0 0.01.
     fn sea(n: usize, seed: u64) -> Array2<f32> {
-        let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(seed);
-        Array2::from_shape_fn((n, n), |_| {
-            let s: f64 = (0..4).map(|_| -> f64 { Exp1.sample(&mut rng) }).sum::<f64>() / 4.0;
-            (0.01 * s) as f32
-        })
+        crate::speckle(n, n, 4, 0.01, seed)
     }
 
     #[test]

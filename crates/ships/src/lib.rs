@@ -43,6 +43,18 @@ pub struct Geometry {
 }
 
 impl Geometry {
+    /// A square-pixel image of `spacing` metres whose flight runs up its rows and whose radar
+    /// looks to the right (along its columns), at `incidence_deg`.
+    pub fn along_rows(spacing: f64, incidence_deg: f64, range_over_velocity: Option<f64>) -> Self {
+        Self {
+            spacing: (spacing, spacing),
+            azimuth_deg: 0.0,
+            look_deg: 90.0,
+            incidence_deg,
+            range_over_velocity,
+        }
+    }
+
     /// The ground distance (m) of a step of (rows, columns) pixels.
     pub fn metres(&self, rows: f64, cols: f64) -> f64 {
         (rows * self.spacing.0).hypot(cols * self.spacing.1)
@@ -97,6 +109,19 @@ pub fn angle_difference(a: f64, b: f64) -> f64 {
 /// Standard gravity (m/s^2), for the Kelvin wavelength.
 pub const GRAVITY: f64 = 9.806_65;
 
+/// Fully developed speckle of `looks` looks (a mean of exponentials) over a mean sigma0, from a
+/// seeded generator: the open sea the tests and benchmarks search.
+#[cfg(test)]
+pub(crate) fn speckle(rows: usize, cols: usize, looks: usize, mean: f64, seed: u64) -> ndarray::Array2<f32> {
+    use rand::SeedableRng;
+    use rand_distr::{Distribution, Exp1};
+    let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(seed);
+    ndarray::Array2::from_shape_fn((rows, cols), |_| {
+        let s: f64 = (0..looks).map(|_| -> f64 { Exp1.sample(&mut rng) }).sum();
+        (mean * s / looks as f64) as f32
+    })
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -105,10 +130,7 @@ mod tests {
     fn steps_and_headings_are_inverse_on_a_rectangular_grid() {
         let g = Geometry {
             spacing: (10.0, 5.0),
-            azimuth_deg: 0.0,
-            look_deg: 90.0,
-            incidence_deg: 35.0,
-            range_over_velocity: None,
+            ..Geometry::along_rows(10.0, 35.0, None)
         };
         for heading in [0.0, 30.0, 90.0, 200.0, 359.0] {
             let (r, c) = g.step(heading);

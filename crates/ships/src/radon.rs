@@ -264,13 +264,7 @@ mod tests {
     use super::*;
 
     fn geometry() -> Geometry {
-        Geometry {
-            spacing: (10.0, 10.0),
-            azimuth_deg: 0.0,
-            look_deg: 90.0,
-            incidence_deg: 35.0,
-            range_over_velocity: None,
-        }
+        Geometry::along_rows(10.0, 35.0, None)
     }
 
     #[test]

@@ -646,13 +646,7 @@ mod tests {
     /// the rows. Returns the image, the geometry and the return's true displacement (m along
     /// the flight direction).
     fn scene(course: f64, speed: f64, seed: u64) -> (Array2<f32>, Geometry, (f64, f64), f64) {
-        let g = Geometry {
-            spacing: (5.0, 5.0),
-            azimuth_deg: 0.0,
-            look_deg: 90.0,
-            incidence_deg: 35.0,
-            range_over_velocity: Some(110.0),
-        };
+        let g = Geometry::along_rows(5.0, 35.0, Some(110.0));
         let n = 1200;
         let ship = (600.0, 600.0);
         let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(seed);
@@ -739,13 +733,7 @@ mod tests {
     /// A track along the azimuth: the course is read, the offset speed is "unknown".
     #[test]
     fn a_track_along_the_azimuth_tells_no_offset_speed() {
-        let g = Geometry {
-            spacing: (5.0, 5.0),
-            azimuth_deg: 0.0,
-            look_deg: 90.0,
-            incidence_deg: 35.0,
-            range_over_velocity: Some(110.0),
-        };
+        let g = Geometry::along_rows(5.0, 35.0, Some(110.0));
         assert!(offset_speed(&g, 100.0, 5.0, 10.0).is_err());
         assert!(offset_speed(
             &Geometry {
@@ -766,17 +754,8 @@ mod tests {
     /// Speckle alone holds no free wake; a dark line 4 km long through an empty scene is one.
     #[test]
     fn free_wakes_are_long_dark_lines() {
-        let g = Geometry {
-            spacing: (10.0, 10.0),
-            azimuth_deg: 0.0,
-            look_deg: 90.0,
-            incidence_deg: 35.0,
-            range_over_velocity: None,
-        };
-        let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(5);
-        let mut image = Array2::from_shape_fn((600, 600), |_| {
-            (0.01 * (0..4).map(|_| -> f64 { Exp1.sample(&mut rng) }).sum::<f64>() / 4.0) as f32
-        });
+        let g = Geometry::along_rows(10.0, 35.0, None);
+        let mut image = crate::speckle(600, 600, 4, 0.01, 5);
         let empty = free_wakes(
             &SearchImage::new(image.view(), &g, 2000.0),
             &[],

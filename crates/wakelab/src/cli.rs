@@ -107,8 +107,8 @@ pub enum StageName {
 pub enum Command {
     /// The whole study (the main job): simulate the study's wakes, render its SAR and IR dataset,
     /// train and evaluate every architecture on every band with the spec's repetitions, fuse,
-    /// stress-test and write a report (runs/<study>/report/report.html). Reuses every finished
-    /// stage whose inputs have not changed.
+    /// stress-test, score the classic ship and wake detectors, and write a report
+    /// (runs/<study>/report/report.html). Reuses every finished step whose inputs have not changed.
     Run(StudyArgs),
     /// Run the pipeline on one configuration: wake, sea surface of the scene, SAR and IR images.
     Scene(RunArgs),
@@ -131,9 +131,9 @@ pub enum Command {
     /// Algorithm 2 on a dataset: repeated Monte Carlo train/test splits, every output kept, MCC,
     /// accuracy, F1 and ROC AUC per band and architecture (Tables 4.4-4.6).
     Eval(EvalArgs),
-    /// Run a saved single-band detector over an image of any size: a Sentinel-1 GRD product
-    /// (calibrated, noise removed, no-data masked), a GeoTIFF / COG, npy or PNG. Writes the
-    /// probability map (COG), detections (GeoJSON) and an overlay; prints the verdict.
+    /// Run a saved detector over an image of any size (a Sentinel-1, TerraSAR-X or COSMO-SkyMed
+    /// product, a GeoTIFF / COG, npy or PNG) and find its ships and their wakes (course, speed). Writes
+    /// the probability map (COG), the windows, ships and wakes (GeoJSON) and an overlay.
     Detect(DetectArgs),
     /// Calibrate a SAR product to sigma0 (SNAP's "Calibration"): the masked sigma0 that detect
     /// scans, as a Cloud-Optimised GeoTIFF on the product's ground.

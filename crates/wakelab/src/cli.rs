@@ -183,10 +183,10 @@ pub struct SpectrumArgs {
     #[command(flatten)]
     pub config: ConfigArgs,
     /// Wind speed at 10 m (m/s); default: environment.wind.speed.
-    #[arg(long, value_name = "M/S")]
+    #[arg(long, value_name = "M/S", allow_negative_numbers = true)]
     pub wind: Option<f64>,
     /// Radar incidence angle (degrees); default: platform.incidence.
-    #[arg(long, value_name = "DEG")]
+    #[arg(long, value_name = "DEG", allow_negative_numbers = true)]
     pub incidence: Option<f64>,
     /// Print JSON.
     #[arg(long)]
@@ -201,13 +201,13 @@ pub struct OpticsArgs {
     #[arg(long, value_name = "UM", default_value_t = 11.0)]
     pub wavelength: f64,
     /// Practical salinity (PSU); default: the surface salinity.
-    #[arg(long)]
+    #[arg(long, allow_negative_numbers = true)]
     pub salinity: Option<f64>,
     /// Temperature (deg C); default: the surface temperature.
-    #[arg(long)]
+    #[arg(long, allow_negative_numbers = true)]
     pub temperature: Option<f64>,
     /// Incidence angle (degrees); default: platform.incidence.
-    #[arg(long, value_name = "DEG")]
+    #[arg(long, value_name = "DEG", allow_negative_numbers = true)]
     pub incidence: Option<f64>,
     /// Print JSON.
     #[arg(long)]
@@ -451,7 +451,7 @@ pub struct Sigma0Args {
     #[command(flatten)]
     pub config: ConfigArgs,
     /// Wind speed at 10 m (m/s); default: environment.wind.speed.
-    #[arg(long, value_name = "M/S")]
+    #[arg(long, value_name = "M/S", allow_negative_numbers = true)]
     pub wind: Option<f64>,
     /// Band: S, C or X.
     #[arg(long, default_value = "C")]
@@ -460,10 +460,10 @@ pub struct Sigma0Args {
     #[arg(long)]
     pub polarisation: Option<wakelab_core::config::Polarisation>,
     /// Incidence angle (degrees); default: platform.incidence.
-    #[arg(long, value_name = "DEG")]
+    #[arg(long, value_name = "DEG", allow_negative_numbers = true)]
     pub incidence: Option<f64>,
     /// Look direction relative to the wind direction (degrees; 0: looking down-wind).
-    #[arg(long, value_name = "DEG", default_value_t = 90.0)]
+    #[arg(long, value_name = "DEG", default_value_t = 90.0, allow_negative_numbers = true)]
     pub look: f64,
     /// Side of the cell the sea is seen in (m): waves longer than it are resolved, shorter ones
     /// tilt the Bragg facets; default: scene.pixel_spacing (the background of an image).

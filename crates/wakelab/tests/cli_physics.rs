@@ -290,4 +290,19 @@ fn sar_sigma0_and_optics_print_their_json() {
 
     let bad = wakelab(&["sar", "sigma0", "--band", "K"]);
     assert!(!bad.status.success() && stderr(&bad).contains("'K' for '--band"));
+
+    // negative numbers are numbers: a look of -45 degrees is 315, and a negative wind is refused
+    // by the range check naming its field, not by the parser
+    let minus = sar_sigma0_json(&["--wind", "8", "--look", "-45"]);
+    let plus = sar_sigma0_json(&["--wind", "8", "--look", "315"]);
+    assert!((minus["sigma0_db"].as_f64().unwrap() - plus["sigma0_db"].as_f64().unwrap()).abs() < 1e-9);
+    let bad = wakelab(&["sar", "sigma0", "--wind", "-3"]);
+    assert!(
+        !bad.status.success() && stderr(&bad).contains("environment.wind.speed"),
+        "{}",
+        stderr(&bad)
+    );
+    // the human lines print numbers as a person writes them
+    let text = stdout(&wakelab(&["sar", "sigma0", "--incidence", "35"]));
+    assert!(text.contains("incidence_deg = 35\n"), "{text}");
 }

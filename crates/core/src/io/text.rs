@@ -3,7 +3,7 @@
 use std::fmt::Write;
 
 /// A serialisable report as JSON (pretty) or as aligned `key = value` lines; numbers in the
-/// lines are printed with seven significant digits, arrays of objects one after another.
+/// lines are printed as [`number`] writes them, arrays of objects one after another.
 pub fn report_text(report: &impl serde::Serialize, json: bool) -> serde_json::Result<String> {
     if json {
         return serde_json::to_string_pretty(report).map(|s| s + "\n");
@@ -24,11 +24,39 @@ fn key_value_lines(value: &serde_json::Value, out: &mut String) {
                     }
                 }
                 _ => {
-                    let text = v.as_f64().map_or(v.to_string(), |x| format!("{x:.6e}"));
+                    let text = v.as_f64().map_or(v.to_string(), number);
                     writeln!(out, "{k:>26} = {text}").expect("writing to a string");
                 }
             }
         }
+    }
+}
+
+/// A number as a reader expects it: whole numbers whole (35), others to seven significant
+/// digits without trailing zeros (0.01234567, 5.3), and beyond 1e-3..1e7 in scientific
+/// notation (5.3e9, 1.234567e-5).
+pub fn number(x: f64) -> String {
+    let magnitude = x.abs();
+    if !x.is_finite() {
+        return x.to_string();
+    }
+    if x == x.trunc() && magnitude < 1e7 {
+        return format!("{x:.0}");
+    }
+    let trim = |s: String| {
+        if s.contains('.') {
+            s.trim_end_matches('0').trim_end_matches('.').to_string()
+        } else {
+            s
+        }
+    };
+    if (1e-3..1e7).contains(&magnitude) {
+        let decimals = (6 - magnitude.log10().floor() as i64).max(0) as usize;
+        trim(format!("{x:.decimals$}"))
+    } else {
+        let text = format!("{x:.6e}");
+        let (mantissa, exponent) = text.split_once('e').expect("scientific notation");
+        format!("{}e{exponent}", trim(mantissa.to_string()))
     }
 }
 
@@ -42,11 +70,24 @@ mod tests {
         let text = report_text(&value, false).unwrap();
         assert_eq!(
             text,
-            format!(
-                "{:>26} = 1.500000e0\n{:>26} = \"C\"\nparts:\n{:>26} = 2.000000e0\n",
-                "a", "band", "x"
-            )
+            format!("{:>26} = 1.5\n{:>26} = \"C\"\nparts:\n{:>26} = 2\n", "a", "band", "x")
         );
         assert!(report_text(&value, true).unwrap().starts_with("{\n"));
+    }
+
+    #[test]
+    fn numbers_read_as_a_person_writes_them() {
+        for (x, text) in [
+            (35.0, "35"),
+            (-36.11785, "-36.11785"),
+            (66.555094, "66.55509"),
+            (0.012345678, "0.01234568"),
+            (5.3e9, "5.3e9"),
+            (1.2345678e-5, "1.234568e-5"),
+            (-0.5, "-0.5"),
+            (f64::NAN, "NaN"),
+        ] {
+            assert_eq!(number(x), text, "{x}");
+        }
     }
 }

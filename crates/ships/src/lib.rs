@@ -143,4 +143,20 @@ mod tests {
         assert_eq!(angle_difference(10.0, 350.0), 20.0);
         assert_eq!(angle_difference(350.0, 10.0), -20.0);
     }
+
+    /// What a user can hand `detect` without a panic: an image all no-data, one smaller than
+    /// every window, one of a constant value. Nothing is found in any.
+    #[test]
+    fn degenerate_images_find_nothing_and_do_not_panic() {
+        let g = Geometry::along_rows(10.0, 35.0, None);
+        let (cfar, wakes) = (CfarOptions::default(), WakeOptions::default());
+        for image in [
+            ndarray::Array2::from_elem((64, 64), f32::NAN),
+            ndarray::Array2::from_elem((3, 5), 0.01f32),
+            ndarray::Array2::from_elem((200, 200), 0.01f32),
+        ] {
+            let found = search(image.view(), &g, &cfar, &wakes);
+            assert!(found.ships.ships.is_empty() && found.wakes.is_empty(), "{found:?}");
+        }
+    }
 }

@@ -5,7 +5,7 @@ use crate::study::Study;
 use crate::{fnv, render_key, scene_dir};
 use std::collections::BTreeMap;
 use std::path::Path;
-use wakelab_core::io::{csv_record, write_atomically};
+use wakelab_core::io::{csv_of_records, write_atomically};
 use wakelab_core::WakelabError;
 use wakelab_schema::axes::AXES;
 use wakelab_schema::band::Band;
@@ -140,7 +140,7 @@ fn manifest_csv(records: &[SceneRecord], bands: &[Band]) -> String {
         header.push(format!("image_{b}"));
         header.push(format!("mask_{b}"));
     }
-    let mut out = csv_record(&header);
+    let mut rows = vec![header];
     for r in records {
         let mut row: Vec<String> = vec![
             r.id.clone(),
@@ -160,7 +160,7 @@ fn manifest_csv(records: &[SceneRecord], bands: &[Band]) -> String {
             row.push(r.images.get(b).cloned().unwrap_or_default());
             row.push(r.masks.get(b).cloned().unwrap_or_default());
         }
-        out += &csv_record(&row);
+        rows.push(row);
     }
-    out
+    csv_of_records(rows)
 }

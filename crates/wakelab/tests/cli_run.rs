@@ -50,17 +50,20 @@ fn run_does_the_whole_study_reuses_its_stages_and_repeats_its_tables() {
     assert!(!html.contains("https://") && !html.contains("<script"));
     // the grid of test scenes: per band and wind, base's highest and lowest wake and no-wake
     // test scene, each with every architecture's verdict; as a table and as thumbnails
-    let grid = std::fs::read_to_string(report.join("tables/test_scenes.csv")).unwrap();
-    let cells: Vec<Vec<&str>> = grid.lines().skip(1).map(|l| l.split(',').collect()).collect();
-    assert!(!cells.is_empty(), "{grid}");
-    let score = |c: &Vec<&str>| c[7].split(' ').next().unwrap().parse::<f64>().unwrap();
-    for c in &cells {
-        assert_eq!(c.len(), 10, "{c:?}");
+    let grid = read_table(&report.join("tables/test_scenes.csv"));
+    let cells = &grid.rows;
+    assert!(!cells.is_empty());
+    let score = |c: &Vec<String>| c[grid.column("base")].parse::<f64>().unwrap();
+    for c in cells {
+        assert_eq!(c.len(), 13, "{c:?}");
         assert_eq!(c[3].ends_with("-w"), c[2].starts_with("wake"), "{c:?}");
-        assert!(
-            c[7..].iter().all(|v| v.ends_with(" right") || v.ends_with(" wrong")),
-            "{c:?}"
-        );
+        for a in ["base", "cls", "unet"] {
+            c[grid.column(a)].parse::<f64>().unwrap();
+            assert!(
+                ["right", "wrong"].contains(&c[grid.column(&format!("{a} verdict"))].as_str()),
+                "{c:?}"
+            );
+        }
     }
     for pair in cells.windows(2) {
         let (a, b) = (&pair[0], &pair[1]);
@@ -69,22 +72,24 @@ fn run_does_the_whole_study_reuses_its_stages_and_repeats_its_tables() {
         }
     }
     // the whole-scene scan: a row per single band (S, X, LWIR), three pictures each
-    let whole = std::fs::read_to_string(report.join("tables/whole_scene.csv")).unwrap();
-    let scanned: Vec<Vec<&str>> = whole.lines().skip(1).map(|l| l.split(',').collect()).collect();
+    let whole = read_table(&report.join("tables/whole_scene.csv"));
+    let scanned = &whole.rows;
     assert_eq!(
-        scanned.iter().map(|r| r[0]).collect::<Vec<_>>(),
-        ["S", "X", "LWIR"],
-        "{whole}"
+        scanned.iter().map(|r| r[0].as_str()).collect::<Vec<_>>(),
+        ["S", "X", "LWIR"]
     );
-    for r in &scanned {
+    for r in scanned {
         let p: f64 = r[1].parse().unwrap();
-        assert!((0.0..=1.0).contains(&p) && ["yes", "no"].contains(&r[2]), "{r:?}");
+        assert!(
+            (0.0..=1.0).contains(&p) && ["yes", "no"].contains(&r[2].as_str()),
+            "{r:?}"
+        );
         // the threshold calibrated on the detector's no-wake test chips, and the cells above it
         let t: f64 = r[6].parse().unwrap();
         assert!((0.0..=1.0).contains(&t), "{r:?}");
-        for share in r[7..11].iter().filter(|&&v| v != "-") {
-            let v: f64 = share.strip_suffix('%').unwrap().parse().unwrap();
-            assert!((0.0..=100.0).contains(&v), "{r:?}");
+        for share in r[7..11].iter().filter(|v| !v.is_empty()) {
+            let v: f64 = share.parse().unwrap();
+            assert!((0.0..=1.0).contains(&v), "a share is a fraction: {r:?}");
         }
     }
     assert_eq!(
@@ -129,20 +134,46 @@ fn run_does_the_whole_study_reuses_its_stages_and_repeats_its_tables() {
         assert!(report.join("tables").join(format!("{t}.csv")).exists(), "{t}.csv");
     }
     // the spec's three environments in the three radar bands, each called bright, dark or none
-    let environments = std::fs::read_to_string(report.join("tables/spec_environments.csv")).unwrap();
-    assert_eq!(environments.lines().count(), 1 + 3 * 3, "{environments}");
-    for line in environments.lines().skip(1) {
-        let verdict = line.split(',').nth(4).unwrap();
-        assert!(["bright", "dark", "none"].contains(&verdict), "{line}");
+    let environments = read_table(&report.join("tables/spec_environments.csv"));
+    assert_eq!(environments.rows.len(), 3 * 3);
+    for row in &environments.rows {
+        assert!(["bright", "dark", "none"].contains(&row[4].as_str()), "{row:?}");
     }
     // robustness: every perturbation and the held-out wind speeds have numbers for "base" on S
-    let robustness = std::fs::read_to_string(report.join("tables/robustness.csv")).unwrap();
-    let row = robustness.lines().find(|l| l.starts_with("base,S,")).unwrap();
+    let robustness = read_table(&report.join("tables/robustness.csv"));
+    let row = robustness.rows.iter().find(|r| r[..2] == ["base", "S"]).unwrap();
+    let means: Vec<usize> = (0..robustness.header.len())
+        .filter(|&c| robustness.header[c].ends_with(" mean") && !row[c].is_empty())
+        .collect();
     assert_eq!(
-        row.split(',').filter(|c| c.contains('±')).count(),
+        means.len(),
         1 + 4 + 2,
-        "clean, rotate_30, drop, noise, shift, held-out environment and heading: {robustness}"
+        "clean, rotate_30, drop, noise, shift, held-out environment and heading: {:?}",
+        robustness.header
     );
+    // tidy tables: one number per field, missing values empty (pandas reads numbers, not text)
+    for entry in std::fs::read_dir(report.join("tables")).unwrap() {
+        let table = read_table(&entry.unwrap().path());
+        for field in table.rows.iter().flatten() {
+            assert!(
+                !field.contains('±') && !field.ends_with('%') && field != "-",
+                "{}: {field}",
+                table.name
+            );
+        }
+        let mcc: Vec<usize> = (0..table.header.len())
+            .filter(|&c| table.header[c] == "MCC mean")
+            .collect();
+        for row in &table.rows {
+            for &c in &mcc {
+                assert!(
+                    row[c].is_empty() || row[c].parse::<f64>().is_ok(),
+                    "{}: {row:?}",
+                    table.name
+                );
+            }
+        }
+    }
     let timing: serde_json::Value =
         serde_json::from_str(&std::fs::read_to_string(first.join("timing.json")).unwrap()).unwrap();
     let stages: Vec<&str> = timing
@@ -280,4 +311,34 @@ fn run_does_the_whole_study_reuses_its_stages_and_repeats_its_tables() {
         stderr(&o)
     );
     assert!(!out.exists());
+}
+
+/// A report table read back by the `csv` crate, as pandas would.
+struct CsvTable {
+    name: String,
+    header: Vec<String>,
+    rows: Vec<Vec<String>>,
+}
+
+impl CsvTable {
+    fn column(&self, name: &str) -> usize {
+        self.header
+            .iter()
+            .position(|h| h == name)
+            .unwrap_or_else(|| panic!("{}: no column {name}", self.name))
+    }
+}
+
+fn read_table(path: &std::path::Path) -> CsvTable {
+    let mut reader = csv::Reader::from_path(path).unwrap();
+    let header = reader.headers().unwrap().iter().map(String::from).collect();
+    let rows = reader
+        .records()
+        .map(|r| r.unwrap().iter().map(String::from).collect())
+        .collect();
+    CsvTable {
+        name: path.display().to_string(),
+        header,
+        rows,
+    }
 }

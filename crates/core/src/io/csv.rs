@@ -1,27 +1,21 @@
-//! CSV as RFC 4180 writes it: a field holding a comma, a double quote or a line break is quoted,
-//! its quotes doubled. Records end in LF rather than RFC 4180's CRLF, which every reader of CSV
-//! (pandas, R, spreadsheets) accepts.
+//! Rows of serialisable records as CSV, written by the `csv` crate (RFC 4180 quoting; records
+//! end in LF, which every reader of CSV accepts).
 
-use std::borrow::Cow;
-
-/// One field, quoted when RFC 4180 (section 2, rules 6-7) asks.
-pub fn csv_field(text: &str) -> Cow<'_, str> {
-    if text.contains([',', '"', '\n', '\r']) {
-        Cow::Owned(format!("\"{}\"", text.replace('"', "\"\"")))
-    } else {
-        Cow::Borrowed(text)
+/// Records of fields (the header first) as CSV.
+pub fn csv_of_records<R, F>(records: impl IntoIterator<Item = R>) -> String
+where
+    R: IntoIterator<Item = F>,
+    F: AsRef<[u8]>,
+{
+    let mut out = csv::WriterBuilder::new()
+        .terminator(csv::Terminator::Any(b'\n'))
+        .flexible(true)
+        .from_writer(Vec::new());
+    let into_memory = "a CSV written into memory cannot fail";
+    for record in records {
+        out.write_record(record).expect(into_memory);
     }
-}
-
-/// One record: the fields joined by commas, ending in a line feed.
-pub fn csv_record<S: AsRef<str>>(fields: &[S]) -> String {
-    let mut line = fields
-        .iter()
-        .map(|f| csv_field(f.as_ref()))
-        .collect::<Vec<_>>()
-        .join(",");
-    line.push('\n');
-    line
+    String::from_utf8(out.into_inner().expect(into_memory)).expect("UTF-8 fields")
 }
 
 /// Rows of a serialisable type as CSV, one column per field of the first row in its order:
@@ -31,55 +25,25 @@ pub fn csv_of_rows<T: serde::Serialize>(rows: &[T]) -> Result<String, serde_json
     let Some(first) = values.first().and_then(|v| v.as_object()) else {
         return Ok(String::new());
     };
-    let keys: Vec<&String> = first.keys().collect();
-    let mut out = csv_record(&keys);
-    for v in &values {
-        let cells: Vec<String> = keys
-            .iter()
+    let keys: Vec<String> = first.keys().cloned().collect();
+    let rows = values.iter().map(|v| {
+        keys.iter()
             .map(|k| match &v[k.as_str()] {
                 serde_json::Value::String(s) => s.clone(),
                 serde_json::Value::Null => String::new(),
                 other => other.to_string(),
             })
-            .collect();
-        out += &csv_record(&cells);
-    }
-    Ok(out)
+            .collect::<Vec<_>>()
+    });
+    Ok(csv_of_records(std::iter::once(keys.clone()).chain(rows)))
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
 
-    /// Split one RFC 4180 record (no line breaks inside fields) back into its fields.
-    fn parse_record(line: &str) -> Vec<String> {
-        let mut fields = vec![String::new()];
-        let mut quoted = false;
-        let mut chars = line.trim_end_matches('\n').chars().peekable();
-        while let Some(c) = chars.next() {
-            match (c, quoted) {
-                ('"', true) if chars.peek() == Some(&'"') => {
-                    chars.next();
-                    fields.last_mut().unwrap().push('"');
-                }
-                ('"', _) => quoted = !quoted,
-                (',', false) => fields.push(String::new()),
-                (c, _) => fields.last_mut().unwrap().push(c),
-            }
-        }
-        fields
-    }
-
     #[test]
-    fn fields_with_commas_and_quotes_survive_a_round_trip() {
-        let fields = ["Bayes classifier (S, X)", "say \"wake\"", "plain", ""];
-        let line = csv_record(&fields);
-        assert_eq!(line, "\"Bayes classifier (S, X)\",\"say \"\"wake\"\"\",plain,\n");
-        assert_eq!(parse_record(&line), fields);
-    }
-
-    #[test]
-    fn rows_keep_their_columns() {
+    fn rows_keep_their_columns_and_fields_with_commas_survive() {
         #[derive(serde::Serialize)]
         struct Row {
             name: &'static str,
@@ -87,13 +51,14 @@ mod tests {
             missing: Option<f64>,
         }
         let csv = csv_of_rows(&[Row {
-            name: "S, X",
+            name: "Bayes classifier (S, X) \"say\"",
             value: 0.5,
             missing: None,
         }])
         .unwrap();
-        let lines: Vec<&str> = csv.lines().collect();
-        assert_eq!(parse_record(lines[0]), ["name", "value", "missing"]);
-        assert_eq!(parse_record(lines[1]), ["S, X", "0.5", ""]);
+        let mut reader = csv::Reader::from_reader(csv.as_bytes());
+        assert_eq!(reader.headers().unwrap(), vec!["name", "value", "missing"]);
+        let row = reader.records().next().unwrap().unwrap();
+        assert_eq!(row, vec!["Bayes classifier (S, X) \"say\"", "0.5", ""]);
     }
 }

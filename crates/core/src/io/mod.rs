@@ -8,7 +8,7 @@ pub mod picture;
 pub mod text;
 
 pub use atomic::{write_atomically, AtomicFile};
-pub use csv::{csv_of_rows, csv_record};
+pub use csv::{csv_of_records, csv_of_rows};
 
 #[cfg(test)]
 mod tests {

@@ -1,7 +1,7 @@
 //! The report's table of the spec's environments, from what the environments step wrote
 //! ([`crate::steps::environments`]), beside what the spec's Figs. 3.1-3.2 show.
 
-use super::table::Table;
+use super::table::{Cell, Table};
 use crate::steps::environments::{EnvironmentContrast, VISIBLE_DB};
 use wakelab_core::config::NamedDirection;
 use wakelab_core::units::RadarBand;
@@ -47,15 +47,15 @@ pub fn environment_table(rows: &[EnvironmentContrast], along_track: f64) -> Tabl
             .iter()
             .map(|r| {
                 vec![
-                    format!("{:?}", r.environment).to_lowercase(),
-                    r.band.name().to_string(),
-                    format!("{:+.2}", r.darkest_db),
-                    format!("{:+.2}", r.brightest_db),
-                    r.verdict().to_string(),
-                    spec_figure(r.environment, r.band).to_string(),
-                    format!("{:.1e}", r.refraction),
-                    format!("{:.1e}", r.damping),
-                    format!("{:.1e}", r.relaxation),
+                    format!("{:?}", r.environment).to_lowercase().into(),
+                    r.band.name().into(),
+                    Cell::signed(r.darkest_db, 2),
+                    Cell::signed(r.brightest_db, 2),
+                    r.verdict().into(),
+                    spec_figure(r.environment, r.band).into(),
+                    Cell::scientific(r.refraction, 1),
+                    Cell::scientific(r.damping, 1),
+                    Cell::scientific(r.relaxation, 1),
                 ]
             })
             .collect(),

@@ -38,7 +38,7 @@ fn table_html(t: &Table) -> String {
     for r in &t.rows {
         s.push_str("<tr>");
         for c in r {
-            let _ = write!(s, "<td>{}</td>", escape(c));
+            let _ = write!(s, "<td>{}</td>", escape(c.shown()));
         }
         s.push_str("</tr>");
     }

@@ -1,7 +1,7 @@
 //! The learning tables: Tables 4.4-4.6 and 5.1-5.3 with the paper's own numbers beside ours,
 //! SAR + IR fusion, confusion counts and the wall time of every step.
 
-use super::table::{plus_minus, Table};
+use super::table::{Cell, Table};
 use crate::steps::StudyRun;
 use wakelab_learn::evaluate::Summary;
 use wakelab_learn::models::Architecture;
@@ -34,15 +34,29 @@ pub fn paper_value(architecture: Architecture, row: &str) -> Option<(f64, f64)> 
     })
 }
 
-fn paper_cells(architecture: Architecture, row: &Source) -> [String; 2] {
+fn paper_cells(architecture: Architecture, row: &Source) -> [Cell; 2] {
     match paper_value(architecture, &row.to_string()) {
-        Some((mcc, acc)) => [format!("{mcc:.2}"), format!("{:.0}%", 100.0 * acc)],
-        None => ["-".into(), "-".into()],
+        Some((mcc, acc)) => [Cell::number(mcc, 2), Cell::percent(acc, 0)],
+        None => [Cell::Missing, Cell::Missing],
     }
 }
 
-fn auc(s: &Summary) -> String {
-    s.roc_auc.map(|a| format!("{a:.2}")).unwrap_or_else(|| "-".into())
+fn auc(s: &Summary) -> Cell {
+    s.roc_auc.map_or(Cell::Missing, |a| Cell::number(a, 2))
+}
+
+/// Test MCC, mean ± sample standard deviation over the repetitions.
+pub(crate) fn mcc_cell(s: &Summary) -> Cell {
+    Cell::mean_std(s.mcc, s.mcc_spread, s.repetitions, false)
+}
+
+/// Test accuracy, mean ± sample standard deviation over the repetitions.
+fn accuracy_cell(s: &Summary) -> Cell {
+    Cell::mean_std(s.accuracy, s.accuracy_spread, s.repetitions, true)
+}
+
+fn conflict_cell(conflict: Option<f64>) -> Cell {
+    conflict.map_or(Cell::Missing, |k| Cell::number(k, 3))
 }
 
 fn is_dempster_shafer(s: &Summary) -> bool {
@@ -68,9 +82,9 @@ pub(crate) fn single_input_table(run: &StudyRun, a: Architecture) -> Table {
         .map(|s| {
             let [pm, pa] = paper_cells(a, &s.bands);
             vec![
-                s.bands.to_string(),
-                plus_minus(s.mcc, s.mcc_spread, false),
-                plus_minus(s.accuracy, s.accuracy_spread, true),
+                s.bands.to_string().into(),
+                mcc_cell(s),
+                accuracy_cell(s),
                 auc(s),
                 pm,
                 pa,
@@ -133,14 +147,14 @@ pub(crate) fn fusion_table(run: &StudyRun, a: Architecture) -> Table {
     }
 }
 
-fn fusion_row(a: Architecture, s: &Summary, level: &str, conflict: Option<f64>) -> Vec<String> {
+fn fusion_row(a: Architecture, s: &Summary, level: &str, conflict: Option<f64>) -> Vec<Cell> {
     let [pm, pa] = paper_cells(a, &s.bands);
     vec![
-        s.bands.to_string(),
-        level.to_string(),
-        plus_minus(s.mcc, s.mcc_spread, false),
-        plus_minus(s.accuracy, s.accuracy_spread, true),
-        conflict.map(|k| format!("{k:.3}")).unwrap_or_else(|| "-".into()),
+        s.bands.to_string().into(),
+        level.into(),
+        mcc_cell(s),
+        accuracy_cell(s),
+        conflict_cell(conflict),
         pm,
         pa,
     ]
@@ -186,14 +200,14 @@ pub(crate) fn sar_ir_table(run: &StudyRun) -> Table {
     }
 }
 
-fn sar_ir_row(a: Architecture, s: &Summary, level: &str, conflict: Option<f64>) -> Vec<String> {
+fn sar_ir_row(a: Architecture, s: &Summary, level: &str, conflict: Option<f64>) -> Vec<Cell> {
     vec![
-        a.to_string(),
-        s.bands.to_string(),
-        level.to_string(),
-        plus_minus(s.mcc, s.mcc_spread, false),
-        plus_minus(s.accuracy, s.accuracy_spread, true),
-        conflict.map(|k| format!("{k:.3}")).unwrap_or_else(|| "-".into()),
+        a.to_string().into(),
+        s.bands.to_string().into(),
+        level.into(),
+        mcc_cell(s),
+        accuracy_cell(s),
+        conflict_cell(conflict),
     ]
 }
 
@@ -226,12 +240,12 @@ pub(crate) fn confusion_table(run: &StudyRun) -> Table {
             .iter()
             .map(|s| {
                 vec![
-                    s.architecture.to_string(),
-                    s.bands.to_string(),
-                    s.tp.to_string(),
-                    s.fn_.to_string(),
-                    s.fp.to_string(),
-                    s.tn.to_string(),
+                    s.architecture.to_string().into(),
+                    s.bands.to_string().into(),
+                    Cell::count(s.tp as usize),
+                    Cell::count(s.fn_ as usize),
+                    Cell::count(s.fp as usize),
+                    Cell::count(s.tn as usize),
                 ]
             })
             .collect(),
@@ -239,7 +253,7 @@ pub(crate) fn confusion_table(run: &StudyRun) -> Table {
 }
 
 pub(crate) fn timing_table(run: &StudyRun) -> Table {
-    let total = |f: fn(&crate::StepTime) -> f64| format!("{:.1}", run.times.iter().map(f).sum::<f64>());
+    let total = |f: fn(&crate::StepTime) -> f64| Cell::number(run.times.iter().map(f).sum::<f64>(), 1);
     Table {
         id: "timing".into(),
         title: "Wall time per step".into(),
@@ -252,9 +266,9 @@ pub(crate) fn timing_table(run: &StudyRun) -> Table {
             .iter()
             .map(|t| {
                 vec![
-                    t.step.clone(),
-                    format!("{:.1}", t.seconds),
-                    format!("{:.1}", t.computed_seconds),
+                    t.step.clone().into(),
+                    Cell::number(t.seconds, 1),
+                    Cell::number(t.computed_seconds, 1),
                     if t.reused { "yes" } else { "no" }.into(),
                 ]
             })
@@ -262,7 +276,7 @@ pub(crate) fn timing_table(run: &StudyRun) -> Table {
                 "total".into(),
                 total(|t| t.seconds),
                 total(|t| t.computed_seconds),
-                String::new(),
+                Cell::Missing,
             ]))
             .collect(),
     }

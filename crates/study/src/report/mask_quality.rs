@@ -1,7 +1,7 @@
 //! The report's table of the U-Net's wake masks against the physics masks: how much
 //! of each test wake the "unet" detector's mask covers, per input.
 
-use super::table::Table;
+use super::table::{Cell, Table};
 use crate::steps::StudyRun;
 use wakelab_learn::masks::{summarise_masks, MASK_LEVEL};
 
@@ -12,14 +12,14 @@ pub fn mask_iou_table(run: &StudyRun) -> Table {
         .inputs
         .iter()
         .map(|input| {
-            let mut row = vec![input.to_string()];
+            let mut row: Vec<Cell> = vec![input.to_string().into()];
             match summarise_masks(&run.mask_scores, input) {
                 Some((mean, spread, share, scenes)) => row.extend([
-                    format!("{mean:.2} ± {spread:.2}"),
-                    format!("{:.0}%", 100.0 * share),
-                    scenes.to_string(),
+                    Cell::mean_std(mean, spread, run.plan.repetitions, false),
+                    Cell::percent(share, 0),
+                    Cell::count(scenes),
                 ]),
-                None => row.extend(["-".to_string(), "-".into(), "0".into()]),
+                None => row.extend([Cell::Missing, Cell::Missing, Cell::count(0)]),
             }
             row
         })

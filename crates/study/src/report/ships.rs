@@ -1,7 +1,7 @@
 //! The report's table of the ships step ([`crate::steps::ships`]): the classic ship and wake
 //! detectors against the truth of simulated scenes, with the targets they are held to.
 
-use super::table::Table;
+use super::table::{Cell, Table};
 use crate::steps::ships::{SceneResult, ShipsResults};
 
 /// The median of `values` (None when empty).
@@ -17,16 +17,28 @@ fn median(mut values: Vec<f64>) -> Option<f64> {
     })
 }
 
-fn share(k: usize, n: usize) -> String {
+fn share(k: usize, n: usize) -> Cell {
     if n == 0 {
-        "-".into()
+        Cell::Missing
     } else {
-        format!("{k}/{n} ({:.0}%)", 100.0 * k as f64 / n as f64)
+        Cell::count_of(k, n)
     }
 }
 
-fn or_dash(v: Option<f64>, format: impl Fn(f64) -> String) -> String {
-    v.map(format).unwrap_or_else(|| "-".into())
+fn or_dash(v: Option<f64>, cell: impl Fn(f64) -> Cell) -> Cell {
+    v.map_or(Cell::Missing, cell)
+}
+
+/// A target the measure must stay under (CSV column "target under").
+fn under(limit: f64, shown: &str) -> Cell {
+    Cell::Value {
+        shown: format!("under {shown}"),
+        parts: vec![("under", wakelab_core::io::text::number(limit))],
+    }
+}
+
+fn yes(b: bool) -> Cell {
+    if b { "yes" } else { "no" }.into()
 }
 
 /// Relative errors (%) of the speeds `read` reports against the truth.
@@ -55,52 +67,58 @@ pub fn ships_table(results: &ShipsResults) -> Table {
     let kelvin = speed_errors(&anchored, |s| s.speed_kelvin);
     let free_found: Vec<&SceneResult> = free.iter().copied().filter(|s| s.wake_found).collect();
     let free_axis = median(free_found.iter().filter_map(|s| s.course_error.map(f64::abs)).collect());
-    let percent = |v: &Vec<f64>| {
-        format!(
-            "{} (n = {})",
-            or_dash(median(v.clone()), |m| format!("{m:.1}%")),
-            v.len()
-        )
+    // a median relative error in percent, with how many speeds it is over
+    let percent = |v: &Vec<f64>| match median(v.clone()) {
+        Some(m) => Cell::number(m, 1).and("n", v.len().to_string(), format!("{m:.1}% (n = {})", v.len())),
+        None => Cell::Missing,
     };
+    let rate = 100.0 * false_ships as f64 / area.max(1e-9);
     let rows = vec![
-        vec!["ships detected".into(), share(found.len(), in_view.len()), "-".into()],
+        vec![
+            "ships detected".into(),
+            share(found.len(), in_view.len()),
+            Cell::Missing,
+        ],
         vec![
             "false ships per 100 km^2".into(),
-            format!(
-                "{:.2} ({false_ships} in {area:.0} km^2)",
-                100.0 * false_ships as f64 / area.max(1e-9)
-            ),
-            "-".into(),
+            Cell::number(rate, 2)
+                .and("count", false_ships.to_string(), String::new())
+                .and(
+                    "area (km^2)",
+                    format!("{area:.0}"),
+                    format!("{rate:.2} ({false_ships} in {area:.0} km^2)"),
+                ),
+            Cell::Missing,
         ],
         vec![
             "wakes of detected ships found".into(),
             share(anchored.len(), found.len()),
-            "-".into(),
+            Cell::Missing,
         ],
         vec![
-            "median course error".into(),
-            or_dash(course, |m| format!("{m:.1} deg")),
-            "under 5 deg".into(),
+            "median course error (deg)".into(),
+            or_dash(course, |m| Cell::number(m, 1)),
+            under(5.0, "5 deg"),
         ],
         vec![
-            "median speed error, azimuth offset".into(),
+            "median speed error (%), azimuth offset".into(),
             percent(&offset),
-            "under 15%".into(),
+            under(15.0, "15%"),
         ],
         vec![
-            "median speed error, Kelvin wavelength".into(),
+            "median speed error (%), Kelvin wavelength".into(),
             percent(&kelvin),
-            "under 15%".into(),
+            under(15.0, "15%"),
         ],
         vec![
             "free wakes found (ship sailed out)".into(),
             share(free_found.len(), free.len()),
-            "-".into(),
+            Cell::Missing,
         ],
         vec![
-            "median axis error of free wakes".into(),
-            or_dash(free_axis, |m| format!("{m:.1} deg")),
-            "-".into(),
+            "median axis error of free wakes (deg)".into(),
+            or_dash(free_axis, |m| Cell::number(m, 1)),
+            Cell::Missing,
         ],
     ];
     Table {
@@ -135,18 +153,18 @@ pub fn ships_scene_table(results: &ShipsResults) -> Table {
         .iter()
         .map(|s| {
             vec![
-                format!("{:.0}", s.speed),
-                format!("{:.0}", s.course),
-                format!("{:.0}", s.look),
-                format!("{:.0}", s.range_over_velocity),
-                format!("{:.0}", s.wind),
-                if s.ship_in_view { "yes" } else { "no" }.into(),
-                if s.ship_found { "yes" } else { "no" }.into(),
-                (s.false_ships + s.false_ships_without).to_string(),
-                if s.wake_found { "yes" } else { "no" }.into(),
-                or_dash(s.course_error, |e| format!("{e:+.1}")),
-                or_dash(s.speed_offset, |v| format!("{v:.1}")),
-                or_dash(s.speed_kelvin, |v| format!("{v:.1}")),
+                Cell::number(s.speed, 0),
+                Cell::number(s.course, 0),
+                Cell::number(s.look, 0),
+                Cell::number(s.range_over_velocity, 0),
+                Cell::number(s.wind, 0),
+                yes(s.ship_in_view),
+                yes(s.ship_found),
+                Cell::count(s.false_ships + s.false_ships_without),
+                yes(s.wake_found),
+                or_dash(s.course_error, |e| Cell::signed(e, 1)),
+                or_dash(s.speed_offset, |v| Cell::number(v, 1)),
+                or_dash(s.speed_kelvin, |v| Cell::number(v, 1)),
             ]
         })
         .collect();

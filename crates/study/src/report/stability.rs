@@ -4,7 +4,8 @@
 //! never showed, partly occluded, noisier, shifted), over the test images of every repetition.
 //! MCC only counts the scores that cross the threshold; this counts every move.
 
-use super::table::{plus_minus, Table};
+use super::learning_tables::mcc_cell;
+use super::table::{Cell, Table};
 use crate::steps::StudyRun;
 use std::collections::HashMap;
 use wakelab_learn::evaluate::{summarise_split, Output, Summary};
@@ -55,13 +56,17 @@ pub fn score_change_table(run: &StudyRun) -> Table {
     let mut rows = Vec::new();
     for a in Architecture::ALL {
         for input in &run.inputs {
-            let mut row = vec![a.to_string(), input.to_string()];
+            let mut row: Vec<Cell> = vec![a.to_string().into(), input.to_string().into()];
             row.extend(
                 splits
                     .iter()
                     .map(|(_, split)| match score_change(&run.outputs, a, input, split) {
-                        Some((mean, largest)) => format!("{mean:.3} (max {largest:.2})"),
-                        None => "-".into(),
+                        Some((mean, largest)) => Cell::number(mean, 3).and(
+                            "max",
+                            format!("{largest:.2}"),
+                            format!("{mean:.3} (max {largest:.2})"),
+                        ),
+                        None => Cell::Missing,
                     }),
             );
             rows.push(row);
@@ -104,10 +109,9 @@ pub fn robustness_table(run: &StudyRun) -> Table {
             let find = |list: &[Summary]| {
                 list.iter()
                     .find(|s| s.bands == *input && s.architecture == a)
-                    .map(|s| plus_minus(s.mcc, s.mcc_spread, false))
-                    .unwrap_or_else(|| "-".into())
+                    .map_or(Cell::Missing, mcc_cell)
             };
-            let mut row = vec![a.to_string(), input.to_string(), find(&run.summaries)];
+            let mut row = vec![a.to_string().into(), input.to_string().into(), find(&run.summaries)];
             row.extend(perturbed.iter().map(|(_, s)| find(s)));
             row.push(find(&held_out));
             row.push(find(&geometry));

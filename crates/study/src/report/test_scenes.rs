@@ -3,7 +3,7 @@
 //! the no-wake scenes, with every architecture's score and whether it decided right. Picked by
 //! score, not by hand, so the grid shows the detectors' clearest hits and their worst mistakes.
 
-use super::table::Table;
+use super::table::{Cell as TableCell, Table};
 use crate::steps::StudyRun;
 use crate::Result;
 use base64::Engine as _;
@@ -131,8 +131,15 @@ fn cells(run: &StudyRun) -> Vec<Cell<'_>> {
 
 /// "0.81 right" / "0.45 wrong" against the study's threshold.
 fn verdict(score: f64, label: u8, threshold: f64) -> String {
-    let right = (score >= threshold) == (label == 1);
-    format!("{score:.2} {}", if right { "right" } else { "wrong" })
+    format!("{score:.2} {}", right_or_wrong(score, label, threshold))
+}
+
+fn right_or_wrong(score: f64, label: u8, threshold: f64) -> &'static str {
+    if (score >= threshold) == (label == 1) {
+        "right"
+    } else {
+        "wrong"
+    }
 }
 
 /// The grid as a table: one row per cell, with the scene's conditions and each score.
@@ -143,20 +150,26 @@ pub fn test_scene_table(run: &StudyRun) -> Table {
         .map(|c| {
             let p = &c.record.parameters;
             let mut row = vec![
-                c.band.to_string(),
-                format!("{}", p.wind_speed),
-                c.case.name().to_string(),
-                c.record.id.clone(),
-                format!("{:.0}", p.incidence),
-                format!("{:.1}", p.along_track / 1000.0),
-                format!("{:.2}", c.record.visibility.get(&c.band).copied().unwrap_or(0.0)),
+                c.band.to_string().into(),
+                TableCell::plain(p.wind_speed),
+                c.case.name().into(),
+                c.record.id.clone().into(),
+                TableCell::number(p.incidence, 0),
+                TableCell::number(p.along_track / 1000.0, 1),
+                TableCell::number(c.record.visibility.get(&c.band).copied().unwrap_or(0.0), 2),
             ];
             for a in Architecture::ALL {
                 row.push(
                     c.scores
                         .iter()
                         .find(|(x, _)| *x == a)
-                        .map_or("-".into(), |&(_, v)| verdict(v, c.case.label(), threshold)),
+                        .map_or(TableCell::Missing, |&(_, v)| {
+                            TableCell::number(v, 2).and(
+                                "verdict",
+                                right_or_wrong(v, c.case.label(), threshold).into(),
+                                verdict(v, c.case.label(), threshold),
+                            )
+                        }),
                 );
             }
             row

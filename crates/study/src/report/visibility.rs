@@ -3,7 +3,7 @@
 //! distribution of their contrast to clutter, and the rank correlation between a wake scene's
 //! visibility and the score a detector gave it on the test images.
 
-use super::table::Table;
+use super::table::{Cell, Table};
 use wakelab_core::io::geotiff::quantile;
 use wakelab_learn::evaluate::Output;
 use wakelab_learn::models::Architecture;
@@ -52,7 +52,7 @@ fn ranks(v: &[f64]) -> Vec<f64> {
 /// One row per single band: wake scenes, their visibility's quartiles, the share at or above 1,
 /// and per architecture Spearman's rho between visibility and test score over the wake scenes'
 /// test outputs of every repetition.
-pub fn visibility_rows(records: &[SceneRecord], outputs: &[Output], bands: &[Band]) -> Vec<Vec<String>> {
+pub fn visibility_rows(records: &[SceneRecord], outputs: &[Output], bands: &[Band]) -> Vec<Vec<Cell>> {
     let visibility_of = |id: &str, band: Band| {
         records
             .iter()
@@ -67,19 +67,22 @@ pub fn visibility_rows(records: &[SceneRecord], outputs: &[Output], bands: &[Ban
                 .filter(|r| r.label == 1)
                 .filter_map(|r| r.visibility.get(&band).map(|&v| v as f32))
                 .collect();
-            let mut row = vec![band.to_string(), wakes.len().to_string()];
+            let mut row = vec![band.to_string().into(), Cell::count(wakes.len())];
             if wakes.is_empty() {
-                row.extend(std::iter::repeat_n("-".to_string(), 2 + Architecture::ALL.len()));
+                row.extend(std::iter::repeat_n(Cell::Missing, 2 + Architecture::ALL.len()));
                 return row;
             }
-            row.push(format!(
-                "{:.2} [{:.2}, {:.2}]",
-                quantile(&wakes, 0.5),
-                quantile(&wakes, 0.25),
-                quantile(&wakes, 0.75)
-            ));
+            let [median, lower, upper] = [0.5, 0.25, 0.75].map(|q| quantile(&wakes, q) as f64);
+            row.push(Cell::Value {
+                shown: format!("{median:.2} [{lower:.2}, {upper:.2}]"),
+                parts: vec![
+                    ("median", format!("{median:.2}")),
+                    ("q25", format!("{lower:.2}")),
+                    ("q75", format!("{upper:.2}")),
+                ],
+            });
             let visible = wakes.iter().filter(|&&v| v >= 1.0).count();
-            row.push(format!("{:.0}%", 100.0 * visible as f64 / wakes.len() as f64));
+            row.push(Cell::percent(visible as f64 / wakes.len() as f64, 0));
             for a in Architecture::ALL {
                 let (x, y): (Vec<f64>, Vec<f64>) = outputs
                     .iter()
@@ -92,8 +95,10 @@ pub fn visibility_rows(records: &[SceneRecord], outputs: &[Output], bands: &[Ban
                     .filter_map(|o| visibility_of(&o.scene, band).map(|v| (v, o.output)))
                     .unzip();
                 row.push(match spearman(&x, &y) {
-                    Some(rho) => format!("{rho:.2} (n = {})", x.len()),
-                    None => "-".into(),
+                    Some(rho) => {
+                        Cell::number(rho, 2).and("n", x.len().to_string(), format!("{rho:.2} (n = {})", x.len()))
+                    }
+                    None => Cell::Missing,
                 });
             }
             row

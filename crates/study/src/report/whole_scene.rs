@@ -2,14 +2,14 @@
 //! ([`crate::steps::whole_scene`]).
 
 use super::pictures::{display_values, field_png, stretch};
-use super::table::Table;
+use super::table::{Cell, Table};
 use crate::steps::whole_scene::{WholeScene, CHIP_FALSE_ALARMS, SLICKS};
 use crate::Result;
 use std::fmt::Write as _;
 
-/// A share as a whole percentage, "-" when there is none.
-fn percent(share: Option<f64>) -> String {
-    share.map_or("-".into(), |v| format!("{:.0}%", 100.0 * v))
+/// A share as a whole percentage, missing when there is none.
+fn percent(share: Option<f64>) -> Cell {
+    share.map_or(Cell::Missing, |v| Cell::percent(v, 0))
 }
 
 /// The scans as a table, one row per band.
@@ -19,13 +19,13 @@ pub fn whole_scene_table(scans: &[WholeScene]) -> Table {
         .map(|w| &w.numbers)
         .map(|w| {
             vec![
-                w.band.to_string(),
-                format!("{:.2}", w.probability),
+                w.band.to_string().into(),
+                Cell::number(w.probability, 2),
                 if w.peak_on_wake { "yes" } else { "no" }.into(),
-                w.mean_on_wake.map_or("-".into(), |m| format!("{m:.2}")),
-                w.mean_off_wake.map_or("-".into(), |m| format!("{m:.2}")),
-                format!("{:.0}%", 100.0 * w.false_alarm_cells),
-                w.chip_threshold.map_or("-".into(), |c| format!("{:.2}", c.threshold)),
+                w.mean_on_wake.map_or(Cell::Missing, |m| Cell::number(m, 2)),
+                w.mean_off_wake.map_or(Cell::Missing, |m| Cell::number(m, 2)),
+                Cell::percent(w.false_alarm_cells, 0),
+                w.chip_threshold.map_or(Cell::Missing, |c| Cell::number(c.threshold, 2)),
                 percent(w.chip_threshold.map(|c| c.false_alarm_cells)),
                 percent(w.chip_threshold.map(|c| c.wake_cells)),
                 percent(w.chip_threshold.and_then(|c| c.slick_cells)),

@@ -8,6 +8,8 @@ use crate::models::{Architecture, UNet, WakeClassifier};
 use burn::module::Module;
 use burn::store::{BurnToPyTorchAdapter, ModuleSnapshot, SafetensorsStore};
 use burn::tensor::Device;
+use safetensors::tensor::Metadata;
+use safetensors::SafeTensors;
 use serde::{Deserialize, Serialize};
 use std::collections::BTreeMap;
 use std::path::Path;
@@ -174,17 +176,27 @@ fn store_error(path: &Path, e: impl std::fmt::Display) -> WakelabError {
     }
 }
 
-/// The `__metadata__` of a safetensors file (its header is an 8-byte little-endian length and a
-/// JSON object).
+/// The `__metadata__` of a safetensors file, reading only its header (an 8-byte little-endian
+/// length and that much JSON), which the `safetensors` crate parses.
 pub fn read_metadata(path: &Path) -> Result<BTreeMap<String, String>, WakelabError> {
-    let bytes = std::fs::read(path).map_err(|e| WakelabError::io(path, e))?;
-    header_of(&bytes)
-        .map(|(header, _)| metadata_in(&header))
-        .map_err(|m| store_error(path, m))
+    use std::io::Read;
+    let io = |e| WakelabError::io(path, e);
+    let mut file = std::fs::File::open(path).map_err(io)?;
+    let mut length = [0u8; 8];
+    let not = || store_error(path, "not a safetensors file");
+    file.read_exact(&mut length).map_err(|_| not())?;
+    let length = u64::from_le_bytes(length);
+    if length > file.metadata().map_err(io)?.len() {
+        return Err(not());
+    }
+    let mut header = Vec::with_capacity(length as usize);
+    file.take(length).read_to_end(&mut header).map_err(io)?;
+    let parsed: Metadata = serde_json::from_slice(&header).map_err(|_| not())?;
+    Ok(metadata_in(&parsed))
 }
 
 /// The JSON header of a safetensors file (an 8-byte little-endian length, then a JSON object)
-/// and the offset where its data begin.
+/// and the offset where its data begin: what [`canonical_safetensors`] rewrites.
 fn header_of(bytes: &[u8]) -> Result<(serde_json::Value, usize), String> {
     let not = || "not a safetensors file".to_string();
     let len = u64::from_le_bytes(bytes.get(..8).ok_or_else(not)?.try_into().map_err(|_| not())?) as usize;
@@ -196,35 +208,43 @@ fn header_of(bytes: &[u8]) -> Result<(serde_json::Value, usize), String> {
     Ok((header, end))
 }
 
-/// The header's `__metadata__` as text pairs.
-fn metadata_in(header: &serde_json::Value) -> BTreeMap<String, String> {
+/// The header's `__metadata__` in key order.
+fn metadata_in(header: &Metadata) -> BTreeMap<String, String> {
     header
-        .get("__metadata__")
-        .and_then(|m| m.as_object())
-        .map(|m| {
-            m.iter()
-                .filter_map(|(k, v)| v.as_str().map(|s| (k.clone(), s.to_string())))
-                .collect()
+        .metadata()
+        .iter()
+        .flatten()
+        .map(|(k, v)| (k.clone(), v.clone()))
+        .collect()
+}
+
+/// The metadata key that marks the PyTorch-layout export, which `detect` does not read.
+const LAYOUT_KEY: &str = "wakelab.layout";
+
+/// Whether a file holds the PyTorch-layout export: marked so in its metadata, or, for files
+/// written before the mark, holding a normalisation layer's PyTorch names (`weight`, `bias`)
+/// where burn's are `gamma`, `beta`.
+fn is_pytorch_export(
+    meta: &BTreeMap<String, String>,
+    tensors: &BTreeMap<String, Vec<usize>>,
+    detector: &Detector,
+) -> bool {
+    meta.get(LAYOUT_KEY).is_some_and(|l| l == "pytorch")
+        || detector.collect(None, None, false).iter().any(|t| {
+            t.name
+                .strip_suffix(".gamma")
+                .is_some_and(|layer| !tensors.contains_key(&t.name) && tensors.contains_key(&format!("{layer}.weight")))
         })
-        .unwrap_or_default()
 }
 
 /// The file's tensors against the network its metadata describes: a missing, extra or
 /// differently shaped tensor means the metadata and the weights disagree (an edited or damaged
 /// file), said in words rather than as burn's import report.
-fn check_weight_shapes(detector: &Detector, header: &serde_json::Value, info: &ModelInfo) -> Result<(), String> {
-    let stored: BTreeMap<String, Vec<usize>> = header
-        .as_object()
-        .into_iter()
-        .flatten()
-        .filter(|(k, _)| k.as_str() != "__metadata__")
-        .map(|(k, v)| {
-            let shape = v["shape"]
-                .as_array()
-                .map(|d| d.iter().filter_map(|x| x.as_u64()).map(|x| x as usize).collect());
-            (k.clone(), shape.unwrap_or_default())
-        })
-        .collect();
+fn check_weight_shapes(
+    detector: &Detector,
+    stored: &BTreeMap<String, Vec<usize>>,
+    info: &ModelInfo,
+) -> Result<(), String> {
     let what = format!(
         "its metadata describes \"{}\" on {} at {} x {} pixels, but its weights do not fit that network",
         info.architecture,
@@ -293,11 +313,11 @@ fn canonical_safetensors(bytes: Vec<u8>) -> Result<Vec<u8>, String> {
     Ok(out)
 }
 
-fn with_metadata(mut store: SafetensorsStore, info: &ModelInfo) -> SafetensorsStore {
+fn with_metadata(mut store: SafetensorsStore, info: &ModelInfo, layout: &str) -> SafetensorsStore {
     for (k, v) in info.to_metadata() {
         store = store.metadata(k, v);
     }
-    store
+    store.metadata(LAYOUT_KEY, layout)
 }
 
 /// Save `detector` to `path` (written to a temporary file, then renamed), and its PyTorch-layout
@@ -307,12 +327,13 @@ pub fn save_detector(
     info: &ModelInfo,
     path: &Path,
 ) -> Result<(std::path::PathBuf, std::path::PathBuf), WakelabError> {
-    let mut store = with_metadata(SafetensorsStore::from_bytes(None), info);
+    let mut store = with_metadata(SafetensorsStore::from_bytes(None), info, "burn");
     detector.save_into(&mut store).map_err(|e| store_error(path, e))?;
     let bytes = store.get_bytes().map_err(|e| store_error(path, e))?;
     let main = write_atomically(path, &canonical_safetensors(bytes).map_err(|e| store_error(path, e))?)?;
     let export = path.with_extension("pytorch.safetensors");
-    let mut store = with_metadata(SafetensorsStore::from_bytes(None), info).with_to_adapter(BurnToPyTorchAdapter);
+    let mut store =
+        with_metadata(SafetensorsStore::from_bytes(None), info, "pytorch").with_to_adapter(BurnToPyTorchAdapter);
     detector.save_into(&mut store).map_err(|e| store_error(&export, e))?;
     let bytes = store.get_bytes().map_err(|e| store_error(&export, e))?;
     let export = write_atomically(
@@ -330,8 +351,14 @@ pub fn load_detector(
     device: &Device,
 ) -> Result<(Detector, ModelInfo), WakelabError> {
     let bytes = std::fs::read(path).map_err(|e| WakelabError::io(path, e))?;
-    let (header, _) = header_of(&bytes).map_err(|m| store_error(path, m))?;
+    let (_, header) =
+        SafeTensors::read_metadata(&bytes).map_err(|e| store_error(path, format!("not a safetensors file ({e})")))?;
     let meta = metadata_in(&header);
+    let stored: BTreeMap<String, Vec<usize>> = header
+        .tensors()
+        .into_iter()
+        .map(|(name, t)| (name, t.shape.clone()))
+        .collect();
     let info = ModelInfo::from_metadata(&meta, path)?;
     if let Some((architecture, size)) = expect {
         if info.architecture != architecture || info.input_size != size {
@@ -350,7 +377,20 @@ pub fn load_detector(
         segmenter: (info.architecture == Architecture::Unet)
             .then(|| UNet::with_width(info.image_channels(), info.unet_width, device)),
     };
-    check_weight_shapes(&detector, &header, &info).map_err(|m| store_error(path, m))?;
+    if is_pytorch_export(&meta, &stored, &detector) {
+        let name = path
+            .file_name()
+            .map(|n| n.to_string_lossy().replace(".pytorch.safetensors", ".safetensors"));
+        return Err(store_error(
+            path,
+            format!(
+                "this is the PyTorch-layout export of a detector, for loading into PyTorch; wakelab reads the \
+                 detector itself ({} beside it)",
+                name.unwrap_or_else(|| "the .safetensors".into())
+            ),
+        ));
+    }
+    check_weight_shapes(&detector, &stored, &info).map_err(|m| store_error(path, m))?;
     let mut store = SafetensorsStore::from_bytes(Some(bytes));
     detector.load_from(&mut store).map_err(|e| store_error(path, e))?;
     Ok((detector, info))

@@ -143,6 +143,7 @@ pub fn read(path: &Path, options: &ReadOptions) -> Result<Option<Product>, Wakel
             format: format!("COSMO-SkyMed {}", product_type.trim()),
             product_id: crate::stem_of(path),
             mission: Some(mission.trim().to_string()),
+            band: Some(wakelab_schema::band::Band::X),
             acquisition_time: image.metadata_item("Scene_Sensing_Start_UTC", ""),
             polarisation: Some(pol),
             polarisations: available,

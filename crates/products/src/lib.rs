@@ -8,6 +8,7 @@
 //! acquisition ([`ProductMeta`]). wakelab's detectors and `calibrate` read every input through
 //! [`open`]; nothing here knows physics or networks.
 
+pub mod band;
 pub mod cog;
 pub mod cosmo;
 pub mod exclude;
@@ -154,6 +155,8 @@ pub struct ProductMeta {
     /// The product's identifier (a SAFE's name, else the file's stem).
     pub product_id: String,
     pub mission: Option<String>,
+    /// The band the image was taken in, where its metadata names it ([`band::BAND_ITEM`]).
+    pub band: Option<wakelab_schema::band::Band>,
     pub acquisition_time: Option<String>,
     pub polarisation: Option<String>,
     /// The polarisations the product holds.

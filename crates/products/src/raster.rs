@@ -216,6 +216,10 @@ pub fn read(path: &Path, options: &ReadOptions) -> Result<Product, WakelabError>
         meta: ProductMeta {
             format: driver.long_name(),
             product_id: stem,
+            mission: dataset.metadata_item("WAKELAB_MISSION", ""),
+            band: dataset
+                .metadata_item(crate::band::BAND_ITEM, "")
+                .and_then(|b| b.trim().parse().ok()),
             acquisition_time: dataset
                 .metadata_item("TIFFTAG_DATETIME", "")
                 .or_else(|| dataset.metadata_item("ACQUISITION_START_TIME", "")),

@@ -318,6 +318,7 @@ pub fn read(xml_path: &Path, options: &ReadOptions) -> Result<Product, WakelabEr
             format: "TerraSAR-X MGD".into(),
             product_id: crate::stem_of(xml_path),
             mission: text(info, &["missionInfo", "mission"]).map(str::to_string),
+            band: Some(wakelab_schema::band::Band::X),
             acquisition_time: text(info, &["sceneInfo", "start", "timeUTC"]).map(str::to_string),
             polarisation: Some(pol),
             polarisations: available,

@@ -127,6 +127,37 @@ fn spacing_factor(meta: &ProductMeta, info: &ModelInfo) -> Result<((f64, f64), V
     Ok((factor, notes))
 }
 
+/// The input's band against the detector's `band`: an error naming both where they differ
+/// (unless `force`), a note where the input does not say its band.
+fn check_band(path: &Path, meta: &ProductMeta, band: Band, force: bool) -> Result<Option<String>> {
+    let sensor = |b: Band| {
+        if b.is_radar() {
+            format!("{b}-band SAR")
+        } else {
+            format!("{b} infrared")
+        }
+    };
+    match wakelab_products::band::imaged_band(path, meta) {
+        Some((input, _)) if input == band => Ok(None),
+        Some((input, how)) if force => Ok(Some(format!(
+            "scanned with --force: the input is {} (from {how}), the detector is for {}; its scores mean little",
+            sensor(input),
+            sensor(band)
+        ))),
+        Some((input, how)) => Err(anyhow::anyhow!(
+            "{}: the input is {} (from {how}), but the detector was trained on {}: use a detector of the \
+             input's band (--model), or --force to scan anyway",
+            path.display(),
+            sensor(input),
+            sensor(band)
+        )),
+        None => Ok(Some(format!(
+            "the input does not say its band; the detector is for {}",
+            sensor(band)
+        ))),
+    }
+}
+
 /// How a scan reports progress: rows of the product read, then windows scored (done, total).
 pub struct ScanProgress<'a> {
     pub reading: &'a mut dyn FnMut(usize, usize),
@@ -140,6 +171,8 @@ pub struct Scanner<'a> {
     pub info: &'a ModelInfo,
     pub options: ScanOptions,
     pub device: &'a Device,
+    /// Scan an input whose band is not the detector's.
+    pub force: bool,
 }
 
 /// Read the product at `path` and scan the detector over it.
@@ -167,7 +200,9 @@ pub fn scan_product(path: &Path, read: &ReadOptions, scanner: Scanner, progress:
         Source::Rows(rows) => &rows.meta,
         Source::Whole(product) => &product.meta,
     };
+    let band_note = check_band(path, meta, band, scanner.force)?;
     let (factor, mut notes) = spacing_factor(meta, info)?;
+    notes.extend(band_note);
     let product = match source {
         Source::Rows(rows) if factor.0.fract() == 0.0 && factor.1.fract() == 0.0 => {
             return scan_by_bands(*rows, band, factor, notes, scanner, progress)

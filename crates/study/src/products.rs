@@ -23,6 +23,8 @@ pub struct DetectRequest<'a> {
     pub out: Option<PathBuf>,
     /// Where to write the U-Net's mask as a PNG (`--mask`).
     pub mask: Option<&'a Path>,
+    /// Scan an input of another band than the detector's (`--force`).
+    pub force: bool,
 }
 
 /// A finished `wakelab detect`: the detection, what the user should know, and the files.
@@ -35,16 +37,41 @@ pub struct Detected {
 }
 
 impl Detected {
-    /// The detection as `detect --json` prints it: with the ships and wakes as
-    /// `detections.json` holds them.
-    pub fn json(&self) -> Result<serde_json::Value> {
+    /// The detection as `detect --json` prints it: the verdict, the detections, and the ships and
+    /// wakes as `detections.json` holds them; every window's probability only with `windows`
+    /// (a 4096² image has tens of thousands).
+    pub fn json(&self, windows: bool) -> Result<serde_json::Value> {
         let mut out = serde_json::to_value(&self.detection)?;
+        if !windows {
+            if let Some(map) = out.as_object_mut() {
+                let count = map.remove("tiles").and_then(|t| t.as_array().map(Vec::len));
+                map.insert("windows".into(), serde_json::json!(count));
+            }
+        }
         let path = &self.files.detections;
         let text = std::fs::read_to_string(path).map_err(|e| anyhow::anyhow!("{}: {e}", path.display()))?;
         let written: serde_json::Value = serde_json::from_str(&text)?;
         out["ships"] = written["ships"].clone();
         out["wakes"] = written["wakes"].clone();
         Ok(out)
+    }
+}
+
+impl Detected {
+    /// What `detect` prints: the verdict, the ships and wakes, and the files written.
+    pub fn describe(&self, image: &Path) -> String {
+        let files = &self.files;
+        let mut text = format!("{}: {}\n", image.display(), self.detection.describe());
+        if let Some(sea) = &self.sea {
+            text += &format!("ships and wakes: {}\n", sea.describe());
+        }
+        text + &format!(
+            "wrote {} (map), {}, {} and {}",
+            files.map.display(),
+            files.geojson.display(),
+            files.overlay.display(),
+            files.detections.display()
+        )
     }
 }
 
@@ -57,6 +84,7 @@ pub fn detect(request: DetectRequest, progress: ScanProgress) -> Result<Detected
         info: &info,
         options: request.options,
         device: &device,
+        force: request.force,
     };
     let scan = scan_product(request.image, &request.read, scanner, progress)?;
     let dir = request.out.unwrap_or_else(|| default_scan_dir(request.image));
@@ -93,6 +121,26 @@ pub struct Calibrated {
     pub report: ReadReport,
     pub dim: (usize, usize),
     pub path: PathBuf,
+}
+
+impl Calibrated {
+    /// What `calibrate --json` prints: the file written, the product's metadata and what reading did.
+    pub fn json(&self) -> serde_json::Value {
+        serde_json::json!({ "out": self.path, "product": self.meta, "read": self.report })
+    }
+
+    /// What `calibrate` prints.
+    pub fn describe(&self, product: &Path) -> String {
+        let (rows, cols) = self.dim;
+        format!(
+            "{}: {} {rows} x {cols} px, {} no-data, {} floored; wrote {}",
+            product.display(),
+            self.meta.format,
+            self.report.masked,
+            self.report.floored,
+            self.path.display()
+        )
+    }
 }
 
 /// The calibrated, masked sigma0 of `product` as a COG at `out` (in dB with `db`); a Sentinel-1

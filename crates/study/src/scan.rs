@@ -184,9 +184,21 @@ pub fn write_scan(dir: &Path, scanned: &Scanned, detection: &Detection) -> Resul
     }
     let picture = AtomicFile::new(&files.overlay)?;
     let mut drawn = scanned.overlay.picture(detection);
+    let scale = scanned.overlay.scale();
+    draw_detections(&mut drawn, detection, scale);
+    let mut legend = vec![
+        (Rgb([255, 0, 0]), "red tint: wake probability".to_string()),
+        (
+            DETECTION_COLOUR,
+            format!("box: detection ({0} x {0} px window)", detection.window),
+        ),
+    ];
     if let Some(sea) = scanned.sea {
-        sea.draw(&mut drawn, scanned.overlay.scale());
+        sea.draw(&mut drawn, scale);
+        legend.push((Rgb([0, 255, 255]), "square: ship".into()));
+        legend.push((Rgb([255, 230, 0]), "line: wake".into()));
     }
+    let drawn = with_legend(&drawn, &legend);
     drawn.save_with_format(picture.temporary_path(), image::ImageFormat::Png)?;
     picture.commit()?;
 
@@ -292,6 +304,55 @@ pub fn write_scan(dir: &Path, scanned: &Scanned, detection: &Detection) -> Resul
     let collection = feature_collection(frame, &findings, &common);
     write_atomically(&files.geojson, serde_json::to_string_pretty(&collection)?.as_bytes())?;
     Ok(files)
+}
+
+/// The colour of a detection's box on the overlay.
+const DETECTION_COLOUR: Rgb<u8> = Rgb([255, 0, 255]);
+
+/// Each detection's window as a box around its centre, on an overlay of `scale` scanned pixels
+/// per picture pixel.
+fn draw_detections(picture: &mut RgbImage, detection: &Detection, scale: f64) {
+    let (w, h) = (picture.width() as i64, picture.height() as i64);
+    let half = (0.5 * detection.window as f64 / scale).max(2.0);
+    for found in &detection.detections {
+        let (r, c) = (found.row / scale, found.col / scale);
+        let (top, bottom) = ((r - half).round() as i64, (r + half).round() as i64);
+        let (left, right) = ((c - half).round() as i64, (c + half).round() as i64);
+        let mut put = |row: i64, col: i64| {
+            if (0..h).contains(&row) && (0..w).contains(&col) {
+                picture.put_pixel(col as u32, row as u32, DETECTION_COLOUR);
+            }
+        };
+        for col in left..=right {
+            put(top, col);
+            put(bottom, col);
+        }
+        for row in top..=bottom {
+            put(row, left);
+            put(row, right);
+        }
+    }
+}
+
+/// The picture with a legend strip beneath it: a swatch and a line of text per entry, the
+/// canvas widened where the text is wider than the picture.
+fn with_legend(picture: &RgbImage, entries: &[(Rgb<u8>, String)]) -> RgbImage {
+    let line = 12u32;
+    let text_width = entries.iter().map(|(_, t)| 8 * t.len() as u32 + 20).max().unwrap_or(0);
+    let width = picture.width().max(text_width + 8);
+    let height = picture.height() + 4 + line * entries.len() as u32;
+    let mut out = RgbImage::from_pixel(width, height, Rgb([255, 255, 255]));
+    image::imageops::replace(&mut out, picture, 0, 0);
+    for (k, (colour, text)) in entries.iter().enumerate() {
+        let y = picture.height() + 4 + line * k as u32;
+        for dy in 1..9 {
+            for dx in 4..14 {
+                out.put_pixel(dx, y + dy, *colour);
+            }
+        }
+        wakelab_core::io::picture::draw_text(&mut out, 20, y + 1, text, 1, Rgb([0, 0, 0]));
+    }
+    out
 }
 
 /// The overlay's picture of the scanned image: the image in grey (radar in dB; no-data black)

@@ -423,9 +423,15 @@ pub struct DetectArgs {
     /// Backend: cpu, or wgpu / cuda in builds with those features.
     #[arg(long, default_value = "cpu")]
     pub device: String,
-    /// Print JSON.
+    /// Print JSON: the verdict, the detections, ships and wakes.
     #[arg(long)]
     pub json: bool,
+    /// With --json, also every window's probability (large: one entry per window).
+    #[arg(long)]
+    pub windows: bool,
+    /// Scan even when the input's band (from its mission, metadata or name) is not the detector's.
+    #[arg(long)]
+    pub force: bool,
 }
 
 #[derive(Args, Debug)]

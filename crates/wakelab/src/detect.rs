@@ -24,6 +24,7 @@ pub fn run_detect(args: &DetectArgs, quiet: bool) -> Result<()> {
         device: &args.device,
         out: args.out.clone(),
         mask: args.mask.as_deref(),
+        force: args.force,
     };
     let progress = ScanProgress {
         reading: &mut wakelab_study::follow_on(&bar, "rows read"),
@@ -35,20 +36,9 @@ pub fn run_detect(args: &DetectArgs, quiet: bool) -> Result<()> {
         eprintln!("note: {note}");
     }
     if args.json {
-        println!("{}", serde_json::to_string_pretty(&found.json()?)?);
+        println!("{}", serde_json::to_string_pretty(&found.json(args.windows)?)?);
     } else {
-        let files = &found.files;
-        println!("{}: {}", args.image.display(), found.detection.describe());
-        if let Some(sea) = &found.sea {
-            println!("ships and wakes: {}", sea.describe());
-        }
-        println!(
-            "wrote {} (map), {}, {} and {}",
-            files.map.display(),
-            files.geojson.display(),
-            files.overlay.display(),
-            files.detections.display()
-        );
+        println!("{}", found.describe(&args.image));
     }
     Ok(())
 }
@@ -63,23 +53,13 @@ pub fn run_calibrate(args: &CalibrateArgs, quiet: bool) -> Result<()> {
         bar.set_position(done as u64);
     })?;
     bar.finish_and_clear();
-    let (meta, report) = (&done.meta, &done.report);
     if args.json {
-        let out = serde_json::json!({ "out": done.path, "product": meta, "read": report });
-        println!("{}", serde_json::to_string_pretty(&out)?);
+        println!("{}", serde_json::to_string_pretty(&done.json())?);
     } else {
-        for note in &report.notes {
+        for note in &done.report.notes {
             eprintln!("note: {note}");
         }
-        let (rows, cols) = done.dim;
-        println!(
-            "{}: {} {rows} x {cols} px, {} no-data, {} floored; wrote {}",
-            args.product.display(),
-            meta.format,
-            report.masked,
-            report.floored,
-            done.path.display()
-        );
+        println!("{}", done.describe(&args.product));
     }
     Ok(())
 }

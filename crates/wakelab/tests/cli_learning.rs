@@ -35,7 +35,8 @@ fn train_eval_and_detect_on_a_small_dataset() {
     ]);
     assert!(o.status.success(), "{}", stderr(&o));
     assert!(stdout(&o).contains("test split (4 scenes): MCC"), "{}", stdout(&o));
-    assert!(model.exists() && dir.path().join("x_unet.pytorch.safetensors").exists());
+    let export = dir.path().join("x_unet.pytorch.safetensors");
+    assert!(model.exists() && export.exists());
     assert!(data.join("learn/X_unet_curve.csv").exists());
 
     // 2 architectures x 2 repetitions of 2 epochs on X, then `extra`
@@ -116,6 +117,46 @@ fn train_eval_and_detect_on_a_small_dataset() {
     let p = det["probability"].as_f64().unwrap();
     assert!((0.0..=1.0).contains(&p));
     assert_eq!((det["window"].as_u64(), det["stride"].as_u64()), (Some(32), Some(8)));
+    // the verdict and the detections on stdout; every window only with --windows
+    assert!(
+        det["tiles"].is_null() && det["windows"] == 1 && det["detections"].is_array(),
+        "{det}"
+    );
+    let with_windows = |extra: &[&str]| {
+        let mut args = vec!["detect", image.to_str().unwrap(), "--model", model.to_str().unwrap()];
+        let again = dir.path().join("scan_again");
+        args.extend(["--json", "--quiet", "--out", again.to_str().unwrap()]);
+        args.extend_from_slice(extra);
+        wakelab(&args)
+    };
+    let o = with_windows(&["--windows"]);
+    let det: serde_json::Value = serde_json::from_str(&stdout(&o)).unwrap();
+    assert_eq!(det["tiles"].as_array().map(Vec::len), Some(1), "{det}");
+    // an X-band detector on an image wakelab named LWIR: refused, unless --force
+    let lwir = dir.path().join("LWIR.npy");
+    std::fs::copy(&image, &lwir).unwrap();
+    let o = wakelab(&[
+        "detect",
+        lwir.to_str().unwrap(),
+        "--model",
+        model.to_str().unwrap(),
+        "--quiet",
+    ]);
+    assert!(!o.status.success());
+    assert!(
+        stderr(&o).contains("the input is LWIR infrared (from its name") && stderr(&o).contains("X-band SAR"),
+        "{}",
+        stderr(&o)
+    );
+    let mut forced = vec!["detect", lwir.to_str().unwrap(), "--model", model.to_str().unwrap()];
+    let forced_out = dir.path().join("scan_forced");
+    forced.extend(["--force", "--quiet", "--out", forced_out.to_str().unwrap()]);
+    let o = wakelab(&forced);
+    assert!(
+        o.status.success() && stderr(&o).contains("scanned with --force"),
+        "{}",
+        stderr(&o)
+    );
     assert!(image::open(&mask).unwrap().width() == 32);
     // a 32 px image in 8 px cells: a 4 x 4 map, with no georeference (a bare array has none)
     let map = scan.join("probability.tif");
@@ -184,6 +225,10 @@ fn train_eval_and_detect_on_a_small_dataset() {
         (
             vec!["detect", image.to_str().unwrap(), "--model", study.to_str().unwrap()],
             "not a safetensors file",
+        ),
+        (
+            vec!["detect", image.to_str().unwrap(), "--model", export.to_str().unwrap()],
+            "the PyTorch-layout export of a detector, for loading into PyTorch; wakelab reads the detector itself (x_unet.safetensors beside it)",
         ),
     ] {
         let o = wakelab(&args);

@@ -196,6 +196,7 @@ impl Sentinel1 {
             format: "Sentinel-1 SAFE".into(),
             product_id: self.safe.name.clone(),
             mission: Some(annotation.mission.clone()),
+            band: Some(wakelab_schema::band::Band::C),
             acquisition_time: Some(annotation.start_time.clone()),
             polarisation: Some(self.polarisation.clone()),
             polarisations: self.polarisations.clone(),

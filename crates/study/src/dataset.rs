@@ -12,16 +12,21 @@ use wakelab_dataset::{Progress, Shard};
 /// scenes, and write `timing.json`; what it did, in one line.
 pub fn render_dataset(study: &Study, out: &Path, shard: Option<Shard>, quiet: bool) -> Result<String> {
     let start = Instant::now();
-    let template = "{spinner} {msg} [{bar:40}] {pos}/{len} | {per_sec} | {elapsed_precise}, {eta} left";
-    let bar = crate::progress_bar(quiet, study.pairs()?.len() as u64, template);
-    bar.set_message("hydro");
-    let times = wakelab_dataset::render_dataset(study, out, shard, None, &|p| match p {
-        Progress::Hydro { done, total } => bar.set_message(format!("hydro {done}/{total}")),
-        Progress::Scene { done, total } => {
-            bar.set_message("scene pairs");
-            bar.set_length(total as u64);
-            bar.set_position(done as u64);
+    // the bar counts the phase it is in: the wakes simulated, then the scene pairs rendered
+    let template = "{spinner} dataset: {msg} [{bar:40}] {pos}/{len} | {rate} | {elapsed_precise}, {eta} left";
+    let bar = crate::progress_bar(quiet, 0, template);
+    let phase = |name: &'static str, unit: &'static str, done: usize, total: usize| {
+        if bar.message() != name {
+            bar.set_message(name);
+            bar.set_style(crate::style(template, unit));
+            bar.reset();
         }
+        bar.set_length(total as u64);
+        bar.set_position(done as u64);
+    };
+    let times = wakelab_dataset::render_dataset(study, out, shard, None, &|p| match p {
+        Progress::Hydro { done, total } => phase("wakes simulated", "wakes", done, total),
+        Progress::Scene { done, total } => phase("scene pairs rendered", "pairs", done, total),
     })?;
     bar.finish_and_clear();
     write_atomically(

@@ -34,6 +34,7 @@ pub mod output;
 mod plan;
 pub mod product_scan;
 pub mod products;
+pub mod progress_log;
 pub mod report;
 pub mod scan;
 pub mod scene;
@@ -76,19 +77,37 @@ impl std::fmt::Display for StepTime {
 }
 
 /// A progress bar of `length` units drawn with indicatif's `template` (hidden when `quiet`): the
-/// one style every long command of wakelab shares.
+/// one style every long command of wakelab shares. Where stderr is not a terminal (a batch job's
+/// log) the bar becomes log lines: one when the step changes and one every 30 s.
 pub fn progress_bar(quiet: bool, length: u64, template: &str) -> ProgressBar {
+    use std::io::IsTerminal;
     let bar = if quiet {
         ProgressBar::hidden()
-    } else {
+    } else if std::io::stderr().is_terminal() {
         ProgressBar::new(length)
+    } else {
+        ProgressBar::with_draw_target(Some(length), progress_log::LogLines::target())
     };
-    bar.set_style(
-        ProgressStyle::with_template(template)
-            .expect("valid template")
-            .progress_chars("=> "),
-    );
+    bar.set_style(style(template, "items"));
     bar
+}
+
+/// Indicatif's `template` with `{rate}` as "1.2 <unit>/s" (indicatif's own `{per_sec}` has no
+/// unit).
+pub fn style(template: &str, unit: &'static str) -> ProgressStyle {
+    ProgressStyle::with_template(template)
+        .expect("valid template")
+        .with_key(
+            "rate",
+            move |s: &indicatif::ProgressState, w: &mut dyn std::fmt::Write| {
+                let _ = write!(
+                    w,
+                    "{} {unit}/s",
+                    wakelab_core::io::text::number((s.per_sec() * 10.0).round() / 10.0)
+                );
+            },
+        )
+        .progress_chars("=> ")
 }
 
 /// A (done, total) reporter that shows `what` on `bar`, restarting the bar when the phase changes:
@@ -105,38 +124,79 @@ pub fn follow_on(bar: &ProgressBar, what: &'static str) -> impl FnMut(usize, usi
     }
 }
 
-/// The single progress display of a run: one bar, re-used step after step, showing the step,
-/// the item, the rate and the time left.
+/// The single progress display of a run: one bar, re-used step after step, counting the step's
+/// own work in its unit, with the time left in the step and, where an earlier run in the same
+/// directory timed the later steps, in the whole run.
 pub struct Display {
     bar: ProgressBar,
     steps: usize,
+    /// The steps of the directory's previous run and what each took to compute (s), in order.
+    previous: Vec<(String, f64)>,
+    /// "; the rest ~3 min (last run)" for the current step.
+    later: std::sync::Mutex<String>,
 }
 
+const DISPLAY_TEMPLATE: &str =
+    "{spinner} {prefix:<22} [{bar:30}] {pos}/{len} | {rate} | {msg} | {elapsed_precise}, {eta} left in step";
+
 impl Display {
-    fn new(quiet: bool, steps: usize) -> Self {
-        let template = "{spinner} {prefix:<22} [{bar:30}] {percent:>3}% | {msg} | {elapsed_precise}, {eta} left";
+    fn new(quiet: bool, steps: usize, dir: &Path) -> Self {
+        let previous = std::fs::read_to_string(dir.join("timing.json"))
+            .ok()
+            .and_then(|t| serde_json::from_str::<Vec<StepTime>>(&t).ok())
+            .map(|times| times.into_iter().map(|t| (t.step, t.computed_seconds)).collect())
+            .unwrap_or_default();
         Self {
-            bar: progress_bar(quiet, 1, template),
+            bar: progress_bar(quiet, 1, DISPLAY_TEMPLATE),
             steps,
+            previous,
+            later: std::sync::Mutex::new(String::new()),
         }
     }
 
-    /// Start step `k` (1-based) with `units` of work.
-    pub fn step(&self, k: usize, name: &str, units: u64) {
-        self.bar.set_prefix(format!("step {k}/{} {name}", self.steps));
+    /// Start step `k` (1-based) with `units` of work counted in `unit`.
+    pub fn step(&self, k: usize, name: &str, units: u64, unit: &'static str) {
+        self.bar.set_style(style(DISPLAY_TEMPLATE, unit));
         self.bar.set_length(units.max(1));
         self.bar.set_position(0);
         self.bar.reset_eta();
+        let after: Vec<f64> = self
+            .previous
+            .iter()
+            .skip_while(|(step, _)| step != name)
+            .skip(1)
+            .map(|(_, s)| *s)
+            .collect();
+        *self.later.lock().expect("display") = if after.is_empty() {
+            String::new()
+        } else {
+            format!(
+                "; later steps ~{} (last run)",
+                wakelab_core::io::text::duration(after.iter().sum())
+            )
+        };
+        self.bar
+            .set_message(self.later.lock().expect("display").trim_start_matches("; ").to_string());
+    }
+
+    /// Re-count the step in another `unit` (its phases: wakes simulated, then scenes rendered).
+    pub fn phase(&self, unit: &'static str, done: u64, total: u64, message: String) {
+        if self.bar.length() != Some(total.max(1)) {
+            self.bar.set_style(style(DISPLAY_TEMPLATE, unit));
+            self.bar.set_length(total.max(1));
+            self.bar.reset_eta();
+        }
+        self.set(done, message);
     }
 
     pub fn advance(&self, units: u64, message: String) {
         self.bar.inc(units);
-        self.bar.set_message(message);
+        self.bar.set_message(message + &self.later.lock().expect("display"));
     }
 
     pub fn set(&self, position: u64, message: String) {
         self.bar.set_position(position);
-        self.bar.set_message(message);
+        self.bar.set_message(message + &self.later.lock().expect("display"));
     }
 
     /// Print a line above the bar.
@@ -198,7 +258,7 @@ pub fn run_study(
     write_atomically(dir.join("study.toml"), toml::to_string(study)?.as_bytes())?;
     let start = Instant::now();
     let started = chrono::Utc::now().format("%Y-%m-%d %H:%M UTC").to_string();
-    let display = Display::new(quiet, STEPS);
+    let display = Display::new(quiet, STEPS, dir);
     let result = steps::run_steps(study, dir, device, &display);
     display.finish();
     let mut run = result?;
@@ -235,7 +295,7 @@ pub fn run_one_step(
     device: &Device,
     quiet: bool,
 ) -> Result<StepTime> {
-    let display = Display::new(quiet, STEPS);
+    let display = Display::new(quiet, STEPS, dir);
     let result = steps::run_one_step(study, dir, step, device, &display);
     display.finish();
     result

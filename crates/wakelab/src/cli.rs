@@ -109,34 +109,45 @@ pub enum Command {
     /// train and evaluate every architecture on every band with the spec's repetitions, fuse,
     /// stress-test, score the classic ship and wake detectors, and write a report
     /// (runs/<study>/report/report.html). Reuses every finished step whose inputs have not changed.
+    #[command(after_help = include_str!("../help/run.txt"))]
     Run(StudyArgs),
     /// Run the pipeline on one configuration: wake, sea surface of the scene, SAR and IR images.
+    #[command(after_help = include_str!("../help/scene.txt"))]
     Scene(RunArgs),
     /// Simulate the ship's wake only (stage 1, spec 2.1) and write its files.
+    #[command(after_help = include_str!("../help/wake.txt"))]
     Wake(RunArgs),
     /// The initial data plane of the ship (spec Eqs. (2.26)-(2.62)): its derived scalars.
+    #[command(after_help = include_str!("../help/idp.txt"))]
     Idp(IdpArgs),
     /// The background sea of a wind (and the configured swell): Hs, peak frequency, mean-square
     /// slopes and the spectral density at the S, C and X Bragg wavenumbers.
+    #[command(after_help = include_str!("../help/spectrum.txt"))]
     Spectrum(SpectrumArgs),
     /// Infrared optics of sea water: n, kappa, Fresnel reflectances and emissivity at a
     /// wavelength, and the IR radiance of a flat sea in both bands for the configured geometry.
+    #[command(after_help = include_str!("../help/optics.txt"))]
     Optics(OpticsArgs),
     /// Render a parametric study into a labelled dataset (stage 4): wake and no-wake scenes in
     /// every band, wake masks, visibility, manifest (CSV, JSON) and train/test splits.
+    #[command(after_help = include_str!("../help/dataset.txt"))]
     Dataset(DatasetArgs),
     /// Train one detector (spec 4.1) on a dataset's training split, save it (safetensors, with a
     /// PyTorch-layout export) and test it on the test split.
+    #[command(after_help = include_str!("../help/train.txt"))]
     Train(TrainArgs),
     /// Algorithm 2 on a dataset: repeated Monte Carlo train/test splits, every output kept, MCC,
     /// accuracy, F1 and ROC AUC per band and architecture (Tables 4.4-4.6).
+    #[command(after_help = include_str!("../help/eval.txt"))]
     Eval(EvalArgs),
     /// Run a saved detector over an image of any size (a Sentinel-1, TerraSAR-X or COSMO-SkyMed
     /// product, a GeoTIFF / COG, npy or PNG) and find its ships and their wakes (course, speed). Writes
     /// the probability map (COG), the windows, ships and wakes (GeoJSON) and an overlay.
+    #[command(after_help = include_str!("../help/detect.txt"))]
     Detect(DetectArgs),
     /// Calibrate a SAR product to sigma0 (SNAP's "Calibration"): the masked sigma0 that detect
     /// scans, as a Cloud-Optimised GeoTIFF on the product's ground.
+    #[command(after_help = include_str!("../help/calibrate.txt"))]
     Calibrate(CalibrateArgs),
     /// SAR tools.
     Sar {
@@ -154,12 +165,14 @@ pub enum Command {
 pub enum SarAction {
     /// sigma0 of the undisturbed sea for a wind, band, polarisation and incidence (spec Eqs.
     /// 3.1-3.2), to compare against the geophysical model functions you know.
+    #[command(after_help = include_str!("../help/sigma0.txt"))]
     Sigma0(Sigma0Args),
 }
 
 #[derive(Subcommand, Debug)]
 pub enum ConfigAction {
     /// Print the effective configuration as TOML (a valid --config file).
+    #[command(after_help = include_str!("../help/config.txt"))]
     Show {
         #[command(flatten)]
         config: ConfigArgs,

@@ -32,6 +32,16 @@ fn key_value_lines(value: &serde_json::Value, out: &mut String) {
     }
 }
 
+/// A duration as a person says it: "45 s", "3 min 20 s", "2 h 05 min".
+pub fn duration(seconds: f64) -> String {
+    let s = seconds.max(0.0).round() as u64;
+    match s {
+        0..60 => format!("{s} s"),
+        60..3600 => format!("{} min {:02} s", s / 60, s % 60),
+        _ => format!("{} h {:02} min", s / 3600, (s % 3600) / 60),
+    }
+}
+
 /// A number as a reader expects it: whole numbers whole (35), others to seven significant
 /// digits without trailing zeros (0.01234567, 5.3), and beyond 1e-3..1e7 in scientific
 /// notation (5.3e9, 1.234567e-5).
@@ -63,6 +73,13 @@ pub fn number(x: f64) -> String {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn durations_read_as_people_say_them() {
+        assert_eq!(duration(44.6), "45 s");
+        assert_eq!(duration(200.0), "3 min 20 s");
+        assert_eq!(duration(7500.0), "2 h 05 min");
+    }
 
     #[test]
     fn objects_become_aligned_lines_and_arrays_repeat_their_key() {

@@ -108,14 +108,14 @@ pub fn visibility_rows(records: &[SceneRecord], outputs: &[Output], bands: &[Ban
 
 /// The table of [`visibility_rows`] for the report.
 pub fn visibility_table(records: &[SceneRecord], outputs: &[Output], bands: &[Band]) -> Table {
-    let mut header: Vec<String> = ["band", "wake scenes", "visibility median [quartiles]", "visible (>= 1)"]
+    let mut header: Vec<String> = ["band", "wake scenes", "visibility", "visible (>= 1)"]
         .map(String::from)
         .to_vec();
     header.extend(Architecture::ALL.iter().map(|a| format!("{a}: rho(visibility, score)")));
     Table {
         id: "visibility".into(),
         title: "Wake visibility and the detectors' scores".into(),
-        caption: "Visibility: a wake scene's contrast to clutter, |mean over the wake mask - mean outside| / \
+        caption: "Visibility (median [quartiles] over the band's wake scenes): a wake scene's contrast to clutter, |mean over the wake mask - mean outside| / \
                   standard deviation outside, per pixel, in the band's image (speckle and noise included). \
                   The share at or above 1 is the share of wakes a single pixel shows; a detector integrates \
                   along the wake and can find fainter ones. rho: Spearman's rank correlation between a wake \

@@ -139,7 +139,7 @@ fn held_out_step(
         return Ok((names, Vec::new(), step_time(stage, start, None)));
     }
     let train_images = dataset.records.len() * (groups.len() - 1) / groups.len();
-    display.step(3, stage, training_units(&o, train_images, groups.len()));
+    display.step(3, stage, training_units(&o, train_images, groups.len()), "image-epochs");
     let key = step_key(manifest_hash, &o) + &fnv_hex(&format!("{groups:?}"));
     let cache = dir.join("evaluation.json");
     if let Some(c) = read_cache(&cache, &key) {

@@ -33,11 +33,14 @@ use wakelab_schema::split::{Network, Split};
 fn dataset_step(study: &Study, dir: &Path, display: &Display) -> Result<(Dataset, StepTime)> {
     let start = Instant::now();
     let pairs = study.pairs()?.len();
-    display.step(1, "dataset", 2 * pairs as u64);
+    display.step(1, "dataset", pairs as u64, "pairs");
+    display.set(0, "simulating the study's wakes".into());
     let times = wakelab_dataset::render_dataset(study, dir, None, None, &|p| match p {
-        wakelab_dataset::Progress::Hydro { done, total } => display.set(0, format!("wake simulations {done}/{total}")),
+        wakelab_dataset::Progress::Hydro { done, total } => {
+            display.phase("wakes", done as u64, total as u64, "wakes simulated".into())
+        }
         wakelab_dataset::Progress::Scene { done, total } => {
-            display.set(2 * done as u64, format!("scene pairs {done}/{total}"))
+            display.phase("pairs", done as u64, total as u64, "scene pairs rendered".into())
         }
     })?;
     wakelab_dataset::write_manifest(study, dir)?;
@@ -75,7 +78,12 @@ fn learning_step(cx: &Context, inputs: &[Input], dir: &Path) -> Result<(Learned,
     let train_images = ((1.0 - options.test_fraction) * dataset.records.len() as f64).round() as usize;
     let mut all = options.clone();
     all.band_sets = inputs.to_vec();
-    display.step(2, "learning", training_units(&all, train_images, options.repetitions));
+    display.step(
+        2,
+        "learning",
+        training_units(&all, train_images, options.repetitions),
+        "image-epochs",
+    );
     let (mut outputs, mut curves, mut mask_scores) = (Vec::new(), Vec::new(), Vec::new());
     let mut computed_seconds = 0.0;
     let mut all_reused = true;
@@ -231,7 +239,7 @@ pub fn run_steps(
     let ((held_out_groups, held_out), (held_out_geometry_groups, held_out_geometry), [held_out_time, geometry_time]) =
         held_out_steps(&cx, &plan, &singles, &dir.join("learn"))?;
     let start = Instant::now();
-    display.step(4, "fusion", 1);
+    display.step(4, "fusion", 1, "steps");
     let single_outputs: Vec<Output> = outputs
         .iter()
         .filter(|o| !o.bands.is_fused() && matches!(o.split, Split::Train | Split::Test))
@@ -262,11 +270,11 @@ pub fn run_steps(
         started: String::new(),
         device: String::new(),
     };
-    display.step(5, "scan", 1);
+    display.step(5, "scan", 1, "steps");
     let scan_time = whole_scene::scan_step(dir, study, &run, &manifest_hash)?;
-    display.step(6, "environments", 1);
+    display.step(6, "environments", 1, "steps");
     let environments_time = environments::environments_step(dir, study)?;
-    display.step(7, "ships", 1);
+    display.step(7, "ships", 1, "steps");
     let ships_time = ships::ships_step(dir, study)?;
     run.times.extend([scan_time, environments_time, ships_time]);
     Ok(run)

@@ -7,11 +7,10 @@
 
 use crate::slices::{CrossSection, SliceField, SurfaceMap, SLICE_FIELDS};
 use crate::{simulate_wake_with, WakeEvent, WakeSlices};
-use netcdf3::{FileWriter, Version};
 use std::path::{Path, PathBuf};
-use wakelab_core::io::netcdf::{buffered_writer, write_error, write_netcdf, CfLayout, CfVariable};
+use wakelab_core::io::netcdf::{read_f32, write_netcdf, CfLayout, CfVariable, CfWriter};
 use wakelab_core::io::picture::{Colormap, FieldPicture};
-use wakelab_core::io::{write_atomically, AtomicFile};
+use wakelab_core::io::write_atomically;
 use wakelab_core::{CrossGrid, WakelabConfig, WakelabError};
 
 /// Files written by [`run_hydro_stage`].
@@ -48,19 +47,12 @@ fn field_variables(dims: &[&str]) -> Vec<CfVariable> {
         .collect()
 }
 
-/// CF's time coordinate is "seconds since" a reference (CF-1.8 Sec. 4.4). A simulation has no
-/// calendar date, so the initial data plane is put at a nominal epoch, said in the long name.
-pub const TIME_UNITS: &str = "seconds since 2000-01-01 00:00:00";
-
+/// Time is a duration since the initial data plane (CF-1.8 Sec. 4.4, units without "since"): a
+/// simulation has no calendar date, and xarray decodes it as `timedelta64`.
 fn time_var() -> CfVariable {
-    CfVariable::new(
-        "time",
-        &["time"],
-        TIME_UNITS,
-        "time since the initial data plane (at the nominal reference 2000-01-01)",
-    )
-    .axis("T")
-    .standard_name("time")
+    CfVariable::duration("time", &["time"], "time since the initial data plane")
+        .axis("T")
+        .standard_name("time")
 }
 
 fn y_var() -> CfVariable {
@@ -84,20 +76,11 @@ fn to_f32(v: &[f64]) -> Vec<f32> {
     v.iter().map(|&x| x as f32).collect()
 }
 
-/// A NetCDF writer of data set `ds` at `path` with its header and `coordinates` written.
-fn started_writer<'a>(
-    path: &Path,
-    ds: &'a netcdf3::DataSet,
-    coordinates: &[(&str, &Vec<f64>)],
-) -> Result<FileWriter<'a>, WakelabError> {
-    let mut writer = buffered_writer(path)?;
-    writer
-        .set_def(ds, Version::Offset64Bit, 0)
-        .map_err(|e| write_error(path, e))?;
+/// A NetCDF writer of `layout` at `path` with its `coordinates` written.
+fn started_writer(path: &Path, layout: &CfLayout, coordinates: &[(&str, &Vec<f64>)]) -> Result<CfWriter, WakelabError> {
+    let mut writer = CfWriter::create(path, layout)?;
     for (name, values) in coordinates {
-        writer
-            .write_var_f32(name, &to_f32(values))
-            .map_err(|e| write_error(path, e))?;
+        writer.put(name, &to_f32(values))?;
     }
     Ok(writer)
 }
@@ -117,17 +100,15 @@ pub fn run_hydro_stage(
         let n = (t.duration / interval + 1e-9).floor() as usize;
         n + 1 + usize::from(t.duration - n as f64 * interval > 1e-9)
     };
-    let (n_sections, n_surface) = (count(t.output_interval), count(t.surface_interval));
+    let n_sections = count(t.output_interval);
 
-    let sections_file = AtomicFile::new(dir.join("wake_sections.nc"))?;
-    let surface_file = AtomicFile::new(dir.join("wake_surface.nc"))?;
     let mut outputs = HydroOutputs::default();
     let run = {
         let mut sec_vars = vec![time_var(), z_var(), y_var()];
         sec_vars.extend(field_variables(&["time", "y", "z"]));
         let sec_layout = CfLayout {
             dims: vec![("y".into(), grid.ny()), ("z".into(), grid.nz())],
-            record_dim: Some(("time".into(), n_sections)),
+            record_dim: Some("time".into()),
             variables: sec_vars,
             global: global_attributes(config, "wakelab ship wake cross-sections (2D+t)"),
         };
@@ -135,17 +116,13 @@ pub fn run_hydro_stage(
         surf_vars.extend(field_variables(&["time", "y"]));
         let surf_layout = CfLayout {
             dims: vec![("y".into(), grid.ny())],
-            record_dim: Some(("time".into(), n_surface)),
+            record_dim: Some("time".into()),
             variables: surf_vars,
             global: global_attributes(config, "wakelab ship wake surface slices (top cell, 2D+t)"),
         };
-        let sec_ds = sec_layout.data_set("wake_sections.nc")?;
-        let surf_ds = surf_layout.data_set("wake_surface.nc")?;
-        let sec_path = sections_file.temporary_path().to_path_buf();
-        let surf_path = surface_file.temporary_path().to_path_buf();
         let coordinates = [("y", &grid.y_centres), ("z", &grid.z_centres)];
-        let mut sec_w = started_writer(&sec_path, &sec_ds, &coordinates)?;
-        let mut surf_w = started_writer(&surf_path, &surf_ds, &coordinates[..1])?;
+        let mut sec_w = started_writer(&dir.join("wake_sections.nc"), &sec_layout, &coordinates)?;
+        let mut surf_w = started_writer(&dir.join("wake_surface.nc"), &surf_layout, &coordinates[..1])?;
         let (mut sec_i, mut surf_i) = (0usize, 0usize);
         let mut picked: Vec<CrossSection> = Vec::new();
         let pick = [0, n_sections / 2, n_sections - 1];
@@ -153,21 +130,21 @@ pub fn run_hydro_stage(
             match e {
                 WakeEvent::Progress { time, steps, .. } => progress(time, steps)?,
                 WakeEvent::Section(s) => {
-                    write_record(&mut sec_w, &sec_path, sec_i, s.time, &s.fields)?;
+                    write_record(&mut sec_w, sec_i, s.time, &s.fields)?;
                     if pick.contains(&sec_i) && config.output.pictures {
                         picked.push(s.clone());
                     }
                     sec_i += 1;
                 }
                 WakeEvent::Surface(s) => {
-                    write_record(&mut surf_w, &surf_path, surf_i, s.time, &s.fields)?;
+                    write_record(&mut surf_w, surf_i, s.time, &s.fields)?;
                     surf_i += 1;
                 }
             }
             Ok(())
         })?;
-        sec_w.close().map_err(|e| write_error(&sec_path, e))?;
-        surf_w.close().map_err(|e| write_error(&surf_path, e))?;
+        outputs.files.push(sec_w.commit()?);
+        outputs.files.push(surf_w.commit()?);
         if config.output.pictures {
             for s in &picked {
                 outputs.files.extend(write_section_pictures(dir, &grid, s)?);
@@ -175,8 +152,6 @@ pub fn run_hydro_stage(
         }
         run
     };
-    outputs.files.push(sections_file.commit()?);
-    outputs.files.push(surface_file.commit()?);
 
     let map = run.surface_map(config, config.output.map_dx);
     outputs.files.push(write_surface_map(dir, config, &map)?);
@@ -191,11 +166,10 @@ pub fn run_hydro_stage(
     Ok((run, outputs))
 }
 
-fn write_record(w: &mut FileWriter, path: &Path, i: usize, time: f64, fields: &[Vec<f32>]) -> Result<(), WakelabError> {
-    w.write_record_f32("time", i, &[time as f32])
-        .map_err(|e| write_error(path, e))?;
+fn write_record(w: &mut CfWriter, i: usize, time: f64, fields: &[Vec<f32>]) -> Result<(), WakelabError> {
+    w.put_duration("time", i, time)?;
     for ((name, _, _), data) in SLICE_FIELDS.iter().zip(fields) {
-        w.write_record_f32(name, i, data).map_err(|e| write_error(path, e))?;
+        w.put_record(name, i, data)?;
     }
     Ok(())
 }
@@ -390,17 +364,12 @@ pub fn write_idp_fields(dir: &Path, config: &WakelabConfig) -> Result<Vec<PathBu
 
 /// Read a surface map written by [`write_surface_map`].
 pub fn read_surface_map(path: &Path) -> Result<SurfaceMap, WakelabError> {
-    let err = |e: netcdf3::ReadError| WakelabError::NetCdf {
-        path: path.display().to_string(),
-        message: format!("{e:?}"),
-    };
-    let mut r = netcdf3::FileReader::open(path).map_err(err)?;
     let to64 = |v: Vec<f32>| v.into_iter().map(f64::from).collect::<Vec<f64>>();
-    let x = to64(r.read_var_f32("x").map_err(err)?);
-    let y = to64(r.read_var_f32("y").map_err(err)?);
+    let x = to64(read_f32(path, "x")?);
+    let y = to64(read_f32(path, "y")?);
     let fields = SLICE_FIELDS
         .iter()
-        .map(|(name, _, _)| r.read_var_f32(name).map_err(err))
+        .map(|(name, _, _)| read_f32(path, name))
         .collect::<Result<Vec<_>, _>>()?;
     Ok(SurfaceMap { x, y, fields })
 }

@@ -177,6 +177,8 @@ impl Display {
         };
         self.bar
             .set_message(self.later.lock().expect("display").trim_start_matches("; ").to_string());
+        // the prefix last: a log prints the line when the step changes, with this step's numbers
+        self.bar.set_prefix(format!("step {k}/{} {name}", self.steps));
     }
 
     /// Re-count the step in another `unit` (its phases: wakes simulated, then scenes rendered).

@@ -63,10 +63,39 @@ fn bad_values_are_refused_before_any_output() {
     }
 }
 
-fn has_cf_conventions(path: &Path) -> bool {
-    let r = netcdf3::FileReader::open(path).expect("readable NetCDF");
-    r.data_set().get_global_attr_as_string("Conventions").as_deref() == Some("CF-1.8")
+/// A text attribute of a NetCDF file (global) or of one of its variables.
+fn text_attribute(path: &Path, variable: Option<&str>, name: &str) -> Option<String> {
+    let file = netcdf::open(path).expect("readable NetCDF");
+    let attribute = match variable {
+        Some(v) => file.variable(v)?.attribute(name)?.value(),
+        None => file.attribute(name)?.value(),
+    };
+    match attribute.ok()? {
+        netcdf::AttributeValue::Str(s) => Some(s),
+        _ => None,
+    }
 }
+
+fn has_cf_conventions(path: &Path) -> bool {
+    text_attribute(path, None, "Conventions").as_deref() == Some("CF-1.8")
+}
+
+/// Open each file named on the command line with xarray; every time variable must decode to
+/// timedelta64 and every other variable to float32.
+const XARRAY_CHECK: &str = r#"
+import sys, xarray, numpy
+for path in sys.argv[1:]:
+    with xarray.open_dataset(path) as ds:
+        for name, var in ds.variables.items():
+            if name == "time":
+                assert numpy.issubdtype(var.dtype, numpy.timedelta64), (path, name, var.dtype)
+            else:
+                assert var.dtype == numpy.float32, (path, name, var.dtype)
+            if var.ndim > 1:
+                assert var.encoding.get("zlib") and var.encoding.get("shuffle"), (path, name, var.encoding)
+        if "time" in ds.variables:
+            assert ds["time"].values[-1] > numpy.timedelta64(0, "s"), path
+"#;
 
 #[test]
 fn wake_run_writes_netcdf_pictures_and_the_configuration() {
@@ -79,16 +108,26 @@ fn wake_run_writes_netcdf_pictures_and_the_configuration() {
     for f in ["wake_sections.nc", "wake_surface.nc", "surface_map.nc"] {
         assert!(has_cf_conventions(&out.join(f)), "{f}");
     }
-    let mut r = netcdf3::FileReader::open(out.join("wake_sections.nc")).unwrap();
-    let time = r.read_var_f32("time").unwrap();
+    let sections = out.join("wake_sections.nc");
+    let time = netcdf::open(&sections)
+        .unwrap()
+        .variable("time")
+        .unwrap()
+        .get_values::<f64, _>(..)
+        .unwrap();
     assert_eq!(time, vec![0.0, 60.0, 120.0]);
-    let ds = r.data_set();
-    assert_eq!(ds.get_var_attr_as_string("U", "units").as_deref(), Some("m s-1"));
-    // CF time ("seconds since", CF-1.8 Sec. 4.4) and standard names where CF has them
-    let time_units = ds.get_var_attr_as_string("time", "units").unwrap();
-    assert!(time_units.starts_with("seconds since "), "{time_units}");
+    assert_eq!(text_attribute(&sections, Some("U"), "units").as_deref(), Some("m s-1"));
+    // CF time as a duration (CF-1.8 Sec. 4.4) that xarray decodes, and standard names where CF has them
     assert_eq!(
-        ds.get_var_attr_as_string("W", "standard_name").as_deref(),
+        text_attribute(&sections, Some("time"), "units").as_deref(),
+        Some("seconds")
+    );
+    assert_eq!(
+        text_attribute(&sections, Some("time"), "dtype").as_deref(),
+        Some("timedelta64[s]")
+    );
+    assert_eq!(
+        text_attribute(&sections, Some("W"), "standard_name").as_deref(),
         Some("upward_sea_water_velocity")
     );
     // every file of the run: NetCDF with CF's `source`, every image TIFF with its JSON sidecar
@@ -97,10 +136,26 @@ fn wake_run_writes_netcdf_pictures_and_the_configuration() {
     let with_ext = |ext: &'static str| files.iter().filter(move |p| p.extension().is_some_and(|e| e == ext));
     assert!(with_ext("tif").count() >= 2 && with_ext("nc").count() >= 4);
     for nc in with_ext("nc") {
-        let r = netcdf3::FileReader::open(nc).unwrap();
-        let source = r.data_set().get_global_attr_as_string("source");
+        let source = text_attribute(nc, None, "source");
         assert!(source.is_some_and(|s| s.starts_with("wakelab ")), "{}", nc.display());
+        // NetCDF-4: an HDF5 file (its signature, HDF5 spec Sec. II.A)
+        let head = std::fs::read(nc).unwrap();
+        assert_eq!(&head[..8], b"\x89HDF\r\n\x1a\n", "{}", nc.display());
     }
+    // xarray opens every file and decodes every variable to its type: time a timedelta64,
+    // the fields float32
+    let check = std::process::Command::new("/usr/bin/python3")
+        .arg("-c")
+        .arg(XARRAY_CHECK)
+        .args(with_ext("nc"))
+        .output()
+        .expect("python3 with xarray and netCDF4 (apt-get install python3-xarray python3-netcdf4)");
+    assert!(
+        check.status.success(),
+        "{}{}",
+        String::from_utf8_lossy(&check.stdout),
+        String::from_utf8_lossy(&check.stderr)
+    );
     for tif in with_ext("tif") {
         assert!(tif.with_extension("json").is_file(), "{} has no sidecar", tif.display());
         let mut dec = tiff::decoder::Decoder::new(std::fs::File::open(tif).unwrap()).unwrap();
@@ -111,8 +166,8 @@ fn wake_run_writes_netcdf_pictures_and_the_configuration() {
             tif.display()
         );
     }
-    let mut m = netcdf3::FileReader::open(out.join("surface_map.nc")).unwrap();
-    let x = m.read_var_f32("x").unwrap();
+    let map = netcdf::open(out.join("surface_map.nc")).unwrap();
+    let x = map.variable("x").unwrap().get_values::<f32, _>(..).unwrap();
     // x = x_IDP + U_ship t, every map_dx = 25 m from 71 m up to 71 + 7 m/s * 120 s = 911 m
     assert!(
         (x[0] - 71.0).abs() < 1e-3 && (x[x.len() - 1] - 896.0).abs() < 1e-3,

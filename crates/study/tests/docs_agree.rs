@@ -42,7 +42,9 @@ fn latest_default_run_minutes() -> f64 {
         .find(|s| s.starts_with("The default study"))
         .expect("docs/results.md has the default study's section");
     let flat = section.split_whitespace().collect::<Vec<_>>().join(" ");
-    let (before, _) = flat.rsplit_once(" s, peak RSS").expect("a measured run with its peak RSS");
+    let (before, _) = flat
+        .rsplit_once(" s, peak RSS")
+        .expect("a measured run with its peak RSS");
     let words: Vec<&str> = before.rsplit(' ').take(4).collect();
     // words: [seconds, "min", minutes, ...]
     assert_eq!(words[1], "min", "{before}");
@@ -53,7 +55,10 @@ fn latest_default_run_minutes() -> f64 {
 
 #[test]
 fn the_help_states_the_measured_time_of_the_default_run() {
-    let cli = read("crates/wakelab/src/cli.rs").split_whitespace().collect::<Vec<_>>().join(" ");
+    let cli = read("crates/wakelab/src/cli.rs")
+        .split_whitespace()
+        .collect::<Vec<_>>()
+        .join(" ");
     let minutes = latest_default_run_minutes().round();
     let said = format!("`default` (embedded, about {minutes} minutes on a 2-core machine)");
     assert!(cli.contains(&said), "run --help should say \"{said}\"");

@@ -2,7 +2,7 @@
 //! as inline SVG), so it opens in a browser with no network and can be mailed as one file.
 
 use super::learning_tables::confusion_rows;
-use super::pictures::{display_values, field_png, stretch};
+use super::pictures::{display_values, field_svg, stretch};
 use super::svg::{escape, roc_points, LinePlot, Series};
 use super::table::Table;
 use crate::steps::StudyRun;
@@ -20,8 +20,8 @@ use wakelab_schema::split::{Network, Split};
 const STYLE: &str = "body{font-family:sans-serif;max-width:1200px;margin:2em auto;padding:0 1em;color:#222}\
 table{border-collapse:collapse;margin:0.5em 0 1.5em}th,td{border:1px solid #ccc;padding:3px 8px;text-align:right}\
 th{background:#f0f0f0}td:first-child,th:first-child{text-align:left}caption{text-align:left;font-size:0.9em;\
-color:#444;caption-side:bottom;padding-top:4px;max-width:900px}.grid{display:flex;flex-wrap:wrap;gap:12px}\
-.grid figure{margin:0}figcaption{font-size:0.85em;color:#444}.note{background:#fff8e0;border:1px solid #e8d080;\
+color:#444;caption-side:top;padding-bottom:4px;max-width:900px}.grid{display:flex;flex-wrap:wrap;gap:12px}\
+.grid figure{margin:0;max-width:100%}.grid figure:has(>svg:not(.field)){flex:1 1 420px}.grid figure>svg:not(.field){width:100%;height:auto}figcaption{font-size:0.85em;color:#444}.note{background:#fff8e0;border:1px solid #e8d080;\
 padding:0.6em 1em}pre{background:#f6f6f6;padding:0.8em;overflow-x:auto}.cm td{width:3.5em;text-align:center}";
 
 fn table_html(t: &Table) -> String {
@@ -46,6 +46,22 @@ fn table_html(t: &Table) -> String {
     s
 }
 
+/// "wind_speed=5 wind_direction=353.52617587488226" as a person writes it:
+/// "wind_speed=5, wind_direction=353.5".
+fn readable(environment: &str) -> String {
+    environment
+        .split_whitespace()
+        .map(|pair| match pair.split_once('=') {
+            Some((name, value)) => match value.parse::<f64>() {
+                Ok(x) => format!("{name}={}", wakelab_core::io::text::number((x * 10.0).round() / 10.0)),
+                Err(_) => pair.to_string(),
+            },
+            None => pair.to_string(),
+        })
+        .collect::<Vec<_>>()
+        .join(", ")
+}
+
 /// Example scenes: one wake/no-wake pair in every band, on a shared colour range per band, and
 /// the wake mask.
 fn example_scenes(run: &StudyRun) -> Result<String> {
@@ -61,7 +77,7 @@ fn example_scenes(run: &StudyRun) -> Result<String> {
          cross-section, IR as brightness temperature; both scenes of a band share one colour range \
          (2nd-98th percentile of the wake scene).</p>",
         wake.pair,
-        escape(&wake.environment)
+        escape(&readable(&wake.environment))
     );
     for band in dataset.bands() {
         let radar = band.is_radar();
@@ -76,25 +92,23 @@ fn example_scenes(run: &StudyRun) -> Result<String> {
         let units = if radar { "dB" } else { "K" };
         let spacing = wake.parameters.pixel_spacing;
         let caption = format!("{cols} x {rows} px of {spacing} m");
-        let picture =
-            |values: &[f32], title: String| field_png(values, (rows, cols), title, units, (192, &caption), range);
+        let picture = |values: &[f32], title: String, units: &str, range| {
+            field_svg(
+                values,
+                (rows, cols),
+                title,
+                units,
+                (192.0, &caption),
+                range,
+                Some(spacing),
+            )
+        };
         let _ = write!(s, "<h4>{band}</h4><div class=\"grid\">");
         for (values, title) in [(&wv, format!("{band} wake")), (&nv, format!("{band} no wake"))] {
-            let _ = write!(
-                s,
-                "<figure><img alt=\"{title}\" src=\"{}\"></figure>",
-                picture(values, title.clone())?
-            );
+            let _ = write!(s, "<figure>{}</figure>", picture(values, title, units, range)?);
         }
-        let mask = field_png(
-            &mv,
-            (rows, cols),
-            format!("{band} wake mask"),
-            "1 = wake",
-            (192, &caption),
-            (0.0, 1.0),
-        )?;
-        let _ = write!(s, "<figure><img alt=\"{band} mask\" src=\"{mask}\"></figure></div>");
+        let mask = picture(&mv, format!("{band} wake mask"), "mask", (0.0, 1.0))?;
+        let _ = write!(s, "<figure>{mask}</figure></div>");
     }
     Ok(s)
 }
@@ -317,7 +331,7 @@ pub fn report_page(
     }
     s.push_str(
         "<li><a href=\"#test-scenes\">Test scenes</a></li>\
-         <li><a href=\"#whole-scene\">Detection on a whole scene</a></li>\
+         <li><a href=\"#whole-scene\">Whole-scene maps</a></li>\
          <li><a href=\"#matrices\">Confusion matrices</a></li><li><a href=\"#roc\">ROC curves</a></li>\
          <li><a href=\"#training\">Training curves</a></li><li><a href=\"#timing\">Wall time</a></li>\
          <li><a href=\"#config\">Configuration</a></li></ul>",
@@ -348,10 +362,11 @@ pub fn report_page(
     );
     s.push_str(&super::test_scenes::test_scene_grid(run)?);
     s.push_str(
-        "<h2 id=\"whole-scene\">Detection on a whole scene</h2><p>Each band's \"base\" detector scanned over one \
+        "<h2 id=\"whole-scene\">Whole-scene maps</h2><p>Each band's \"base\" detector scanned over one \
          scene eight chips wide, as <code>wakelab detect</code> does (table \"Detection on a whole scene\", with the \
          false alarms at the threshold that flags 5 % of the detector's no-wake test chips): the image, the map \
-         of window probabilities, and the band's physics mask of the wake.</p>",
+         of window probabilities, and the band's physics mask of the wake; boxes mark the cells at or above that \
+         threshold.</p>",
     );
     s.push_str(whole_scene);
     s.push_str("<h2 id=\"matrices\">Confusion matrices</h2><p>Test images summed over the repetitions.</p>");

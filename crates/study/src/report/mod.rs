@@ -4,6 +4,7 @@
 //! tables mirror the spec's Tables 4.4-4.6 and 5.1-5.3, with the paper's own numbers beside ours.
 
 mod environments;
+mod figure;
 mod html;
 mod learning_tables;
 mod mask_quality;

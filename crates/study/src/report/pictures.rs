@@ -1,43 +1,43 @@
 //! Pictures of fields for the HTML report: an image's values as shown (radar in dB), their
-//! colour range, and a field rendered with its title, colour bar and caption as a PNG data URI.
+//! colour range, and a field drawn with its title, colour bar and caption as an SVG figure.
 
+use super::figure::{Figure, Legend};
 use crate::Result;
-use base64::Engine as _;
 use ndarray::Array2;
-use wakelab_core::io::picture::{Colormap, FieldPicture};
 
-/// A rendered picture over `range` as a PNG data URI, for a self-contained page.
-pub(crate) fn png_data_uri(picture: &FieldPicture, range: (f64, f64)) -> Result<String> {
-    let img = picture.render_in(range);
-    let mut bytes = std::io::Cursor::new(Vec::new());
-    img.write_to(&mut bytes, image::ImageFormat::Png)?;
-    Ok(format!(
-        "data:image/png;base64,{}",
-        base64::engine::general_purpose::STANDARD.encode(bytes.get_ref())
-    ))
-}
-
-/// A field as a PNG data URI: a square picture of `side` pixels on the sequential colour map over
-/// `range`, with its title, colour bar in `units` and caption.
-pub(crate) fn field_png(
+/// A field as an inline SVG figure of `side` pixels over `range`, with its title, a colour bar in
+/// `units` (or, for `units` "mask", the legend of a wake mask), the caption and, where the pixel
+/// spacing is known, a scale bar.
+pub(crate) fn field_svg(
     values: &[f32],
-    (rows, cols): (usize, usize),
+    shape: (usize, usize),
     title: String,
     units: &str,
-    (side, caption): (u32, &str),
+    (side, caption): (f64, &str),
     range: (f64, f64),
+    pixel_spacing: Option<f64>,
 ) -> Result<String> {
-    let picture = FieldPicture {
-        values,
-        rows,
-        cols,
-        title,
-        units: units.to_string(),
-        colormap: Colormap::Sequential,
-        size: (side, side),
-        caption: caption.to_string(),
+    let legend = if units == "mask" {
+        Legend::Mask {
+            absent: "no wake".into(),
+            present: "wake".into(),
+        }
+    } else {
+        Legend::Continuous { units: units.into() }
     };
-    png_data_uri(&picture, range)
+    Figure {
+        values,
+        shape,
+        title,
+        legend,
+        range,
+        side,
+        caption: caption.into(),
+        pixel_spacing,
+        marks: Vec::new(),
+        marks_label: String::new(),
+    }
+    .svg()
 }
 
 /// An image's values as the report shows them: radar sigma0 in dB, infrared as it is (K).

@@ -25,9 +25,10 @@ pub struct LinePlot {
     pub paired: bool,
 }
 
-/// Colour-blind-safe qualitative palette (Okabe & Ito 2008), then greys.
+/// Colour-blind-safe qualitative palette (Okabe & Ito 2008; its yellow, too faint on white,
+/// replaced by Tol's wine), then greys.
 const PALETTE: [&str; 10] = [
-    "#0072B2", "#E69F00", "#009E73", "#CC79A7", "#56B4E9", "#D55E00", "#F0E442", "#000000", "#777777", "#BBBBBB",
+    "#0072B2", "#E69F00", "#009E73", "#CC79A7", "#56B4E9", "#D55E00", "#882255", "#000000", "#777777", "#BBBBBB",
 ];
 
 const W: f64 = 420.0;
@@ -48,7 +49,7 @@ pub fn escape(text: &str) -> String {
 }
 
 /// About five round tick values covering [lo, hi].
-fn ticks(lo: f64, hi: f64) -> Vec<f64> {
+pub(crate) fn ticks(lo: f64, hi: f64) -> Vec<f64> {
     let span = (hi - lo).max(1e-12);
     let raw = span / 5.0;
     let magnitude = 10f64.powf(raw.log10().floor());
@@ -62,7 +63,7 @@ fn ticks(lo: f64, hi: f64) -> Vec<f64> {
     (first..=last).map(|i| i as f64 * step).collect()
 }
 
-fn tick_label(v: f64) -> String {
+pub(crate) fn tick_label(v: f64) -> String {
     if v == 0.0 || (v.abs() >= 0.01 && v.abs() < 1e5) {
         let s = format!("{v:.3}");
         s.trim_end_matches('0').trim_end_matches('.').to_string()

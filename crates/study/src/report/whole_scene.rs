@@ -1,7 +1,8 @@
 //! The report's whole-scene detection: the table and pictures of what the scan step wrote
 //! ([`crate::steps::whole_scene`]).
 
-use super::pictures::{display_values, field_png, stretch};
+use super::figure::{Figure, Legend, Mark};
+use super::pictures::{display_values, stretch};
 use super::table::{Cell, Table};
 use crate::steps::whole_scene::{WholeScene, CHIP_FALSE_ALARMS, SLICKS};
 use crate::Result;
@@ -92,26 +93,102 @@ pub fn whole_scene_table(scans: &[WholeScene]) -> Table {
     }
 }
 
-/// The scans as HTML: per band, the image, the probability map and the wake mask.
+/// The map's cells at or above `threshold`, as boxes in the pixels of a field of `side`.
+fn flagged_cells(map: &ndarray::Array2<f32>, threshold: f64, side: usize) -> Vec<Mark> {
+    let (rows, cols) = map.dim();
+    let (ch, cw) = (side as f64 / rows as f64, side as f64 / cols as f64);
+    map.indexed_iter()
+        .filter(|(_, &p)| p as f64 >= threshold)
+        .map(|((r, c), _)| (r as f64 * ch, c as f64 * cw, ch, cw))
+        .collect()
+}
+
+/// The scans as HTML: per band, the image and the probability map with the cells the chips'
+/// threshold flags drawn on both, and the wake mask; each with a scale bar.
 pub fn whole_scene_html(scans: &[WholeScene]) -> Result<String> {
     let mut s = String::new();
     for scan in scans {
         let w = &scan.numbers;
-        let caption = format!("{0} x {0} px", w.side);
-        let units = if w.band.is_radar() { "dB" } else { "K" };
+        let caption = format!("{0} x {0} px of {1} m", w.side, w.pixel_spacing);
+        let units = if w.band.is_radar() {
+            "sigma0 (dB)"
+        } else {
+            "brightness temperature (K)"
+        };
         let display = display_values(&scan.image, w.band.is_radar());
         let map: Vec<f32> = scan.map.iter().copied().collect();
         let mask: Vec<f32> = scan.mask.iter().map(|&m| f32::from(m)).collect();
         let square = (w.side, w.side);
+        let (marks, marks_label) = match w.chip_threshold {
+            Some(c) => (
+                flagged_cells(&scan.map, c.threshold, w.side),
+                format!("cells at or above the chips' threshold {:.2}", c.threshold),
+            ),
+            None => (Vec::new(), String::new()),
+        };
+        let map_cell = w.side as f64 / scan.map.ncols() as f64 * w.pixel_spacing;
         let _ = write!(s, "<h4>{}</h4><div class=\"grid\">", w.band);
-        for (values, shape, title, units, range) in [
-            (&display, square, "scene", units, stretch(&display)),
-            (&map, scan.map.dim(), "wake probability", "probability", (0.0, 1.0)),
-            (&mask, square, "wake mask", "1 = wake", (0.0, 1.0)),
-        ] {
-            let title = format!("{} {title}", w.band);
-            let png = field_png(values, shape, title.clone(), units, (256, &caption), range)?;
-            let _ = write!(s, "<figure><img alt=\"{title}\" src=\"{png}\"></figure>");
+        let mask_legend = || Legend::Mask {
+            absent: "no wake".into(),
+            present: "wake".into(),
+        };
+        let figures = [
+            (
+                &display,
+                square,
+                "scene",
+                Legend::Continuous { units: units.into() },
+                stretch(&display),
+                w.pixel_spacing,
+                true,
+            ),
+            (
+                &map,
+                scan.map.dim(),
+                "wake probability",
+                Legend::Continuous {
+                    units: "probability".into(),
+                },
+                (0.0, 1.0),
+                map_cell,
+                true,
+            ),
+            (
+                &mask,
+                square,
+                "wake mask",
+                mask_legend(),
+                (0.0, 1.0),
+                w.pixel_spacing,
+                false,
+            ),
+        ];
+        for (values, shape, title, legend, range, spacing, marked) in figures {
+            let scale = if shape == square {
+                1.0
+            } else {
+                shape.1 as f64 / w.side as f64
+            };
+            let figure = Figure {
+                values,
+                shape,
+                title: format!("{} {title}", w.band),
+                legend,
+                range,
+                side: 300.0,
+                caption: caption.clone(),
+                pixel_spacing: Some(spacing),
+                marks: if marked {
+                    marks
+                        .iter()
+                        .map(|&(t, l, r, c)| (t * scale, l * scale, r * scale, c * scale))
+                        .collect()
+                } else {
+                    Vec::new()
+                },
+                marks_label: marks_label.clone(),
+            };
+            let _ = write!(s, "<figure>{}</figure>", figure.svg()?);
         }
         s.push_str("</div>");
     }

@@ -21,7 +21,7 @@ const STYLE: &str = "body{font-family:sans-serif;max-width:1200px;margin:2em aut
 table{border-collapse:collapse;margin:0.5em 0 1.5em}th,td{border:1px solid #ccc;padding:3px 8px;text-align:right}\
 th{background:#f0f0f0}td:first-child,th:first-child{text-align:left}caption{text-align:left;font-size:0.9em;\
 color:#444;caption-side:top;padding-bottom:4px;max-width:900px}.grid{display:flex;flex-wrap:wrap;gap:12px}\
-.grid figure{margin:0;max-width:100%}.grid figure:has(>svg:not(.field)){flex:1 1 420px}.grid figure>svg:not(.field){width:100%;height:auto}figcaption{font-size:0.85em;color:#444}.note{background:#fff8e0;border:1px solid #e8d080;\
+.grid figure{margin:0;max-width:100%}.grid figure:has(>svg:not(.field)){flex:1 1 420px;max-width:580px}.grid figure>svg:not(.field){width:100%;height:auto}figcaption{font-size:0.85em;color:#444}.note{background:#fff8e0;border:1px solid #e8d080;\
 padding:0.6em 1em}pre{background:#f6f6f6;padding:0.8em;overflow-x:auto}.cm td{width:3.5em;text-align:center}";
 
 fn table_html(t: &Table) -> String {

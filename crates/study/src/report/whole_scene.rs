@@ -175,7 +175,7 @@ pub fn whole_scene_html(scans: &[WholeScene]) -> Result<String> {
                 title: format!("{} {title}", w.band),
                 legend,
                 range,
-                side: 300.0,
+                side: 280.0,
                 caption: caption.clone(),
                 pixel_spacing: Some(spacing),
                 marks: if marked {

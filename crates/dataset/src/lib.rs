@@ -30,7 +30,7 @@ use wakelab_core::io::geotiff::{quantile, write_quicklook};
 use wakelab_core::io::write_atomically;
 use wakelab_core::{WakelabConfig, WakelabError};
 use wakelab_hydro::{HydroInputs, SurfaceMap};
-pub use wakelab_schema::dataset::{KelvinRecord, SceneRecord};
+pub use wakelab_schema::dataset::{KelvinRecord, SceneGeoreference, SceneRecord};
 use wakelab_surface::kelvin::ThinShip;
 
 /// Wall time per stage (s), summed over the scenes rendered in this run.
@@ -312,6 +312,11 @@ fn write_pair(
             geometry: is_wake.then(|| wakelab_surface::scene::SceneGrid::new(&pair.config.scene).wake_geometry()),
             split: None,
             kelvin,
+            georeference: Some(SceneGeoreference::new(
+                pair.config.scene.size,
+                pair.config.scene.pixel_spacing,
+                pair.config.scene.centre,
+            )),
             render_key: key.clone(),
         };
         write_atomically(

@@ -65,6 +65,24 @@ pub fn write_cog(path: &Path, values: &Array2<f32>, frame: &Frame, band: &BandIn
     copy_as_cog(&dataset, path)
 }
 
+/// Rewrite the single-band float32 GeoTIFF at `path` as a COG on `frame` with `band`'s
+/// description, unit and metadata, in place (through a temporary path).
+pub fn rewrite_as_cog(path: &Path, frame: &Frame, band: &BandInfo) -> Result<PathBuf, WakelabError> {
+    crate::quiet_gdal();
+    let err = |e: gdal::errors::GdalError| cog_error(path, e);
+    let values = {
+        let source = Dataset::open(path).map_err(err)?;
+        let (cols, rows) = source.raster_size();
+        let buffer = source
+            .rasterband(1)
+            .map_err(err)?
+            .read_as::<f32>((0, 0), (cols, rows), (cols, rows), None)
+            .map_err(err)?;
+        Array2::from_shape_vec((rows, cols), buffer.data().to_vec()).map_err(|e| cog_error(path, e))?
+    };
+    write_cog(path, &values, frame, band)
+}
+
 /// Give a one-band dataset its placement, metadata, nodata (NaN), description and unit.
 fn describe(dataset: &mut Dataset, frame: &Frame, band: &BandInfo) -> gdal::errors::Result<()> {
     frame.apply(dataset)?;

@@ -107,6 +107,48 @@ impl Frame {
         Self { rows, cols, placement }
     }
 
+    /// A north-up grid of `spacing` metres whose centre lies at (`latitude`, `longitude`), in
+    /// that point's WGS 84 / UTM zone (`epsg`). North up is grid north: it departs from true
+    /// north by the meridian convergence (under 3.5 degrees within a zone below 60 degrees of
+    /// latitude).
+    pub fn utm(
+        (latitude, longitude): (f64, f64),
+        epsg: u32,
+        spacing: f64,
+        (rows, cols): (usize, usize),
+    ) -> gdal::errors::Result<Self> {
+        let mut wgs84 = SpatialRef::from_epsg(4326)?;
+        wgs84.set_axis_mapping_strategy(gdal::spatial_ref::AxisMappingStrategy::TraditionalGisOrder);
+        let mut utm = SpatialRef::from_epsg(epsg)?;
+        utm.set_axis_mapping_strategy(gdal::spatial_ref::AxisMappingStrategy::TraditionalGisOrder);
+        let to_utm = gdal::spatial_ref::CoordTransform::new(&wgs84, &utm)?;
+        let (mut x, mut y) = ([longitude], [latitude]);
+        to_utm.transform_coords(&mut x, &mut y, &mut [])?;
+        let (half_w, half_h) = (0.5 * cols as f64 * spacing, 0.5 * rows as f64 * spacing);
+        Ok(Self {
+            rows,
+            cols,
+            placement: Placement::Transform {
+                transform: [x[0] - half_w, spacing, 0.0, y[0] + half_h, 0.0, -spacing],
+                wkt: utm.to_wkt()?,
+            },
+        })
+    }
+
+    /// A grid of `spacing` metres on no place of the Earth: a local engineering CRS in metres,
+    /// its origin at the grid's `top_left` (x right, y up).
+    pub fn local(top_left: (f64, f64), spacing: f64, (rows, cols): (usize, usize)) -> Self {
+        let wkt = r#"LOCAL_CS["wakelab scene grid (metres; not placed on the Earth: set scene.centre)",LOCAL_DATUM["wakelab scene",0],UNIT["metre",1,AUTHORITY["EPSG","9001"]],AXIS["x",EAST],AXIS["y",NORTH]]"#;
+        Self {
+            rows,
+            cols,
+            placement: Placement::Transform {
+                transform: [top_left.0, spacing, 0.0, top_left.1, 0.0, -spacing],
+                wkt: wkt.to_string(),
+            },
+        }
+    }
+
     /// Give `dataset` (of this frame's size) this placement.
     pub fn apply(&self, dataset: &mut Dataset) -> gdal::errors::Result<()> {
         match &self.placement {

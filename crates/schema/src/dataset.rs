@@ -38,11 +38,42 @@ pub struct SceneRecord {
     /// The ship's Kelvin wake and own return, in a wake scene rendered with `kelvin.enabled`.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub kelvin: Option<KelvinRecord>,
+    /// Where the scene's images lie: their grid and, where the study places the scene on the
+    /// Earth (`scene.centre`), its centre and UTM zone (none in scenes written before).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub georeference: Option<SceneGeoreference>,
     /// Hash of everything the scene was rendered from (its configuration, the study's bands and
     /// label policy): a scene in the dataset directory counts as done only under the same key,
     /// so a changed study re-renders it instead of reusing it (empty in scenes written before).
     #[serde(default)]
     pub render_key: String,
+}
+
+/// The georeference of a scene's images (row 0 at the top; north up when placed on the Earth).
+#[derive(Debug, Clone, Serialize, Deserialize, PartialEq)]
+pub struct SceneGeoreference {
+    /// "EPSG:326zz" (WGS 84 / UTM, the centre's zone), or "local" for a grid not placed on the
+    /// Earth (metres from the scene centre, x to the right, y up).
+    pub crs: String,
+    pub pixel_spacing_m: f64,
+    pub rows: usize,
+    pub cols: usize,
+    /// The scene centre (WGS 84 degrees) where the study gives one.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub centre: Option<wakelab_core::config::GeoPoint>,
+}
+
+impl SceneGeoreference {
+    /// The georeference of a scene of `size` x `size` pixels of `spacing` m centred at `centre`.
+    pub fn new(size: usize, spacing: f64, centre: Option<wakelab_core::config::GeoPoint>) -> Self {
+        Self {
+            crs: centre.map_or_else(|| "local".to_string(), |c| format!("EPSG:{}", c.utm_epsg())),
+            pixel_spacing_m: spacing,
+            rows: size,
+            cols: size,
+            centre,
+        }
+    }
 }
 
 /// What a wake scene's Kelvin wake was made with, and where its mask is.

@@ -67,6 +67,7 @@ mod tests {
             cross_track: 0.0,
             heading: 270.0,
             other_wakes: Vec::new(),
+            centre: None,
         })
     }
 

@@ -8,6 +8,9 @@ use std::time::Instant;
 use wakelab_core::config::WakelabConfig;
 use wakelab_core::io::write_atomically;
 use wakelab_core::units::RadarBand;
+use wakelab_products::band::BAND_ITEM;
+use wakelab_products::cog::{rewrite_as_cog, BandInfo};
+use wakelab_products::Frame;
 
 /// The files of a rendered scene and the wall time of its two stages.
 pub struct RenderedScene {
@@ -27,6 +30,50 @@ impl RenderedScene {
     }
 }
 
+/// Where the scene's images lie: in the local UTM zone, north up, when `scene.centre` places the
+/// scene on the Earth; else on a local grid in metres, said so in the CRS's name.
+fn scene_frame(cfg: &WakelabConfig, grid: &wakelab_surface::scene::SceneGrid) -> Result<Frame> {
+    let (n, d) = (grid.size(), grid.pixel_spacing);
+    Ok(match cfg.scene.centre {
+        Some(c) => Frame::utm((c.latitude, c.longitude), c.utm_epsg(), d, (n, n))
+            .map_err(|e| anyhow::anyhow!("placing the scene in UTM zone EPSG:{}: {e}", c.utm_epsg()))?,
+        None => Frame::local((grid.x[0] - 0.5 * d, grid.y[0] + 0.5 * d), d, (n, n)),
+    })
+}
+
+/// The GeoTIFFs among `files` rewritten as Cloud-Optimised GeoTIFFs on `frame`: tiled,
+/// compressed, with overviews, nodata, the band's description and unit (from the image's
+/// sidecar) and where the grid lies.
+fn as_cogs(files: &[PathBuf], frame: &Frame, cfg: &WakelabConfig, band: &str) -> Result<()> {
+    for tif in files.iter().filter(|f| f.extension().is_some_and(|e| e == "tif")) {
+        let sidecar: serde_json::Value = serde_json::from_str(&std::fs::read_to_string(tif.with_extension("json"))?)?;
+        let text = |key: &str| sidecar[key].as_str().unwrap_or_default().to_string();
+        let grid = match cfg.scene.centre {
+            Some(c) => format!(
+                "WGS 84 / UTM (EPSG:{}), north up, centre at {} N, {} E",
+                c.utm_epsg(),
+                c.latitude,
+                c.longitude
+            ),
+            None => "local: metres on the scene's grid, not placed on the Earth (set scene.centre)".into(),
+        };
+        // "1 (linear)" in the sidecar is the unit "1" of linear sigma0 that readers know
+        let unit = text("units");
+        let unit = unit.strip_suffix(" (linear)").unwrap_or(&unit);
+        let info = BandInfo {
+            description: &format!("{} ({band})", text("quantity")),
+            unit,
+            metadata: vec![
+                (BAND_ITEM.to_string(), band.to_ascii_uppercase()),
+                ("WAKELAB_SCENE_ID".to_string(), cfg.scene_id()),
+                ("WAKELAB_GRID".to_string(), grid),
+            ],
+        };
+        rewrite_as_cog(tif, frame, &info)?;
+    }
+    Ok(())
+}
+
 /// The surface stage on the wake's surface map, then every band's image, written into `dir`.
 pub fn render_scene(cfg: &WakelabConfig, map: &wakelab_hydro::SurfaceMap, dir: &Path) -> Result<RenderedScene> {
     let start = Instant::now();
@@ -34,15 +81,20 @@ pub fn render_scene(cfg: &WakelabConfig, map: &wakelab_hydro::SurfaceMap, dir: &
     let mut files = wakelab_surface::output::write_surface_scene(dir, cfg, &scene)?;
     let surface_seconds = start.elapsed().as_secs_f64();
     let start = Instant::now();
+    let frame = scene_frame(cfg, &scene.grid)?;
     let radar = wakelab_sensors::SarScene::new(cfg, &scene);
     for band in RadarBand::ALL {
         let image = radar.render(band);
-        files.extend(wakelab_sensors::output::write_sar(dir, cfg, &scene.grid, &image)?);
+        let written = wakelab_sensors::output::write_sar(dir, cfg, &scene.grid, &image)?;
+        as_cogs(&written, &frame, cfg, band.name())?;
+        files.extend(written);
     }
     let infrared = wakelab_sensors::IrScene::new(cfg, &scene);
     for band in wakelab_sensors::IrBand::ALL {
         let image = infrared.render(band);
-        files.extend(wakelab_sensors::output::write_ir(dir, cfg, &scene.grid, &image)?);
+        let written = wakelab_sensors::output::write_ir(dir, cfg, &scene.grid, &image)?;
+        as_cogs(&written, &frame, cfg, &image.info.band)?;
+        files.extend(written);
     }
     Ok(RenderedScene {
         files,

@@ -151,6 +151,7 @@ mod tests {
             cross_track: 0.0,
             heading,
             other_wakes: Vec::new(),
+            centre: None,
         })
     }
 

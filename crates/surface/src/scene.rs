@@ -224,6 +224,7 @@ mod tests {
             cross_track: cross,
             heading,
             other_wakes: Vec::new(),
+            centre: None,
         })
     }
 

@@ -53,6 +53,12 @@ fn the_slurm_script_reproduces_a_single_machine_run() {
     assert!(o.status.success(), "{}", stderr(&o));
     let o = dataset(&study, &array, &["--emit-slurm", "--tasks", "2"]);
     assert!(o.status.success(), "{}", stderr(&o));
+    // each scene says where its images lie: a local grid of 32 x 32 pixels of 10 m
+    let scene: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(single.join("scenes/000002-w/scene.json")).unwrap()).unwrap();
+    let georeference = &scene["georeference"];
+    assert_eq!(georeference["crs"], "local", "{scene}");
+    assert_eq!((georeference["rows"].as_u64(), georeference["pixel_spacing_m"].as_f64()), (Some(32), Some(10.0)));
     let run = submit_with_stand_in(&array.join("wakelab_dataset.slurm"), &bin);
     assert!(run.status.success(), "{}", String::from_utf8_lossy(&run.stderr));
     for f in [

@@ -361,3 +361,57 @@ fn sar_sigma0_and_optics_print_their_json() {
     let text = stdout(&wakelab(&["sar", "sigma0", "--incidence", "35"]));
     assert!(text.contains("incidence_deg = 35\n"), "{text}");
 }
+
+/// GDAL's COG validator (python3-gdal) passes the file.
+fn assert_valid_cog(path: &Path) {
+    let check = std::process::Command::new("/usr/bin/python3")
+        .args(["-m", "osgeo_utils.samples.validate_cloud_optimized_geotiff"])
+        .arg(path)
+        .output()
+        .expect("python3-gdal's COG validator (apt-get install python3-gdal)");
+    let said = String::from_utf8_lossy(&check.stdout).to_string() + &String::from_utf8_lossy(&check.stderr);
+    assert!(check.status.success(), "{}: {said}", path.display());
+}
+
+/// The scene's images are COGs with nodata, band description and unit; placed by `scene.centre`
+/// in its UTM zone, north up with the centre where the config puts it; else on a grid that says
+/// it is local.
+#[test]
+fn scene_images_are_cogs_placed_in_utm_when_the_scene_has_a_centre() {
+    use gdal::{Dataset, Metadata};
+    let dir = tempfile::tempdir().unwrap();
+    for (name, centre) in [("local", ""), ("kiel", "[scene.centre]\nlatitude = 54.5\nlongitude = 10.3\n")] {
+        let cfg = dir.path().join(format!("{name}.toml"));
+        std::fs::write(&cfg, format!("{TINY}{centre}")).unwrap();
+        let out = dir.path().join(name);
+        let o = scene(&cfg, &out, &["--quiet"]);
+        assert!(o.status.success(), "{}", stderr(&o));
+        let tif = out.join("sar_C_vv.tif");
+        assert_valid_cog(&tif);
+        let ds = Dataset::open(&tif).unwrap();
+        let band = ds.rasterband(1).unwrap();
+        assert!(band.no_data_value().is_some_and(f64::is_nan));
+        assert!(band.description().unwrap().starts_with("sigma0"), "{:?}", band.description());
+        assert_eq!(band.unit(), "1");
+        assert_eq!(ds.metadata_item("WAKELAB_BAND", "").as_deref(), Some("C"));
+        let lwir = Dataset::open(out.join("ir_lwir_brightness_temperature.tif")).unwrap();
+        assert_eq!(lwir.rasterband(1).unwrap().unit(), "K");
+        assert_eq!(lwir.metadata_item("WAKELAB_BAND", "").as_deref(), Some("LWIR"));
+        let t = ds.geo_transform().unwrap();
+        assert_eq!((t[1], t[5]), (5.0, -5.0), "north up at 5 m");
+        let srs = ds.spatial_ref().unwrap();
+        if centre.is_empty() {
+            assert!(srs.to_wkt().unwrap().contains("not placed on the Earth"));
+            assert!(ds.metadata_item("WAKELAB_GRID", "").unwrap().starts_with("local"));
+        } else {
+            // UTM zone 32N (6-12 E); the image's centre back in WGS 84 is the configured point
+            assert_eq!(srs.auth_code().unwrap(), 32632);
+            let mut wgs = gdal::spatial_ref::SpatialRef::from_epsg(4326).unwrap();
+            wgs.set_axis_mapping_strategy(gdal::spatial_ref::AxisMappingStrategy::TraditionalGisOrder);
+            let to_wgs = gdal::spatial_ref::CoordTransform::new(&srs, &wgs).unwrap();
+            let (mut x, mut y) = ([t[0] + 32.0 * t[1]], [t[3] + 32.0 * t[5]]);
+            to_wgs.transform_coords(&mut x, &mut y, &mut []).unwrap();
+            assert!((x[0] - 10.3).abs() < 1e-6 && (y[0] - 54.5).abs() < 1e-6, "{x:?} {y:?}");
+        }
+    }
+}

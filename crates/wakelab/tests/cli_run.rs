@@ -107,12 +107,26 @@ fn run_does_the_whole_study_reuses_its_stages_and_repeats_its_tables() {
     assert_eq!(html.matches("href=\"data:image/png;base64,").count(), fields);
     // the scale bar's label is the one text of size 10
     assert_eq!(html.matches("font-size=\"10\">").count(), fields, "a scale bar each");
-    assert_eq!(html.matches(">no wake</text>").count(), 3 + scanned.len(), "a class legend per mask");
+    assert_eq!(
+        html.matches(">no wake</text>").count(),
+        3 + scanned.len(),
+        "a class legend per mask"
+    );
     assert_eq!(html.matches("<h2>Contents</h2>").count(), 1);
-    let contents = html.split("<h2>Contents</h2>").nth(1).unwrap().split("</ul>").next().unwrap();
+    let contents = html
+        .split("<h2>Contents</h2>")
+        .nth(1)
+        .unwrap()
+        .split("</ul>")
+        .next()
+        .unwrap();
     let entries: Vec<&str> = contents.split("</a>").filter_map(|e| e.rsplit('>').next()).collect();
     let unique: std::collections::BTreeSet<&&str> = entries.iter().collect();
-    assert_eq!(unique.len(), entries.len(), "one contents entry per section: {entries:?}");
+    assert_eq!(
+        unique.len(),
+        entries.len(),
+        "one contents entry per section: {entries:?}"
+    );
     assert_eq!(
         html.matches("<svg").count() - fields,
         3 + 4 + 3,

@@ -24,6 +24,36 @@ pub struct SceneConfig {
     /// as if other ships of its kind had passed; the scene's own placement above is the first.
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub other_wakes: Vec<WakePlacement>,
+    /// Where the scene's centre lies on the Earth (`[scene.centre]`, WGS 84 degrees): its images
+    /// are then placed in the local UTM zone, north up. Without it the grid is local.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub centre: Option<GeoPoint>,
+}
+
+/// A point on the Earth: WGS 84 latitude and longitude (degrees).
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct GeoPoint {
+    pub latitude: f64,
+    pub longitude: f64,
+}
+
+impl GeoPoint {
+    /// The UTM zone (1-60) of the point and whether it is north of the equator.
+    pub fn utm_zone(&self) -> (u32, bool) {
+        let zone = (((self.longitude + 180.0) / 6.0).floor() as i64).rem_euclid(60) + 1;
+        (zone as u32, self.latitude >= 0.0)
+    }
+
+    /// The EPSG code of the point's WGS 84 / UTM zone (326zz north, 327zz south).
+    pub fn utm_epsg(&self) -> u32 {
+        let (zone, north) = self.utm_zone();
+        if north {
+            32600 + zone
+        } else {
+            32700 + zone
+        }
+    }
 }
 
 /// Where a wake lies in the scene: the scene centre's distance behind that ship's stern (m), its
@@ -65,6 +95,11 @@ impl SceneConfig {
     pub(super) fn validate(&self, sea_window: usize, wake_end: f64) -> Result<(), ConfigError> {
         let sc = self;
         positive("scene.pixel_spacing", sc.pixel_spacing, 0.1, 1000.0, "m")?;
+        if let Some(c) = sc.centre {
+            // UTM's range (beyond it polar stereographic takes over)
+            range("scene.centre.latitude", c.latitude, -80.0, 84.0, "degrees")?;
+            range("scene.centre.longitude", c.longitude, -180.0, 180.0, "degrees")?;
+        }
         count("scene.size", sc.size, 16, 8192)?;
         if sea_window > sc.size {
             return Err(ConfigError::new(
@@ -99,5 +134,20 @@ impl SceneConfig {
             range(&field("cross_track"), w.cross_track, -20_000.0, 20_000.0, "m")?;
         }
         Ok(())
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn utm_zones_follow_the_standard() {
+        // NGA's UTM grid: zone 1 starts at 180 W, each 6 degrees wide
+        let at = |latitude, longitude| GeoPoint { latitude, longitude };
+        assert_eq!(at(54.3, 10.1).utm_epsg(), 32632); // Kiel
+        assert_eq!(at(-33.9, 18.4).utm_epsg(), 32734); // Cape Town
+        assert_eq!(at(0.0, -180.0).utm_zone(), (1, true));
+        assert_eq!(at(0.0, 179.9).utm_zone(), (60, true));
     }
 }

@@ -71,6 +71,7 @@ pub fn across_wake_contrast(run: &StudyRun) -> Result<Option<LinePlot>> {
         cross_track: p.cross_track,
         heading: p.heading,
         other_wakes: Vec::new(),
+        centre: None,
     });
     // each pixel's bin across the track, none ahead of the stern
     let n = p.image_size;

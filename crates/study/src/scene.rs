@@ -93,7 +93,7 @@ pub fn render_scene(cfg: &WakelabConfig, map: &wakelab_hydro::SurfaceMap, dir: &
     for band in wakelab_sensors::IrBand::ALL {
         let image = infrared.render(band);
         let written = wakelab_sensors::output::write_ir(dir, cfg, &scene.grid, &image)?;
-        as_cogs(&written, &frame, cfg, &image.info.band)?;
+        as_cogs(&written, &frame, cfg, image.info.band)?;
         files.extend(written);
     }
     Ok(RenderedScene {

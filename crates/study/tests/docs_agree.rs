@@ -2,10 +2,12 @@
 //! studies' sizes come from the embedded studies, and the run's time in `run --help` from the
 //! latest measured default run in docs/results.md. Each check fails when the two drift apart.
 
-mod common;
-
-use common::workspace;
+use std::path::{Path, PathBuf};
 use wakelab_study::load_study;
+
+fn workspace() -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("../..")
+}
 
 fn read(path: &str) -> String {
     std::fs::read_to_string(workspace().join(path)).unwrap_or_else(|e| panic!("{path}: {e}"))

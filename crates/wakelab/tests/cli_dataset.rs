@@ -58,7 +58,10 @@ fn the_slurm_script_reproduces_a_single_machine_run() {
         serde_json::from_str(&std::fs::read_to_string(single.join("scenes/000002-w/scene.json")).unwrap()).unwrap();
     let georeference = &scene["georeference"];
     assert_eq!(georeference["crs"], "local", "{scene}");
-    assert_eq!((georeference["rows"].as_u64(), georeference["pixel_spacing_m"].as_f64()), (Some(32), Some(10.0)));
+    assert_eq!(
+        (georeference["rows"].as_u64(), georeference["pixel_spacing_m"].as_f64()),
+        (Some(32), Some(10.0))
+    );
     let run = submit_with_stand_in(&array.join("wakelab_dataset.slurm"), &bin);
     assert!(run.status.success(), "{}", String::from_utf8_lossy(&run.stderr));
     for f in [

@@ -380,7 +380,10 @@ fn assert_valid_cog(path: &Path) {
 fn scene_images_are_cogs_placed_in_utm_when_the_scene_has_a_centre() {
     use gdal::{Dataset, Metadata};
     let dir = tempfile::tempdir().unwrap();
-    for (name, centre) in [("local", ""), ("kiel", "[scene.centre]\nlatitude = 54.5\nlongitude = 10.3\n")] {
+    for (name, centre) in [
+        ("local", ""),
+        ("kiel", "[scene.centre]\nlatitude = 54.5\nlongitude = 10.3\n"),
+    ] {
         let cfg = dir.path().join(format!("{name}.toml"));
         std::fs::write(&cfg, format!("{TINY}{centre}")).unwrap();
         let out = dir.path().join(name);
@@ -391,7 +394,11 @@ fn scene_images_are_cogs_placed_in_utm_when_the_scene_has_a_centre() {
         let ds = Dataset::open(&tif).unwrap();
         let band = ds.rasterband(1).unwrap();
         assert!(band.no_data_value().is_some_and(f64::is_nan));
-        assert!(band.description().unwrap().starts_with("sigma0"), "{:?}", band.description());
+        assert!(
+            band.description().unwrap().starts_with("sigma0"),
+            "{:?}",
+            band.description()
+        );
         assert_eq!(band.unit(), "1");
         assert_eq!(ds.metadata_item("WAKELAB_BAND", "").as_deref(), Some("C"));
         let lwir = Dataset::open(out.join("ir_lwir_brightness_temperature.tif")).unwrap();

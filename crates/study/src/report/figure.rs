@@ -268,6 +268,6 @@ mod tests {
         assert!(svg.contains("C &lt;wake&gt;") && svg.contains(">dB<") && svg.contains(">2 m<"));
         assert!(svg.contains("href=\"data:image/png;base64,") && svg.contains(MARK_COLOUR));
         // the colour bar's ticks are round numbers, not four decimals
-        assert!(svg.contains(">0.5<") && !svg.contains("0.5000"));
+        assert!(svg.contains(">0.4<") && svg.contains(">1<") && !svg.contains("0.4000"));
     }
 }

@@ -78,6 +78,24 @@ pub struct CfLayout {
     pub global: Vec<(String, String)>,
 }
 
+/// Switch off HDF5's printing of its error stack on this thread: libnetcdf (4.9) asks HDF5 for
+/// attributes a file may lack (the quantize attributes of every variable it opens), and HDF5
+/// prints each miss to stderr ("HDF5-DIAG: Error detected ..."), though libnetcdf handles it.
+/// A thread-safe HDF5 (Debian's) keeps that setting per thread. Errors still reach wakelab as
+/// return codes.
+fn quiet_hdf5() {
+    thread_local!(static QUIET: std::cell::Cell<bool> = const { std::cell::Cell::new(false) });
+    QUIET.with(|quiet| {
+        if !quiet.replace(true) {
+            // SAFETY: H5Eset_auto2 on this thread's default error stack with no handler only
+            // turns printing off
+            unsafe {
+                hdf5_metno_sys::h5e::H5Eset_auto2(hdf5_metno_sys::h5e::H5E_DEFAULT, None, std::ptr::null_mut());
+            }
+        }
+    });
+}
+
 fn nc_error(path: &Path, e: netcdf::Error) -> WakelabError {
     WakelabError::NetCdf {
         path: path.display().to_string(),
@@ -96,6 +114,7 @@ impl CfWriter {
     /// Create the file of `layout` (its dimensions, variables and attributes, with
     /// `Conventions = CF-1.8` and a `source`) to be committed at `path`.
     pub fn create(path: &Path, layout: &CfLayout) -> Result<Self, WakelabError> {
+        quiet_hdf5();
         let atomic = crate::io::AtomicFile::new(path)?;
         let err = |e| nc_error(path, e);
         let mut file = netcdf::create(atomic.temporary_path()).map_err(err)?;
@@ -199,6 +218,7 @@ pub fn write_netcdf(path: &Path, layout: &CfLayout, data: &[(&str, &[f32])]) -> 
 
 /// Every value of a float32 variable of the file at `path`.
 pub fn read_f32(path: &Path, name: &str) -> Result<Vec<f32>, WakelabError> {
+    quiet_hdf5();
     let file = netcdf::open(path).map_err(|e| nc_error(path, e))?;
     let var = file.variable(name).ok_or_else(|| WakelabError::NetCdf {
         path: path.display().to_string(),

@@ -134,6 +134,8 @@ pub struct Display {
     previous: Vec<(String, f64)>,
     /// "; the rest ~3 min (last run)" for the current step.
     later: std::sync::Mutex<String>,
+    /// The bar is a log (stderr is no terminal): each step's start is printed as a line.
+    log: bool,
 }
 
 const DISPLAY_TEMPLATE: &str =
@@ -146,11 +148,13 @@ impl Display {
             .and_then(|t| serde_json::from_str::<Vec<StepTime>>(&t).ok())
             .map(|times| times.into_iter().map(|t| (t.step, t.computed_seconds)).collect())
             .unwrap_or_default();
+        use std::io::IsTerminal;
         Self {
             bar: progress_bar(quiet, 1, DISPLAY_TEMPLATE),
             steps,
             previous,
             later: std::sync::Mutex::new(String::new()),
+            log: !quiet && !std::io::stderr().is_terminal(),
         }
     }
 
@@ -177,8 +181,11 @@ impl Display {
         };
         self.bar
             .set_message(self.later.lock().expect("display").trim_start_matches("; ").to_string());
-        // the prefix last: a log prints the line when the step changes, with this step's numbers
         self.bar.set_prefix(format!("step {k}/{} {name}", self.steps));
+        if self.log {
+            let later = self.later.lock().expect("display").clone();
+            self.println(format!("step {k}/{} {name}: {units} {unit}{later}", self.steps));
+        }
     }
 
     /// Re-count the step in another `unit` (its phases: wakes simulated, then scenes rendered).

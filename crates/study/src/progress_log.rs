@@ -1,7 +1,7 @@
 //! Progress where no one watches a terminal (a Slurm log, `2> run.log`): indicatif draws nothing
-//! when stderr is not a terminal, so a long run would print nothing for hours. This target takes
-//! indicatif's rendered line and prints it as a plain log line when the step changes and at
-//! most every [`LOG_EVERY`] in between.
+//! when stderr is not a terminal, so a long run would print nothing for hours. This target prints
+//! every line printed above the bar (a step's start and end) and indicatif's rendered bar as a
+//! plain log line at most every [`LOG_EVERY`] of silence.
 
 use indicatif::{ProgressDrawTarget, TermLike};
 use std::io::{self, Write};
@@ -22,17 +22,20 @@ pub struct LogLines {
 struct LogState {
     /// The line indicatif is drawing.
     line: String,
-    /// What names the step of the last printed line (the text before the bar).
-    step: String,
     printed: Option<Instant>,
     /// Lines written (for tests: the sink is stderr).
     written: Vec<String>,
 }
 
 impl LogLines {
+    /// Lines at most every `every` of silence, the first bar line after `every` (a step's start
+    /// is printed above the bar).
     pub fn new(every: Duration) -> Self {
         Self {
-            state: Mutex::new(LogState::default()),
+            state: Mutex::new(LogState {
+                printed: Some(Instant::now()),
+                ..LogState::default()
+            }),
             every,
         }
     }
@@ -48,17 +51,11 @@ impl LogLines {
     }
 }
 
-/// What names a line's step: the text before its bar (`[`), without the spinner's frame.
-fn step_of(line: &str) -> String {
-    let head = line.split('[').next().unwrap_or("");
-    head.trim_start_matches(|c: char| !c.is_alphanumeric())
-        .trim()
-        .to_string()
-}
-
 impl TermLike for LogLines {
+    /// Wider than any line: indicatif pads a line printed above the bar to this width, and a
+    /// line wider would be wrapped.
     fn width(&self) -> u16 {
-        160
+        1000
     }
 
     fn move_cursor_up(&self, _: usize) -> io::Result<()> {
@@ -93,7 +90,19 @@ impl TermLike for LogLines {
     fn flush(&self) -> io::Result<()> {
         let mut state = self.state.lock().expect("log state");
         let text = std::mem::take(&mut state.line);
-        let lines: Vec<&str> = text.lines().map(str::trim).filter(|l| !l.is_empty()).collect();
+        // indicatif pads a line above the bar to the terminal's width instead of ending it
+        let width = usize::from(self.width());
+        let rows: Vec<String> = text
+            .lines()
+            .flat_map(|line| {
+                let chars: Vec<char> = line.chars().collect();
+                chars
+                    .chunks(width)
+                    .map(|c| c.iter().collect::<String>())
+                    .collect::<Vec<_>>()
+            })
+            .collect();
+        let lines: Vec<&str> = rows.iter().map(|l| l.trim()).filter(|l| !l.is_empty()).collect();
         let stamp = chrono::Utc::now().format("%H:%M:%S");
         let mut err = io::stderr().lock();
         // the last line is the bar; those above it were printed above the bar (`println`)
@@ -103,15 +112,13 @@ impl TermLike for LogLines {
         for line in above {
             writeln!(err, "[{stamp}] {line}")?;
             state.written.push(line.to_string());
+            state.printed = Some(Instant::now());
         }
         // the spinner's frame means nothing in a log
         let bar = bar.trim_start_matches(|c: char| !c.is_ascii()).trim();
-        let step = step_of(bar);
-        let due = state.printed.is_none_or(|t| t.elapsed() >= self.every);
-        if step != state.step || due {
+        if state.printed.is_none_or(|t| t.elapsed() >= self.every) {
             writeln!(err, "[{stamp}] {bar}")?;
             state.written.push(bar.to_string());
-            state.step = step;
             state.printed = Some(Instant::now());
         }
         Ok(())
@@ -128,23 +135,24 @@ mod tests {
     }
 
     #[test]
-    fn a_log_gets_a_line_per_step_and_none_in_between_until_it_is_due() {
+    fn a_log_gets_the_lines_above_the_bar_and_the_bar_when_it_is_due() {
         let log = LogLines::new(Duration::from_secs(3600));
         draw(&log, "⠁ step 1/8 dataset [=>   ] 10% | 2/20 scenes");
-        draw(&log, "⠂ step 1/8 dataset [==>  ] 15% | 3/20 scenes");
-        draw(&log, "⠄ step 2/8 learning [>    ] 0% | base S");
-        draw(&log, "");
-        assert_eq!(log.written().len(), 2, "{:?}", log.written());
-        assert_eq!(log.written()[1], "step 2/8 learning [>    ] 0% | base S");
-        // a line printed above the bar always comes out, on a line of its own
-        log.write_line("learning: S done in 21.1 s").unwrap();
-        draw(&log, "⠂ step 2/8 learning [=>   ] 5% | base C");
-        assert_eq!(log.written()[2], "learning: S done in 21.1 s");
-        assert_eq!(log.written().len(), 3);
-        // a line is due at once when the interval is zero
+        assert!(log.written().is_empty(), "the bar waits its interval");
+        // a line printed above the bar always comes out, on a line of its own, also when it
+        // comes padded to the width, as indicatif writes it, before a bar line of any length
+        let bar = format!("⠂ step 2/8 learning [=>   ] 5% | {}", "x".repeat(300));
+        log.write_str(&format!("{:<1000}{bar}", "step 2/8 learning: 1088640 image-epochs"))
+            .unwrap();
+        log.flush().unwrap();
+        assert_eq!(log.written(), ["step 2/8 learning: 1088640 image-epochs"]);
+        // bar lines come when due, without the spinner's frame
         let every = LogLines::new(Duration::ZERO);
         draw(&every, "⠁ step 1/8 dataset [=>   ] 10%");
         draw(&every, "⠂ step 1/8 dataset [==>  ] 15%");
-        assert_eq!(every.written().len(), 2);
+        assert_eq!(
+            every.written(),
+            ["step 1/8 dataset [=>   ] 10%", "step 1/8 dataset [==>  ] 15%"]
+        );
     }
 }

@@ -45,6 +45,30 @@ pub fn imaged_band(path: &Path, meta: &ProductMeta) -> Option<(Band, String)> {
     named.map(|band| (band, format!("its name, {stem} (as wakelab names its images)")))
 }
 
+/// The band of the input at `path` before reading its pixels, from what names it: a Sentinel-1
+/// SAFE (C), a TerraSAR-X product (X), an HDF5 file's `Mission_ID`, a raster's `WAKELAB_BAND`
+/// or `WAKELAB_MISSION` metadata, or wakelab's own names. None where nothing says.
+pub fn peek(path: &Path) -> Option<(Band, String)> {
+    use gdal::Metadata;
+    if matches!(crate::sentinel1::SafeLocation::find(path), Ok(Some(_))) {
+        return Some((Band::C, "its format, a Sentinel-1 SAFE".into()));
+    }
+    if crate::terrasar::find(path).is_some() {
+        return Some((Band::X, "its format, a TerraSAR-X product".into()));
+    }
+    let mut meta = ProductMeta::default();
+    if path.is_file() || crate::is_subdataset(path) {
+        crate::quiet_gdal();
+        if let Ok(dataset) = gdal::Dataset::open(path) {
+            meta.mission = ["WAKELAB_MISSION", "Mission_ID", "MISSION_ID", "MISSION"]
+                .iter()
+                .find_map(|key| dataset.metadata_item(key, ""));
+            meta.band = dataset.metadata_item(BAND_ITEM, "").and_then(|b| b.trim().parse().ok());
+        }
+    }
+    imaged_band(path, &meta)
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -337,7 +337,7 @@ pub fn open_with_progress(
 
 /// Whether `path` names a GDAL subdataset (`RADARSAT_2_CALIB:SIGMA0:product.xml`): an
 /// upper-case driver prefix before a colon.
-fn is_subdataset(path: &Path) -> bool {
+pub(crate) fn is_subdataset(path: &Path) -> bool {
     path.to_str()
         .and_then(|s| s.split_once(':'))
         .is_some_and(|(prefix, _)| {

@@ -129,7 +129,7 @@ fn spacing_factor(meta: &ProductMeta, info: &ModelInfo) -> Result<((f64, f64), V
 
 /// The input's band against the detector's `band`: an error naming both where they differ
 /// (unless `force`), a note where the input does not say its band.
-fn check_band(path: &Path, meta: &ProductMeta, band: Band, force: bool) -> Result<Option<String>> {
+fn check_band(path: &Path, band: Band, force: bool) -> Result<Option<String>> {
     let sensor = |b: Band| {
         if b.is_radar() {
             format!("{b}-band SAR")
@@ -137,7 +137,7 @@ fn check_band(path: &Path, meta: &ProductMeta, band: Band, force: bool) -> Resul
             format!("{b} infrared")
         }
     };
-    match wakelab_products::band::imaged_band(path, meta) {
+    match wakelab_products::band::peek(path) {
         Some((input, _)) if input == band => Ok(None),
         Some((input, how)) if force => Ok(Some(format!(
             "scanned with --force: the input is {} (from {how}), the detector is for {}; its scores mean little",
@@ -195,12 +195,13 @@ pub fn scan_product(path: &Path, read: &ReadOptions, scanner: Scanner, progress:
         },
         ..scanner
     };
+    // before the pixels are read: an infrared image read as sigma0 fails the scale's checks
+    let band_note = check_band(path, band, scanner.force)?;
     let source = wakelab_products::open_source(path, &read, progress.reading)?;
     let meta = match &source {
         Source::Rows(rows) => &rows.meta,
         Source::Whole(product) => &product.meta,
     };
-    let band_note = check_band(path, meta, band, scanner.force)?;
     let (factor, mut notes) = spacing_factor(meta, info)?;
     notes.extend(band_note);
     let product = match source {

@@ -9,7 +9,7 @@ use wakelab_core::config::WakelabConfig;
 use wakelab_core::io::write_atomically;
 use wakelab_core::units::RadarBand;
 use wakelab_products::band::BAND_ITEM;
-use wakelab_products::cog::{rewrite_as_cog, BandInfo};
+use wakelab_products::cog::{rewrite_as_cog, BandInfo, SPACING_COLUMNS, SPACING_ROWS};
 use wakelab_products::Frame;
 
 /// The files of a rendered scene and the wall time of its two stages.
@@ -67,6 +67,9 @@ fn as_cogs(files: &[PathBuf], frame: &Frame, cfg: &WakelabConfig, band: &str) ->
                 (BAND_ITEM.to_string(), band.to_ascii_uppercase()),
                 ("WAKELAB_SCENE_ID".to_string(), cfg.scene_id()),
                 ("WAKELAB_GRID".to_string(), grid),
+                // a local grid's spacing is not ground a reader can measure from a CRS
+                (SPACING_ROWS.to_string(), cfg.scene.pixel_spacing.to_string()),
+                (SPACING_COLUMNS.to_string(), cfg.scene.pixel_spacing.to_string()),
             ],
         };
         rewrite_as_cog(tif, frame, &info)?;

@@ -362,17 +362,6 @@ fn sar_sigma0_and_optics_print_their_json() {
     assert!(text.contains("incidence_deg = 35\n"), "{text}");
 }
 
-/// GDAL's COG validator (python3-gdal) passes the file.
-fn assert_valid_cog(path: &Path) {
-    let check = std::process::Command::new("/usr/bin/python3")
-        .args(["-m", "osgeo_utils.samples.validate_cloud_optimized_geotiff"])
-        .arg(path)
-        .output()
-        .expect("python3-gdal's COG validator (apt-get install python3-gdal)");
-    let said = String::from_utf8_lossy(&check.stdout).to_string() + &String::from_utf8_lossy(&check.stderr);
-    assert!(check.status.success(), "{}: {said}", path.display());
-}
-
 /// The scene's images are COGs with nodata, band description and unit; placed by `scene.centre`
 /// in its UTM zone, north up with the centre where the config puts it; else on a grid that says
 /// it is local.

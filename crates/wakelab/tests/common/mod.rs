@@ -103,3 +103,14 @@ pub fn submit_with_stand_in(script: &Path, bin: &Path) -> Output {
     let path = format!("{}:{}", bin.display(), std::env::var("PATH").unwrap_or_default());
     Command::new("bash").arg(script).env("PATH", path).output().unwrap()
 }
+
+/// GDAL's COG validator (python3-gdal) passes the file.
+pub fn assert_valid_cog(path: &Path) {
+    let check = Command::new("/usr/bin/python3")
+        .args(["-m", "osgeo_utils.samples.validate_cloud_optimized_geotiff"])
+        .arg(path)
+        .output()
+        .expect("python3-gdal's COG validator (apt-get install python3-gdal)");
+    let said = String::from_utf8_lossy(&check.stdout).to_string() + &String::from_utf8_lossy(&check.stderr);
+    assert!(check.status.success(), "{}: {said}", path.display());
+}

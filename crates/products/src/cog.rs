@@ -16,6 +16,9 @@ use wakelab_core::WakelabError;
 /// takes before the georeference's ground distances.
 pub const SPACING_ROWS: &str = "WAKELAB_PIXEL_SPACING_ROWS";
 pub const SPACING_COLUMNS: &str = "WAKELAB_PIXEL_SPACING_COLUMNS";
+/// Metadata key of the incidence angle at the image centre (degrees), for images that carry no
+/// incidence grid (wakelab's simulated scenes).
+pub const INCIDENCE: &str = "WAKELAB_INCIDENCE_DEG";
 
 /// What a COG's one band holds.
 #[derive(Debug, Clone)]

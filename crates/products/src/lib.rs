@@ -117,8 +117,12 @@ pub struct Incidence {
 
 impl Incidence {
     /// The grid's value at (line, pixel): linear in pixel along the two grid lines around
-    /// `line`, then linear between them (the grid is regular in every product).
+    /// `line`, then linear between them (the grid is regular in every product); the middle
+    /// value where there is no grid (one angle for the image).
     pub fn at(&self, line: f64, pixel: f64) -> f64 {
+        if self.grid.is_empty() {
+            return self.mid_deg;
+        }
         let mut lines: Vec<f64> = self.grid.iter().map(|g| g.0).collect();
         lines.sort_by(f64::total_cmp);
         lines.dedup();

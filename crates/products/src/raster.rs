@@ -226,6 +226,15 @@ pub fn read(path: &Path, options: &ReadOptions) -> Result<Product, WakelabError>
             scale: (options.quantity == Quantity::Sigma0).then_some(scale),
             calibrated: scale != InputScale::Display,
             pixel_spacing: spacing,
+            // one angle for the image (a simulated scene's): no grid to interpolate
+            incidence: stated(crate::cog::INCIDENCE)
+                .filter(|i| (0.0..90.0).contains(i))
+                .map(|i| crate::Incidence {
+                    near_deg: i,
+                    mid_deg: i,
+                    far_deg: i,
+                    grid: Vec::new(),
+                }),
             ..Default::default()
         },
         report,

@@ -127,6 +127,32 @@ fn a_utm_geotiff_places_findings_where_gdal_does() {
     }
 }
 
+/// An image with one stated incidence angle (wakelab's scene COGs) reads with it; an angle
+/// outside 0-90 degrees is not taken.
+#[test]
+fn a_stated_incidence_angle_is_read() {
+    let dir = tempfile::tempdir().unwrap();
+    for (stated, read) in [("32.5", Some(32.5)), ("95", None)] {
+        let path = temp(&dir, &format!("incidence_{stated}.tif"));
+        write_tiff(&path, &linear(), Some("linear"), None);
+        let mut ds = gdal::Dataset::open_ex(
+            &path,
+            gdal::DatasetOptions {
+                open_flags: gdal::GdalOpenFlags::GDAL_OF_UPDATE,
+                ..Default::default()
+            },
+        )
+        .unwrap();
+        ds.set_metadata_item(wakelab_products::cog::INCIDENCE, stated, "")
+            .unwrap();
+        drop(ds);
+        let product = open(&path, &ReadOptions::default()).unwrap();
+        let incidence = product.meta.incidence.as_ref();
+        assert_eq!(incidence.map(|i| i.mid_deg), read);
+        assert_eq!(incidence.map(|i| i.at(10.0, 20.0)), read);
+    }
+}
+
 #[test]
 fn the_band_unit_states_the_scale_and_a_wrong_scale_is_refused() {
     let dir = tempfile::tempdir().unwrap();

@@ -9,7 +9,7 @@ use wakelab_core::config::WakelabConfig;
 use wakelab_core::io::write_atomically;
 use wakelab_core::units::RadarBand;
 use wakelab_products::band::BAND_ITEM;
-use wakelab_products::cog::{rewrite_as_cog, BandInfo, SPACING_COLUMNS, SPACING_ROWS};
+use wakelab_products::cog::{rewrite_as_cog, BandInfo, INCIDENCE, SPACING_COLUMNS, SPACING_ROWS};
 use wakelab_products::Frame;
 
 /// The files of a rendered scene and the wall time of its two stages.
@@ -70,6 +70,7 @@ fn as_cogs(files: &[PathBuf], frame: &Frame, cfg: &WakelabConfig, band: &str) ->
                 // a local grid's spacing is not ground a reader can measure from a CRS
                 (SPACING_ROWS.to_string(), cfg.scene.pixel_spacing.to_string()),
                 (SPACING_COLUMNS.to_string(), cfg.scene.pixel_spacing.to_string()),
+                (INCIDENCE.to_string(), cfg.platform.incidence.to_string()),
             ],
         };
         rewrite_as_cog(tif, frame, &info)?;

@@ -390,6 +390,8 @@ fn scene_images_are_cogs_placed_in_utm_when_the_scene_has_a_centre() {
         );
         assert_eq!(band.unit(), "1");
         assert_eq!(ds.metadata_item("WAKELAB_BAND", "").as_deref(), Some("C"));
+        // the platform's incidence (the embedded default's 35 degrees), for detect's ship search
+        assert_eq!(ds.metadata_item("WAKELAB_INCIDENCE_DEG", "").as_deref(), Some("35"));
         let lwir = Dataset::open(out.join("ir_lwir_brightness_temperature.tif")).unwrap();
         assert_eq!(lwir.rasterband(1).unwrap().unit(), "K");
         assert_eq!(lwir.metadata_item("WAKELAB_BAND", "").as_deref(), Some("LWIR"));

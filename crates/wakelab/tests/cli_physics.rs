@@ -51,6 +51,12 @@ fn bad_values_are_refused_before_any_output() {
             "[0, 10]",
         ),
         ("[time]\ncfl = 3.0\n", "time.cfl", "[0.01, 0.9]"),
+        // UTM's range of latitudes (UPS beyond)
+        (
+            "[scene.centre]\nlatitude = 85.0\nlongitude = 10.0\n",
+            "scene.centre.latitude",
+            "[-80, 84]",
+        ),
         ("[ship]\nbeem = 3.0\n", "beem", "unknown field"),
     ] {
         let file = dir.path().join("bad.toml");

@@ -4,7 +4,8 @@
 use criterion::{criterion_group, criterion_main, BenchmarkId, Criterion, Throughput};
 use ndarray::Array2;
 use wakelab_core::config::{Preset, WakelabConfig};
-use wakelab_hydro::momentum::{corner_shear, v_tendency, w_tendency, MomentumInputs};
+use wakelab_hydro::cross_diffusion::{diffuse_across, CrossDiffusionWork};
+use wakelab_hydro::momentum::{v_tendency, w_tendency, CornerStress, MomentumInputs};
 use wakelab_hydro::pressure::PressureSolver;
 use wakelab_hydro::transport::{advect_diffuse, Diffusivity, Transported};
 use wakelab_hydro::turbulence::Derived;
@@ -58,9 +59,9 @@ fn kernels(c: &mut Criterion) {
             advect_diffuse(&s, &five, v, w, [&mut out, o1, o2, o3, o4])
         })
     });
-    let mut shear = vec![0.0; (s.ny + 1) * (s.nz + 1)];
+    let mut corner = CornerStress::new(&s);
     g.bench_function("corner_shear", |b| {
-        b.iter(|| corner_shear(&s, v, w, &derived.viscosity, None, &mut shear))
+        b.iter(|| corner.update(&s, v, w, &derived.viscosity, None))
     });
     let inputs = MomentumInputs {
         u,
@@ -68,7 +69,7 @@ fn kernels(c: &mut Criterion) {
         w,
         viscosity: &derived.viscosity,
         buoyancy: &derived.buoyancy,
-        shear: &shear,
+        corner: &corner,
         normal_correction: None,
     };
     let mut vt = vec![0.0; (s.ny + 1) * s.nz];
@@ -79,6 +80,11 @@ fn kernels(c: &mut Criterion) {
     let mut rhs = Array2::from_elem((s.ny, s.nz), 1e-3);
     let mut scratch = Array2::zeros((s.nz, s.ny));
     g.bench_function("pressure_solve", |b| b.iter(|| ps.solve(&mut rhs, &mut scratch)));
+    let mut diffused = state.clone();
+    let mut work = CrossDiffusionWork::default();
+    g.bench_function("cross_diffusion_seven_fields", |b| {
+        b.iter(|| diffuse_across(&s, &derived, &corner.viscosity, &mut diffused, 5.0, &mut work))
+    });
     g.bench_function("whole_step", |b| b.iter(|| solver.step(0.5).unwrap()));
     g.finish();
 }

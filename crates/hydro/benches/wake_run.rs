@@ -2,7 +2,7 @@
 //!
 //! `cargo bench -p wakelab-hydro --bench wake_run` times one hour of wake on the `quick` preset
 //! and the first 120 s on the `paper` grid; with WAKELAB_BENCH_PAPER=1 it runs the whole paper
-//! hour (about 8 minutes here). It prints wall time, steps, and cell-updates per second
+//! hour (about 80 s here). It prints wall time, steps, and cell-updates per second
 //! (cells x steps / wall time).
 
 use std::time::Instant;

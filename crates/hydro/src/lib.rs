@@ -8,6 +8,7 @@
 // Stencil loops index several arrays at offsets of the loop index: ranges read clearer there.
 #![allow(clippy::needless_range_loop)]
 
+pub mod cross_diffusion;
 pub mod eos;
 pub mod forcing;
 pub mod idp;
@@ -135,14 +136,19 @@ fn run_wake(
     let surface_times = schedule(t.surface_interval);
     let section_times = schedule(t.output_interval);
     let (mut next_surface, mut next_section) = (0, 0);
+    // Steps land on the section times; surface slices, saved more often than the step allows,
+    // are interpolated between the states on either side of their time.
+    let mut before = solver.surface_slice();
     loop {
         let now = solver.time();
-        if next_surface < surface_times.len() && (surface_times[next_surface] - now).abs() < 1e-6 {
-            let slice = solver.surface_slice();
+        let after = solver.surface_slice();
+        while next_surface < surface_times.len() && surface_times[next_surface] <= now + 1e-6 {
+            let slice = before.interpolate(&after, surface_times[next_surface]);
             observer(WakeEvent::Surface(&slice))?;
             surface.push(slice);
             next_surface += 1;
         }
+        before = after;
         if next_section < section_times.len() && (section_times[next_section] - now).abs() < 1e-6 {
             let section = solver.cross_section();
             observer(WakeEvent::Section(&section))?;
@@ -151,11 +157,7 @@ fn run_wake(
         if now >= t.duration - 1e-6 {
             break;
         }
-        let target = surface_times
-            .get(next_surface)
-            .copied()
-            .unwrap_or(t.duration)
-            .min(section_times.get(next_section).copied().unwrap_or(t.duration));
+        let target = section_times.get(next_section).copied().unwrap_or(t.duration);
         let dt = solver.step(target - now)?;
         observer(WakeEvent::Progress {
             time: solver.time(),

@@ -2,6 +2,8 @@
 //! advection in flux form with limited upwind values, the full viscous stress
 //! (nu + nu_t)(dU_i/dx_j + dU_j/dx_i), Boussinesq buoyancy (Eq. (2.5)), the Craik-Leibovich vortex
 //! force u_S x omega (Eq. (2.6)) and the beach damping. Pressure enters through the projection.
+//! The tendencies here leave out the stress's cross-track Laplacian, nu d2V/dy2 and nu d2W/dy2,
+//! which [`crate::cross_diffusion`] applies implicitly after the explicit step.
 //!
 //! With d/dx = 0 (2D+t) and u_S = (u_Sx, u_Sy, 0)(z), omega = (dW/dy - dV/dz, dU/dz, -dU/dy), so
 //! u_S x omega = (-u_Sy dU/dy, u_Sx dU/dy, u_Sx dU/dz - u_Sy (dW/dy - dV/dz)): the swell turns the
@@ -22,33 +24,66 @@ pub struct MomentumInputs<'a> {
     pub viscosity: &'a [f64],
     /// Buoyancy b' = -g (rho - rho_b) / rho_b at cell centres.
     pub buoyancy: &'a [f64],
-    /// Shear stress tau_yz / rho at the corners ((ny + 1) x (nz + 1)).
-    pub shear: &'a [f64],
+    /// Shear stress at the corners.
+    pub corner: &'a CornerStress,
     /// Somero's extra normal stresses (v'v', w'w' corrections) at centres, if enabled.
     pub normal_correction: Option<(&'a [f64], &'a [f64])>,
 }
 
-/// tau_yz = (nu + nu_t)(dV/dz + dW/dy) at every corner, zero on the lid, bottom and sides
-/// (free slip). `factor` scales the turbulent part (Somero's v'w' damping) if given.
-pub fn corner_shear(s: &Setup, v: &[f64], w: &[f64], viscosity: &[f64], factor: Option<&[f64]>, out: &mut [f64]) {
-    let (ny, nz) = (s.ny, s.nz);
-    out.par_chunks_mut(nz + 1).enumerate().for_each(|(jf, col)| {
-        col.fill(0.0);
-        if jf == 0 || jf == ny {
-            return;
+/// The shear stress at the corners ((ny + 1) x (nz + 1)), zero on the lid, bottom and sides
+/// (free slip), and the viscosity there.
+#[derive(Debug, Clone)]
+pub struct CornerStress {
+    /// tau_yz / rho = (nu + nu_t)(dV/dz + dW/dy), what V's equation reads.
+    pub shear: Vec<f64>,
+    /// (nu + nu_t) dV/dz, the explicit part of tau_yz in W's equation: its (nu + nu_t) dW/dy part
+    /// is taken implicitly ([`crate::cross_diffusion`]).
+    pub vertical_shear: Vec<f64>,
+    /// nu + nu_t at the corners (the turbulent part scaled by Somero's factor where enabled).
+    pub viscosity: Vec<f64>,
+}
+
+impl CornerStress {
+    pub fn new(s: &Setup) -> Self {
+        let n = (s.ny + 1) * (s.nz + 1);
+        Self {
+            shear: vec![0.0; n],
+            vertical_shear: vec![0.0; n],
+            viscosity: vec![0.0; n],
         }
-        for kf in 1..nz {
-            let c = |j: usize, k: usize| {
-                let i = j * nz + k;
-                let nu_t = viscosity[i] - s.viscosity;
-                s.viscosity + nu_t * factor.map_or(1.0, |f| f[i])
-            };
-            let nu = 0.25 * (c(jf - 1, kf - 1) + c(jf - 1, kf) + c(jf, kf - 1) + c(jf, kf));
-            let dvdz = (v[jf * nz + kf - 1] - v[jf * nz + kf]) / s.dz;
-            let dwdy = (w[jf * (nz + 1) + kf] - w[(jf - 1) * (nz + 1) + kf]) / s.dyc[jf];
-            col[kf] = nu * (dvdz + dwdy);
-        }
-    });
+    }
+
+    /// The stress of velocity (v, w) with centre viscosity nu + nu_t; `factor` scales the
+    /// turbulent part (Somero's v'w' damping) if given.
+    pub fn update(&mut self, s: &Setup, v: &[f64], w: &[f64], viscosity: &[f64], factor: Option<&[f64]>) {
+        let (ny, nz) = (s.ny, s.nz);
+        self.shear
+            .par_chunks_mut(nz + 1)
+            .zip(self.vertical_shear.par_chunks_mut(nz + 1))
+            .zip(self.viscosity.par_chunks_mut(nz + 1))
+            .enumerate()
+            .for_each(|(jf, ((shear, vertical), nu_out))| {
+                shear.fill(0.0);
+                vertical.fill(0.0);
+                nu_out.fill(0.0);
+                if jf == 0 || jf == ny {
+                    return;
+                }
+                for kf in 1..nz {
+                    let c = |j: usize, k: usize| {
+                        let i = j * nz + k;
+                        let nu_t = viscosity[i] - s.viscosity;
+                        s.viscosity + nu_t * factor.map_or(1.0, |f| f[i])
+                    };
+                    let nu = 0.25 * (c(jf - 1, kf - 1) + c(jf - 1, kf) + c(jf, kf - 1) + c(jf, kf));
+                    let dvdz = (v[jf * nz + kf - 1] - v[jf * nz + kf]) / s.dz;
+                    let dwdy = (w[jf * (nz + 1) + kf] - w[(jf - 1) * (nz + 1) + kf]) / s.dyc[jf];
+                    shear[kf] = nu * (dvdz + dwdy);
+                    vertical[kf] = nu * dvdz;
+                    nu_out[kf] = nu;
+                }
+            });
+    }
 }
 
 /// Tendency of V at every y face (boundary faces are set by the boundary condition later).
@@ -73,7 +108,8 @@ pub fn v_tendency(s: &Setup, f: &MomentumInputs, out: &mut [f64]) {
                     vf(c, k),
                 )
             };
-            let mut tau = 2.0 * f.viscosity[c * nz + k] * (vf(c + 1, k) - vf(c, k)) / s.dy[c];
+            // Half of the normal stress 2 nu dV/dy: the other half is implicit (cross_diffusion).
+            let mut tau = f.viscosity[c * nz + k] * (vf(c + 1, k) - vf(c, k)) / s.dy[c];
             if let Some((vv, _)) = f.normal_correction {
                 tau -= vv[c * nz + k];
             }
@@ -98,7 +134,7 @@ pub fn v_tendency(s: &Setup, f: &MomentumInputs, out: &mut [f64]) {
                         vf(jf, kf),
                     )
                 };
-                vel * face - f.shear[jf * (nz + 1) + kf]
+                vel * face - f.corner.shear[jf * (nz + 1) + kf]
             } else {
                 0.0
             };
@@ -161,7 +197,7 @@ pub fn w_tendency(s: &Setup, f: &MomentumInputs, out: &mut [f64]) {
                     wf(l, kf),
                 )
             };
-            vel * face - f.shear[jf * (nz + 1) + kf]
+            vel * face - f.corner.vertical_shear[jf * (nz + 1) + kf]
         };
         let inv_dy = 1.0 / s.dy[j];
         for kf in 1..nz {

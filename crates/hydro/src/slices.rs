@@ -1,7 +1,7 @@
 //! Saved time slices of the wake and the 2D+t -> 3D transform x = U_ship t (Eqs. (2.24)-(2.25)).
 
 use crate::solver::WakeSolver;
-use crate::turbulence::Derived;
+use crate::turbulence::eddy_viscosity;
 use serde::Serialize;
 
 /// A quantity saved for every slice, in output order.
@@ -106,27 +106,42 @@ impl SurfaceSlice {
     pub fn field(&self, field: SliceField) -> &[f32] {
         &self.fields[field.index()]
     }
+
+    /// The slice at `time` between `self` and the later `next`, linear in time (the order of
+    /// the Heun step, so saving a slice need not cut a time step short).
+    pub fn interpolate(&self, next: &SurfaceSlice, time: f64) -> SurfaceSlice {
+        let span = next.time - self.time;
+        let theta = if span > 0.0 {
+            ((time - self.time) / span).clamp(0.0, 1.0)
+        } else {
+            1.0
+        } as f32;
+        let fields = self
+            .fields
+            .iter()
+            .zip(&next.fields)
+            .map(|(a, b)| a.iter().zip(b).map(|(x, y)| x + theta * (y - x)).collect())
+            .collect();
+        SurfaceSlice { time, fields }
+    }
 }
 
 /// Centre values of every field, restricted to levels `levels`.
-fn centre_fields(solver: &mut WakeSolver, levels: std::ops::Range<usize>) -> Vec<Vec<f32>> {
+fn centre_fields(solver: &WakeSolver, levels: std::ops::Range<usize>) -> Vec<Vec<f32>> {
     let s = &solver.setup;
-    let (ny, nz) = (s.ny, s.nz);
+    let ny = s.ny;
     let nl = levels.len();
     let mut out = vec![Vec::with_capacity(ny * nl); SLICE_FIELDS.len()];
-    let d: Derived = solver.derived().clone();
-    let s = &solver.setup;
     let st = solver.state();
     for j in 0..ny {
         for kk in levels.clone() {
-            let i = j * nz + kk;
             let values = [
                 st.u[[j, kk]],
                 0.5 * (st.v[[j, kk]] + st.v[[j + 1, kk]]),
                 0.5 * (st.w[[j, kk]] + st.w[[j, kk + 1]]),
                 st.k[[j, kk]],
                 st.eps[[j, kk]],
-                d.eddy_viscosity[i],
+                eddy_viscosity(s, st.k[[j, kk]], st.eps[[j, kk]]),
                 st.temperature[[j, kk]],
                 st.salinity[[j, kk]],
                 s.column
@@ -142,7 +157,7 @@ fn centre_fields(solver: &mut WakeSolver, levels: std::ops::Range<usize>) -> Vec
 
 impl WakeSolver {
     /// The full cross-section now.
-    pub fn cross_section(&mut self) -> CrossSection {
+    pub fn cross_section(&self) -> CrossSection {
         let nz = self.setup.nz;
         CrossSection {
             time: self.time(),
@@ -151,7 +166,7 @@ impl WakeSolver {
     }
 
     /// The surface (top cell) now.
-    pub fn surface_slice(&mut self) -> SurfaceSlice {
+    pub fn surface_slice(&self) -> SurfaceSlice {
         SurfaceSlice {
             time: self.time(),
             fields: centre_fields(self, 0..1),

@@ -1,12 +1,14 @@
 //! Time integration of the 2D+t wake: second-order strong-stability-preserving Runge-Kutta
 //! (Heun) with a projection onto divergence-free velocity after each stage (Chorin's projection,
-//! the explicit counterpart of the spec's PISO, Eqs. (2.63)-(2.65)), and an adaptive time step
-//! bounded by advection (Courant number), diffusion, the turbulence time scale k/eps, the beach
-//! damping and `time.max_dt`.
+//! the explicit counterpart of the spec's PISO, Eqs. (2.63)-(2.65)); cross-track diffusion is
+//! split off and taken by backward Euler before the last projection ([`crate::cross_diffusion`]).
+//! The adaptive time step is bounded by advection (Courant number), vertical diffusion, the
+//! turbulence time scale k/eps, the beach damping and `time.max_dt`.
 
+use crate::cross_diffusion::{diffuse_across, CrossDiffusionWork};
 use crate::forcing::{add_axial_forces, add_background_sources};
 use crate::idp::InitialDataPlane;
-use crate::momentum::{corner_shear, v_tendency, w_tendency, MomentumInputs};
+use crate::momentum::{v_tendency, w_tendency, CornerStress, MomentumInputs};
 pub use crate::pressure::{divergence, project, Projector};
 use crate::setup::{Setup, PRANDTL, SCHMIDT};
 use crate::state::WakeState;
@@ -28,7 +30,8 @@ pub struct WakeSolver {
     projector: Projector,
     tendency: WakeState,
     stage: WakeState,
-    shear: Vec<f64>,
+    corner: CornerStress,
+    cross_work: CrossDiffusionWork,
     time: f64,
     steps: usize,
     cfl: f64,
@@ -73,7 +76,8 @@ impl WakeSolver {
             state,
             derived,
             projector,
-            shear: vec![0.0; (ny + 1) * (nz + 1)],
+            corner: CornerStress::new(&setup),
+            cross_work: CrossDiffusionWork::default(),
             time: 0.0,
             steps: 0,
             cfl: config.time.cfl,
@@ -134,7 +138,7 @@ impl WakeSolver {
         evaluate_tendency(
             &self.setup,
             &mut self.derived,
-            &mut self.shear,
+            &mut self.corner,
             &self.state,
             &mut self.tendency,
         );
@@ -167,7 +171,7 @@ impl WakeSolver {
         evaluate_tendency(
             &self.setup,
             &mut self.derived,
-            &mut self.shear,
+            &mut self.corner,
             &self.stage,
             &mut self.tendency,
         );
@@ -181,6 +185,16 @@ impl WakeSolver {
             if !heun_update(slice_mut(state), slice(stage), slice(tend), dt, floor) {
                 bad.push(name);
             }
+        }
+        if bad.is_empty() {
+            diffuse_across(
+                &self.setup,
+                &self.derived,
+                &self.corner.viscosity,
+                &mut self.state,
+                dt,
+                &mut self.cross_work,
+            );
         }
         self.projector.apply(&self.setup, &mut self.state);
         self.time += dt;
@@ -290,7 +304,8 @@ fn stable_dt(s: &Setup, state: &WakeState, d: &Derived, cfl: f64, max_dt: f64) -
                 let vc = 0.5 * (v[j * nz + kk].abs() + v[(j + 1) * nz + kk].abs());
                 let wc = 0.5 * (w[j * (nz + 1) + kk].abs() + w[j * (nz + 1) + kk + 1].abs());
                 a = a.max(vc * inv_dy + wc / s.dz);
-                df = df.max(d.viscosity[i] * 2.0 * (inv_dy * inv_dy + inv_dz2));
+                // Vertical only: cross-track diffusion is implicit.
+                df = df.max(d.viscosity[i] * 2.0 * inv_dz2);
                 t = t.max(eps[i] / k[i]);
             }
             (a, df, t)
@@ -300,7 +315,7 @@ fn stable_dt(s: &Setup, state: &WakeState, d: &Derived, cfl: f64, max_dt: f64) -
     let candidates = [
         (cfl / adv.max(1e-30), StepLimit::Advection),
         (0.4 / diff.max(1e-30), StepLimit::Diffusion),
-        (0.5 / turb.max(1e-30), StepLimit::Turbulence),
+        (0.15 / turb.max(1e-30), StepLimit::Turbulence),
         (0.9 / damping.max(1e-30), StepLimit::Diffusion),
         (max_dt, StepLimit::Maximum),
     ];
@@ -311,7 +326,7 @@ fn stable_dt(s: &Setup, state: &WakeState, d: &Derived, cfl: f64, max_dt: f64) -
 }
 
 /// Evaluate the right-hand side of every prognostic equation into `out`.
-fn evaluate_tendency(s: &Setup, d: &mut Derived, shear: &mut [f64], state: &WakeState, out: &mut WakeState) {
+fn evaluate_tendency(s: &Setup, d: &mut Derived, corner: &mut CornerStress, state: &WakeState, out: &mut WakeState) {
     d.update(s, state);
     let c = s.constants;
     let u = state.u.as_slice().expect("layout");
@@ -319,14 +334,14 @@ fn evaluate_tendency(s: &Setup, d: &mut Derived, shear: &mut [f64], state: &Wake
     let w = state.w.as_slice().expect("layout");
     let nut = &d.eddy_viscosity;
     let somero_shear = d.somero_shear.as_deref();
-    corner_shear(s, v, w, &d.viscosity, somero_shear, shear);
+    corner.update(s, v, w, &d.viscosity, somero_shear);
     let inputs = MomentumInputs {
         u,
         v,
         w,
         viscosity: &d.viscosity,
         buoyancy: &d.buoyancy,
-        shear,
+        corner,
         normal_correction: d.somero_normal.as_ref().map(|(a, b)| (a.as_slice(), b.as_slice())),
     };
     v_tendency(s, &inputs, out.v.as_slice_mut().expect("layout"));

@@ -2,9 +2,11 @@
 //! of Eqs. (2.9), (2.10), (2.22) and (2.23), and of the axial momentum component of Eq. (2.3)).
 //!
 //! Advective face values are MUSCL reconstructions with the minmod limiter (second order where
-//! the field is smooth, no new extrema at fronts); diffusive fluxes use the face-averaged
-//! diffusivity. Fluxes through the lid and bottom are zero; at an outlet the advective flux
-//! carries the boundary cell's value out and the ambient value in, with no diffusive flux.
+//! the field is smooth, no new extrema at fronts); vertical diffusive fluxes use the
+//! face-averaged diffusivity. Cross-track diffusion is not here: it is taken implicitly after the
+//! explicit step ([`crate::cross_diffusion`]), with the same face diffusivity. Fluxes through the
+//! lid and bottom are zero; at an outlet the advective flux carries the boundary cell's value out
+//! and the ambient value in, with no diffusive flux.
 
 use crate::setup::Setup;
 use rayon::prelude::*;
@@ -60,17 +62,10 @@ pub struct Transported<'a> {
 /// Columns per parallel task: each task computes every y-face flux of its columns once.
 pub const COLUMN_BLOCK: usize = 32;
 
-/// Cross-track fluxes (per unit area) of every field through y face `jf` at level `k`, into `out`.
+/// Cross-track advective fluxes (per unit area) of every field through y face `jf` at level `k`,
+/// into `out`.
 #[inline]
-fn y_fluxes<const N: usize>(
-    s: &Setup,
-    f: &[Transported; N],
-    v: &[f64],
-    nut: &[f64],
-    jf: usize,
-    k: usize,
-    out: &mut [f64; N],
-) {
+fn y_fluxes<const N: usize>(s: &Setup, f: &[Transported; N], v: &[f64], jf: usize, k: usize, out: &mut [f64; N]) {
     let (ny, nz) = (s.ny, s.nz);
     let vel = v[jf * nz + k];
     if jf == 0 || jf == ny {
@@ -85,8 +80,6 @@ fn y_fluxes<const N: usize>(
         return;
     }
     let (l, r) = ((jf - 1) * nz + k, jf * nz + k);
-    let nut_face = 0.5 * (nut[l] + nut[r]);
-    let inv_d = 1.0 / s.dyc[jf];
     let (a, b, aa) = if vel >= 0.0 {
         (l, r, (jf >= 2).then(|| l - nz))
     } else {
@@ -94,14 +87,13 @@ fn y_fluxes<const N: usize>(
     };
     for (o, t) in out.iter_mut().zip(f) {
         let p = t.values;
-        let face = upwind_face(aa.map(|i| p[i]), p[a], p[b]);
-        let kd = t.diffusivity.molecular + t.diffusivity.turbulent_factor * nut_face;
-        *o = vel * face - kd * (p[r] - p[l]) * inv_d;
+        *o = vel * upwind_face(aa.map(|i| p[i]), p[a], p[b]);
     }
 }
 
-/// Tendencies of N cell-centred fields from advection by (V, W) and diffusion, in one pass that
-/// shares the velocity, upwind direction and eddy viscosity of every face; written to `out`.
+/// Tendencies of N cell-centred fields from advection by (V, W) and vertical diffusion, in one
+/// pass that shares the velocity, upwind direction and eddy viscosity of every face; written to
+/// `out`.
 pub fn advect_diffuse<const N: usize>(
     s: &Setup,
     fields: &[Transported; N],
@@ -111,7 +103,6 @@ pub fn advect_diffuse<const N: usize>(
 ) {
     let nz = s.nz;
     let dz = s.dz;
-    let nut = fields[0].diffusivity.eddy_viscosity;
     let size = nz * COLUMN_BLOCK;
     let mut iters = out.map(|o| o.chunks_mut(size));
     let blocks: Vec<[&mut [f64]; N]> = (0..s.ny.div_ceil(COLUMN_BLOCK))
@@ -123,12 +114,12 @@ pub fn advect_diffuse<const N: usize>(
         let mut west = vec![[0.0; N]; nz];
         let mut east = vec![[0.0; N]; nz];
         for (k, wf) in west.iter_mut().enumerate() {
-            y_fluxes(s, fields, v, nut, j0, k, wf);
+            y_fluxes(s, fields, v, j0, k, wf);
         }
         for dj in 0..columns {
             let j = j0 + dj;
             for (k, e) in east.iter_mut().enumerate() {
-                y_fluxes(s, fields, v, nut, j + 1, k, e);
+                y_fluxes(s, fields, v, j + 1, k, e);
             }
             let wcol = &w[j * (nz + 1)..(j + 1) * (nz + 1)];
             let inv_dy = 1.0 / s.dy[j];

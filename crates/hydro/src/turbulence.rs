@@ -23,6 +23,12 @@ pub struct Derived {
     pub somero_normal: Option<(Vec<f64>, Vec<f64>)>,
 }
 
+/// Eddy viscosity nu_t = C_mu k^2 / eps (Eq. (2.11)), capped at the setup's maximum.
+#[inline]
+pub fn eddy_viscosity(s: &Setup, k: f64, eps: f64) -> f64 {
+    (s.constants.c_mu * k * k / eps).min(s.max_eddy_viscosity)
+}
+
 impl Derived {
     pub fn new(n: usize, somero: bool) -> Self {
         Self {
@@ -58,7 +64,7 @@ impl Derived {
             .for_each(|(j, ((nut, visc), b))| {
                 for kk in 0..nz {
                     let i = j * nz + kk;
-                    let t = (c.c_mu * k[i] * k[i] / eps[i]).min(s.max_eddy_viscosity);
+                    let t = eddy_viscosity(s, k[i], eps[i]);
                     nut[kk] = t;
                     visc[kk] = s.viscosity + t;
                     b[kk] = -s.gravity * col.density_anomaly(kk, dt[i], ds[i]) / col.density[kk];

@@ -236,6 +236,20 @@ mod tests {
     use super::*;
 
     #[test]
+    fn a_slice_between_steps_is_linear_in_time() {
+        let slice = |t: f64, v: f32| SurfaceSlice {
+            time: t,
+            fields: vec![vec![v, 2.0 * v]; SLICE_FIELDS.len()],
+        };
+        let (a, b) = (slice(10.0, 1.0), slice(14.0, 3.0));
+        let mid = a.interpolate(&b, 11.0);
+        assert_eq!(mid.time, 11.0);
+        assert_eq!(mid.fields[0], vec![1.5, 3.0]);
+        assert_eq!(a.interpolate(&b, 14.0).fields[4], b.fields[4]);
+        assert_eq!(a.interpolate(&b, 10.0).fields[4], a.fields[4]);
+    }
+
+    #[test]
     fn map_interpolates_linearly_in_time_at_x_equal_u_t() {
         let slice = |t: f64, v: f32| SurfaceSlice {
             time: t,

@@ -110,12 +110,7 @@ impl SurfaceSlice {
     /// The slice at `time` between `self` and the later `next`, linear in time (the order of
     /// the Heun step, so saving a slice need not cut a time step short).
     pub fn interpolate(&self, next: &SurfaceSlice, time: f64) -> SurfaceSlice {
-        let span = next.time - self.time;
-        let theta = if span > 0.0 {
-            ((time - self.time) / span).clamp(0.0, 1.0)
-        } else {
-            1.0
-        } as f32;
+        let theta = time_fraction(self, next, time);
         let fields = self
             .fields
             .iter()
@@ -123,6 +118,16 @@ impl SurfaceSlice {
             .map(|(a, b)| a.iter().zip(b).map(|(x, y)| x + theta * (y - x)).collect())
             .collect();
         SurfaceSlice { time, fields }
+    }
+}
+
+/// Where `time` lies between slices `a` and `b`: 0 at a, 1 at b, clamped.
+fn time_fraction(a: &SurfaceSlice, b: &SurfaceSlice, time: f64) -> f32 {
+    let span = b.time - a.time;
+    if span > 0.0 {
+        ((time - a.time) / span).clamp(0.0, 1.0) as f32
+    } else {
+        0.0
     }
 }
 
@@ -213,12 +218,7 @@ impl SurfaceMap {
             } else {
                 (&slices[seg], &slices[seg + 1])
             };
-            let span = b.time - a.time;
-            let f = if span > 0.0 {
-                ((t - a.time) / span).clamp(0.0, 1.0)
-            } else {
-                0.0
-            } as f32;
+            let f = time_fraction(a, b, t);
             for (out, (fa, fb)) in fields.iter_mut().zip(a.fields.iter().zip(&b.fields)) {
                 out.extend(core.clone().map(|j| fa[j] * (1.0 - f) + fb[j] * f));
             }

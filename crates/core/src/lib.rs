@@ -9,6 +9,7 @@ pub mod config;
 pub mod error;
 pub mod grid;
 pub mod io;
+pub mod memory;
 pub mod units;
 
 pub use config::WakelabConfig;

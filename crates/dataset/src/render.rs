@@ -149,6 +149,20 @@ pub fn render_pair(pair: &ScenePair, map: &SurfaceMap, bands: &[Band]) -> (Rende
     (rendered, surface, t.elapsed().as_secs_f64())
 }
 
+/// Every band's image of one scene without a wake (the sea, its slicks and the sensors; what
+/// `wakelab run --dry-run` times).
+pub fn render_sea_scene(cfg: &wakelab_core::WakelabConfig, bands: &[Band]) -> Vec<Array2<f32>> {
+    let sea: SurfaceScene = simulate_surface(cfg, None);
+    let (radar, infrared) = (SarScene::new(cfg, &sea), IrScene::new(cfg, &sea));
+    bands
+        .par_iter()
+        .map(|&band| match sensor(band) {
+            Sensor::Radar(b) => radar.render(b).sigma0.mapv(|v| v as f32),
+            Sensor::Infrared(b) => infrared.render(b).brightness_temperature.mapv(|v| v as f32),
+        })
+        .collect()
+}
+
 fn finish(band: Band, wake: Array2<f32>, no_wake: Array2<f32>, mask: Array2<u8>, quantity: &'static str) -> BandPair {
     let visibility = (visibility(&wake, &mask), visibility(&no_wake, &mask));
     BandPair {

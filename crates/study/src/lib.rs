@@ -29,6 +29,7 @@
 //! report are cheap and always rebuilt.
 
 pub mod dataset;
+pub mod dry_run;
 pub mod learning;
 pub mod output;
 mod plan;

@@ -76,6 +76,10 @@ pub struct StudyArgs {
     /// `--features wgpu`, else the CPU), cpu, wgpu or cuda.
     #[arg(long, default_value = "auto")]
     pub device: String,
+    /// Print each stage's work and its time on this CPU (from steps measured for about a minute)
+    /// and on a GPU (estimated), and the peak memory; write nothing.
+    #[arg(long, conflicts_with_all = ["emit_slurm", "stage"])]
+    pub dry_run: bool,
     /// Write a Slurm script, DIR/wakelab_run.slurm, that runs the study as jobs chained by
     /// `afterok` (dataset shards, then one job per input of the learning stage and one for the
     /// held-out environments, then fusion and the report) instead of running it here.

@@ -13,21 +13,20 @@ pub fn run_study_command(args: &StudyArgs, quiet: bool) -> Result<()> {
     let study = wakelab_study::load_study(&name)?;
     let dir = (args.out.clone()).unwrap_or_else(|| PathBuf::from("runs").join(&study.study.name));
     if args.emit_slurm {
-        let (device, tasks, cpus) = (&args.device, args.tasks, args.cpus);
-        eprintln!(
-            "{}",
-            wakelab_study::slurm::emit_run_script(&name, &study, &dir, device, tasks, cpus)?
-        );
+        let script = wakelab_study::slurm::emit_run_script(&name, &study, &dir, &args.device, args.tasks, args.cpus)?;
+        eprintln!("{script}");
         return Ok(());
     }
-    let held_out = args.stage.map(|s| s == StageName::HeldOut);
-    let step = OneStep::from_flags(held_out, args.input.as_deref())?;
     let device = wakelab_learn::device::parse_device(&args.device)?;
+    if args.dry_run {
+        let estimate = wakelab_study::dry_run::dry_run(&study, &device, quiet)?;
+        print!("{}", estimate.describe());
+        return Ok(());
+    }
+    let step = OneStep::from_flags(args.stage.map(|s| s == StageName::HeldOut), args.input.as_deref())?;
     if let Some(step) = step {
-        eprintln!(
-            "  {}",
-            wakelab_study::run_one_step(&study, &dir, &step, &device, quiet)?
-        );
+        let done = wakelab_study::run_one_step(&study, &dir, &step, &device, quiet)?;
+        eprintln!("  {done}");
         return Ok(());
     }
     let outcome = wakelab_study::run_study(&study, &dir, &device, quiet)?;

@@ -359,6 +359,37 @@ impl CsvTable {
     }
 }
 
+#[test]
+fn a_dry_run_measures_every_stage_and_writes_nothing() {
+    let dir = tempfile::tempdir().unwrap();
+    let study = dir.path().join("tiny.toml");
+    std::fs::write(&study, TINY_STUDY).unwrap();
+    let out = dir.path().join("never");
+    let o = run_study(&study, &out, &["--dry-run", "--quiet"]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let text = stdout(&o);
+    assert!(!out.exists(), "a dry run wrote {}", out.display());
+    assert!(text.contains("6 pairs (12 scenes) of 32 x 32"), "{text}");
+    for stage in [
+        "dataset: wakes",
+        "dataset: scenes",
+        "learning",
+        "held-out environments",
+        "held-out geometry",
+        "total",
+    ] {
+        assert!(text.lines().any(|l| l.starts_with(stage)), "{stage}: {text}");
+    }
+    // 2 epochs x 8 training scenes x 2 repetitions x 4 inputs (S, X, LWIR, S+X) x 3 classifiers;
+    // the U-Net 1 epoch x 8 x 2 x 4
+    assert!(text.contains("384 classifier and 64 U-Net image-steps"), "{text}");
+    assert!(text.contains("U-Net training step: peak"), "{text}");
+    assert!(
+        text.contains("(estimate)"),
+        "the GPU's figures are marked as estimates: {text}"
+    );
+}
+
 fn read_table(path: &std::path::Path) -> CsvTable {
     let mut reader = csv::Reader::from_path(path).unwrap();
     let header = reader.headers().unwrap().iter().map(String::from).collect();

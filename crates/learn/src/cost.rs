@@ -182,7 +182,7 @@ pub fn time_training_step(
         }
     };
     let seconds = times[1..].iter().copied().fold(f64::INFINITY, f64::min);
-    let peak_bytes = before.and_then(|start| wakelab_core::memory::peak_since(start));
+    let peak_bytes = before.and_then(wakelab_core::memory::peak_since);
     TimedStep {
         seconds,
         flop_per_second: TRAINING_PASSES * flops * batch as f64 / seconds,

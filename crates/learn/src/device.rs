@@ -25,8 +25,9 @@ pub fn describe_device(device: &Device) -> String {
 }
 
 /// `cpu` (burn's pure-Rust `flex` backend, multi-threaded), `wgpu` (Vulkan/Metal/DX12; built with
-/// `--features wgpu`), `cuda` (`--features cuda`, needs the CUDA toolkit), or `auto`: the GPU
-/// backend this build has (cuda before wgpu), else the CPU.
+/// `--features wgpu`), `cuda` (`--features cuda`: the NVIDIA driver and `libdevice.10.bc` at run
+/// time, no CUDA toolkit; docs/guide/train.md), or `auto`: the GPU backend this build has (cuda
+/// before wgpu), else the CPU.
 pub fn parse_device(name: &str) -> Result<Device, WakelabError> {
     match name {
         "auto" => parse_device(available_devices().last().expect("cpu is always there")),

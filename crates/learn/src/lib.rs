@@ -23,6 +23,7 @@ pub mod robustness;
 pub mod store;
 pub mod synthetic;
 pub mod train;
+pub mod upsample;
 
 /// Confusion counts and metrics live in the schema crate (fusion reads them without burn).
 pub use wakelab_schema::metrics;

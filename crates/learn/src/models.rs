@@ -4,11 +4,10 @@
 
 use crate::kernels::conv::conv3x3;
 use crate::kernels::pool::max_pool2x2;
+use crate::upsample::upsample2x;
 use burn::module::{Module, ModuleVisitor, Param};
 use burn::nn::conv::{Conv2d, Conv2dConfig};
 use burn::nn::{BatchNorm, BatchNormConfig, Linear, LinearConfig, PaddingConfig2d, Relu};
-use burn::tensor::module::interpolate;
-use burn::tensor::ops::{InterpolateMode, InterpolateOptions};
 use burn::tensor::{activation, Device, Tensor};
 use std::sync::Mutex;
 pub use wakelab_schema::results::Architecture;
@@ -157,22 +156,13 @@ impl UNet {
 
     /// Per-pixel logits, shape [batch, 1, h, w].
     pub fn forward(&self, images: Tensor<4>) -> Tensor<4> {
-        let up = |x: Tensor<4>| {
-            let [_, _, h, w] = x.dims();
-            interpolate(
-                x,
-                InterpolateOptions::new(InterpolateMode::Bilinear)
-                    .with_align_corners(true)
-                    .with_output_size([2 * h, 2 * w]),
-            )
-        };
         let l0 = self.down0.forward(images);
         let l1 = self.down1.forward(max_pool2x2(l0.clone()));
         let l2 = self.down2.forward(max_pool2x2(l1.clone()));
         let x = self.bottom.forward(max_pool2x2(l2.clone()));
-        let x = self.up2.forward(Tensor::cat(vec![up(x), l2], 1));
-        let x = self.up1.forward(Tensor::cat(vec![up(x), l1], 1));
-        let x = self.up0.forward(Tensor::cat(vec![up(x), l0], 1));
+        let x = self.up2.forward(Tensor::cat(vec![upsample2x(x), l2], 1));
+        let x = self.up1.forward(Tensor::cat(vec![upsample2x(x), l1], 1));
+        let x = self.up0.forward(Tensor::cat(vec![upsample2x(x), l0], 1));
         self.output.forward(x)
     }
 

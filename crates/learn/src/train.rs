@@ -202,18 +202,34 @@ impl<M: Module> Trainer<M> {
         }
     }
 
+    /// A trainer that goes on from `model`'s weights, wherever they are, with a fresh optimiser
+    /// of `recipe` on `device`: the same weights trained on two backends (the GPU parity test).
+    pub fn from_model(model: M, recipe: &Recipe, device: &Device) -> Self {
+        let device = device.clone().autodiff();
+        Self {
+            model: Some(model.fork(&device).train()),
+            optimiser: optimiser(recipe),
+            learning_rate: recipe.learning_rate,
+            device,
+        }
+    }
+
     /// The device batches must be on.
     pub fn device(&self) -> &Device {
         &self.device
     }
 
     /// One optimiser step on the loss `forward` computes (which also returns how many items it
-    /// got right); returns the batch's mean loss and that count.
-    fn optimise(&mut self, forward: impl FnOnce(&M) -> (Tensor<1>, f64)) -> (f64, f64) {
+    /// got right, as a tensor); returns the batch's mean loss and that count.
+    ///
+    /// Nothing of the graph is read before the backward pass: on burn 0.22's fusion backends
+    /// (wgpu, CUDA) reading the logits and the loss first changed the gradients, up to their
+    /// sign (found by `tests/gpu_parity.rs` on lavapipe). On the CPU the order changes nothing.
+    fn optimise(&mut self, forward: impl FnOnce(&M) -> (Tensor<1>, Tensor<1>)) -> (f64, f64) {
         let model = self.model.take().expect("model present between steps");
         let (loss, right) = forward(&model);
-        let value = scalar(loss.clone());
-        let grads = GradientsParams::from_grads(loss.backward(), &model);
+        let grads = GradientsParams::from_grads(loss.clone().backward(), &model);
+        let (value, right) = (scalar(loss), scalar(right));
         self.model = Some(self.optimiser.step(self.learning_rate, model, grads));
         (value, right)
     }
@@ -236,13 +252,14 @@ impl Trainer<WakeClassifier> {
         let targets = Tensor::<1, Int>::from_data(TensorData::new(labels.to_vec(), [labels.len()]), &self.device);
         self.optimise(|model| {
             let logits = model.forward(images);
-            let outputs = logits.clone().into_data().try_to_vec::<f32>().expect("f32 logits");
-            let right = outputs
-                .iter()
-                .zip(labels)
-                .filter(|(o, &l)| (**o > 0.0) == (l == 1))
-                .count();
-            (bce_with_logits(logits, targets), right as f64)
+            let right = logits
+                .clone()
+                .greater_elem(0.0)
+                .int()
+                .equal(targets.clone())
+                .float()
+                .sum();
+            (bce_with_logits(logits, targets), right)
         })
     }
 }
@@ -265,7 +282,7 @@ impl Trainer<UNet> {
                 .equal(masks.clone())
                 .float()
                 .sum();
-            (unet_loss(logits, masks), scalar(agree))
+            (unet_loss(logits, masks), agree)
         })
     }
 }

@@ -1,0 +1,35 @@
+#!/usr/bin/env bash
+# The GPU path, executed: the wgpu backend against the CPU backend for every network (forward,
+# loss, gradients, one optimiser step) and for a detector's scan
+# (`crates/learn/tests/gpu_parity.rs`). On a machine without a GPU it runs on Mesa's software
+# Vulkan driver, lavapipe, installed here from the system packages (as root, like `.ci/run`).
+# Not in CI: the wgpu test build took 19 minutes on the 2-core machine; in place of CI's wgpu
+# `cargo check` (8 minutes) it would take CI from about 24 to about 40 minutes, too near its 45. On a machine with a GPU, `GPU_PARITY_ADAPTER=any bench/gpu_parity.sh` lets
+# wgpu pick the card instead of pinning lavapipe.
+set -euo pipefail
+export DEBIAN_FRONTEND=noninteractive
+cd "$(dirname "$0")/.."
+
+packages="mesa-vulkan-drivers vulkan-tools"
+if ! dpkg -s $packages >/dev/null 2>&1; then
+  apt-get update -qq
+  apt-get install -y -qq --no-install-recommends $packages >/dev/null
+fi
+
+# Which Vulkan devices the test can see; with no adapter at all the test fails, never skips.
+if [ "${GPU_PARITY_ADAPTER:-lavapipe}" = lavapipe ]; then
+  # only Mesa's lavapipe ICD, so a GPU elsewhere cannot stand in for it
+  icd=$(ls /usr/share/vulkan/icd.d/lvp_icd*.json 2>/dev/null | head -n 1)
+  if [ -z "$icd" ]; then
+    echo "lavapipe's Vulkan ICD (lvp_icd*.json, package mesa-vulkan-drivers) is missing" >&2
+    exit 1
+  fi
+  export VK_DRIVER_FILES="$icd" VK_ICD_FILENAMES="$icd"
+fi
+export XDG_RUNTIME_DIR=${XDG_RUNTIME_DIR:-$(mktemp -d)}
+vulkaninfo --summary 2>/dev/null | grep -E "deviceName|driverName|apiVersion" || {
+  echo "no Vulkan device: vulkaninfo found none" >&2
+  exit 1
+}
+
+cargo test -p wakelab-learn --features wgpu --locked --test gpu_parity -- --nocapture --test-threads 1

@@ -141,6 +141,31 @@ fn same_gradients(c: &mut Comparison, what: &str, gpu: &[Option<Vec<f32>>], cpu:
     worst
 }
 
+/// Outputs, loss and every gradient of `model` on the CPU and on wgpu (`devices`), each run on a
+/// copy on the device's autodiff form, compared; returns the log of the largest differences.
+/// The backward pass comes before any read of the graph, as in the trainer.
+fn same_forward_backward<M: Module, const D: usize>(
+    c: &mut Comparison,
+    what: &str,
+    model: &M,
+    devices: [&Device; 2],
+    forward: impl Fn(&M, &Device) -> (Tensor<D>, Tensor<1>),
+) -> Vec<(&'static str, f32)> {
+    let run = |device: &Device| {
+        let ad = device.clone().autodiff();
+        let m = model.clone().fork(&ad).train();
+        let (outputs, loss) = forward(&m, &ad);
+        let grads = gradients(&m, loss.clone());
+        (values(outputs), values(loss), grads)
+    };
+    let (p, g) = (run(devices[0]), run(devices[1]));
+    vec![
+        ("outputs", c.check(&format!("{what} outputs"), &g.0, &p.0, None)),
+        ("loss", c.check(&format!("{what} loss"), &g.1, &p.1, None)),
+        ("gradients", same_gradients(c, what, &g.2, &p.2)),
+    ]
+}
+
 /// `n` line-versus-noise inputs of `size` x `size` as `architecture` reads them (its second
 /// channel a copy of the image for "cls", the wake mask for "unet"), their labels and masks.
 fn batch(n: usize, size: usize, architecture: Architecture) -> (Vec<f32>, Vec<i64>, Vec<i64>) {
@@ -223,22 +248,12 @@ fn every_classifier_trains_alike_on_wgpu_and_cpu() {
         let targets = |d: &Device| Tensor::<1, Int>::from_data(TensorData::new(labels.clone(), [n]), d);
 
         // forward, loss and gradients from the same weights
-        let mut log = Vec::new();
-        let run = |d: &Device| {
-            let ad = d.clone().autodiff();
-            let m = model.clone().fork(&ad).train();
-            let logits = m.forward(input(&ad));
-            let loss = bce_with_logits(logits.clone(), targets(&ad));
-            // the backward pass before any read of the graph, as the trainer does
-            let grads = gradients(&m, loss.clone());
-            (values(logits), values(loss), grads)
-        };
-        let (p, g) = (run(&cpu), run(&gpu));
         let mut c = Comparison::default();
         let what = format!("classifier \"{arch}\"");
-        log.push(("logits", c.check(&format!("{what} logits"), &g.0, &p.0, None)));
-        log.push(("loss", c.check(&format!("{what} loss"), &g.1, &p.1, None)));
-        log.push(("gradients", same_gradients(&mut c, &what, &g.2, &p.2)));
+        let mut log = same_forward_backward(&mut c, &what, &model, [&cpu, &gpu], |m, d| {
+            let logits = m.forward(input(d));
+            (logits.clone(), bce_with_logits(logits, targets(d)))
+        });
 
         // one step of each update rule
         for (rule, how, recipe) in [
@@ -280,21 +295,11 @@ fn the_unet_trains_alike_on_wgpu_and_cpu() {
     let before = weights(&model);
     let input = |d: &Device| Tensor::<4>::from_data(TensorData::new(images.clone(), [n, 1, size, size]), d);
     let target = |d: &Device| Tensor::<4, Int>::from_data(TensorData::new(masks.clone(), [n, 1, size, size]), d);
-    let run = |d: &Device| {
-        let ad = d.clone().autodiff();
-        let m = model.clone().fork(&ad).train();
-        let logits = m.forward(input(&ad));
-        let loss = unet_loss(logits.clone(), target(&ad));
-        let grads = gradients(&m, loss.clone());
-        (values(logits), values(loss), grads)
-    };
-    let (p, g) = (run(&cpu), run(&gpu));
     let mut c = Comparison::default();
-    let mut log = vec![
-        ("logits", c.check("U-Net logits", &g.0, &p.0, None)),
-        ("loss", c.check("U-Net loss", &g.1, &p.1, None)),
-    ];
-    log.push(("gradients", same_gradients(&mut c, "U-Net", &g.2, &p.2)));
+    let mut log = same_forward_backward(&mut c, "U-Net", &model, [&cpu, &gpu], |m, d| {
+        let logits = m.forward(input(d));
+        (logits.clone(), unet_loss(logits, target(d)))
+    });
     let recipe = Recipe::unet();
     let step = |d: &Device| {
         let mut t = Trainer::<UNet>::from_model(model.clone(), &recipe, d);

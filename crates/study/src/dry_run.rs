@@ -360,6 +360,8 @@ fn thousands(n: u64) -> String {
 
 /// Days, hours, minutes or seconds, whichever reads best.
 fn duration(seconds: f64) -> String {
+    // a stage without work sums an empty list, which Rust's float sum starts at -0.0
+    let seconds = seconds + 0.0;
     if seconds >= 4.0 * 86400.0 {
         format!(
             "{} h ({:.0} days)",
@@ -469,6 +471,7 @@ geometry_groups = 2
         assert_eq!(thousands(1_234_567), "1,234,567");
         assert_eq!(thousands(999), "999");
         assert_eq!(duration(30.0), "30 s");
+        assert_eq!(duration(Vec::<f64>::new().iter().sum()), "0 s");
         assert_eq!(duration(600.0), "10 min");
         assert_eq!(duration(7200.0), "2.0 h");
         assert_eq!(duration(3600.0 * 14759.2), "14,759 h (615 days)");

@@ -9,6 +9,14 @@
 set -euo pipefail
 export DEBIAN_FRONTEND=noninteractive
 cd "$(dirname "$0")/.."
+adapter=${GPU_PARITY_ADAPTER:-lavapipe}
+case "$adapter" in
+  lavapipe | any) ;;
+  *)
+    echo "GPU_PARITY_ADAPTER=$adapter: allowed are lavapipe (the default) and any" >&2
+    exit 2
+    ;;
+esac
 
 packages="mesa-vulkan-drivers vulkan-tools"
 if ! dpkg -s $packages >/dev/null 2>&1; then
@@ -17,7 +25,7 @@ if ! dpkg -s $packages >/dev/null 2>&1; then
 fi
 
 # Which Vulkan devices the test can see; with no adapter at all the test fails, never skips.
-if [ "${GPU_PARITY_ADAPTER:-lavapipe}" = lavapipe ]; then
+if [ "$adapter" = lavapipe ]; then
   # only Mesa's lavapipe ICD, so a GPU elsewhere cannot stand in for it
   icd=$(ls /usr/share/vulkan/icd.d/lvp_icd*.json 2>/dev/null | head -n 1)
   if [ -z "$icd" ]; then

@@ -240,6 +240,12 @@ impl<M: Module> Trainer<M> {
     }
 }
 
+/// How many logits fall on their target's side of 0 (images for a classifier, pixels for the
+/// U-Net), as a tensor: read after the backward pass ([`Trainer::optimise`]).
+fn right_count<const D: usize>(logits: Tensor<D>, targets: Tensor<D, Int>) -> Tensor<1> {
+    logits.greater_elem(0.0).int().equal(targets).float().sum()
+}
+
 impl Trainer<WakeClassifier> {
     /// A fresh classifier with its recipe's optimiser (4.1: SGD with L2), its weights drawn from
     /// `seed`.
@@ -252,13 +258,7 @@ impl Trainer<WakeClassifier> {
         let targets = Tensor::<1, Int>::from_data(TensorData::new(labels.to_vec(), [labels.len()]), &self.device);
         self.optimise(|model| {
             let logits = model.forward(images);
-            let right = logits
-                .clone()
-                .greater_elem(0.0)
-                .int()
-                .equal(targets.clone())
-                .float()
-                .sum();
+            let right = right_count(logits.clone(), targets.clone());
             (bce_with_logits(logits, targets), right)
         })
     }
@@ -275,13 +275,7 @@ impl Trainer<UNet> {
     pub fn step(&mut self, images: Tensor<4>, masks: Tensor<4, Int>) -> (f64, f64) {
         self.optimise(|model| {
             let logits = model.forward(images);
-            let agree = logits
-                .clone()
-                .greater_elem(0.0)
-                .int()
-                .equal(masks.clone())
-                .float()
-                .sum();
+            let agree = right_count(logits.clone(), masks.clone());
             (unet_loss(logits, masks), agree)
         })
     }

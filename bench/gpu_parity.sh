@@ -3,9 +3,9 @@
 # loss, gradients, one optimiser step) and for a detector's scan
 # (`crates/learn/tests/gpu_parity.rs`). On a machine without a GPU it runs on Mesa's software
 # Vulkan driver, lavapipe, installed here from the system packages (as root, like `.ci/run`).
-# Not in CI: the wgpu test build took 19 minutes on the 2-core machine; in place of CI's wgpu
-# `cargo check` (8 minutes) it would take CI from about 24 to about 40 minutes, too near its 45. On a machine with a GPU, `GPU_PARITY_ADAPTER=any bench/gpu_parity.sh` lets
-# wgpu pick the card instead of pinning lavapipe.
+# `.ci/run` runs it after the test suite (the wgpu test build takes about 19 minutes on the 2-core
+# machine the first time). On a machine with a GPU, `GPU_PARITY_ADAPTER=any bench/gpu_parity.sh`
+# lets wgpu pick the card instead of pinning lavapipe.
 set -euo pipefail
 export DEBIAN_FRONTEND=noninteractive
 cd "$(dirname "$0")/.."

@@ -15,11 +15,18 @@ pub fn available_devices() -> Vec<&'static str> {
     names
 }
 
+/// Whether `device` is the CPU backend (burn's `flex`).
+pub fn is_cpu(device: &Device) -> bool {
+    format!("{device:?}").to_lowercase().contains("flex")
+}
+
 /// The device in words for reports: the backend and, on the CPU, its threads.
 pub fn describe_device(device: &Device) -> String {
     let threads = rayon::current_num_threads();
     match format!("{device:?}") {
-        d if d.to_lowercase().contains("flex") => format!("cpu (burn flex backend, {threads} threads)"),
+        _ if is_cpu(device) => format!("cpu (burn flex backend, {threads} threads)"),
+        d if d.contains("Wgpu") => "wgpu (default adapter)".into(),
+        d if d.contains("Cuda") => "cuda".into(),
         d => d,
     }
 }

@@ -1,7 +1,8 @@
 //! `wakelab run --dry-run`: a study's work stage by stage, and what it costs on this machine,
 //! from short measurements (one wake's first two minutes, one scene, one training step of each
 //! network) carried to the study's sizes by counting steps, pixels and floating-point
-//! operations. Nothing is written.
+//! operations. Nothing is written. With `--device wgpu` or `cuda` the training steps are also
+//! timed on that device, and its column is a measurement instead of an estimate.
 
 use crate::Result;
 use std::collections::BTreeSet;
@@ -15,11 +16,13 @@ use wakelab_learn::cost::{
 use wakelab_learn::device::Device;
 use wakelab_schema::band::Input;
 
-/// The GPU the estimates name, and the rate assumed for it: an NVIDIA H100 (SXM) peaks at
-/// 67 TFLOP/s in FP32 without tensor cores (NVIDIA's datasheet); training small convolutions
-/// sustains a fraction of that, taken as 25 TFLOP/s. An estimate, not a measurement: no GPU was
-/// at hand when this was written.
-pub const ESTIMATED_GPU: (&str, f64) = ("NVIDIA H100", 25e12);
+/// The GPU the dry run names when none is timed, and its training rates (FLOP/s of the
+/// classifier's and the 64-wide U-Net's steps): an NVIDIA H100 80GB HBM3 (driver 580.159) through
+/// wgpu on Vulkan, timed on 2026-11-26 at 256 x 256 with `crates/study/examples/eval_study.rs`
+/// (docs/results.md, "GPU backends"). The classifier's small steps are bound by kernel launches
+/// (0.17 TFLOP/s, about the 2-core CPU's); the U-Net reached 3.87 TFLOP/s, 6 % of the card's
+/// 67 TFLOP/s of FP32. The CUDA backend was not timed: it could not be built here.
+pub const MEASURED_GPU: (&str, f64, f64) = ("NVIDIA H100, wgpu", 0.17e12, 3.87e12);
 
 /// The memory a study must fit in (the bound for the paper study).
 pub const MEMORY_BOUND_GIB: f64 = 24.0;
@@ -27,13 +30,25 @@ pub const MEMORY_BOUND_GIB: f64 = 24.0;
 /// Largest side at which a network's step is timed on the CPU.
 const MEASURED_SIDE: usize = 128;
 
+/// Largest side at which a network's step is timed on a GPU: large enough that the card is busy
+/// (a 128 x 128 step leaves a data-centre GPU mostly idle), small enough for any card (a U-Net
+/// step at 512 x 512 in batches of 4 needs about 3 GiB).
+const GPU_MEASURED_SIDE: usize = 512;
+
+/// Timed training steps of the classifier and the U-Net on a GPU.
+struct GpuTiming {
+    side: usize,
+    classifier: wakelab_learn::cost::TimedStep,
+    unet: wakelab_learn::cost::TimedStep,
+}
+
 /// One stage of the dry run.
 #[derive(Debug, Clone)]
 pub struct StageEstimate {
     pub stage: &'static str,
     pub work: String,
     pub cpu_seconds: f64,
-    /// On [`ESTIMATED_GPU`] (learning stages only).
+    /// On the GPU of [`DryRun::gpu`] (learning stages only).
     pub gpu_seconds: Option<f64>,
 }
 
@@ -42,6 +57,8 @@ pub struct StageEstimate {
 pub struct DryRun {
     pub headline: String,
     pub stages: Vec<StageEstimate>,
+    /// The GPU column's heading: the device timed (`--device`), or [`MEASURED_GPU`].
+    pub gpu: String,
     /// Peak memory of one U-Net training step at the study's size in its batch (bytes), and how
     /// it was found.
     pub unet_memory: (f64, String),
@@ -145,11 +162,11 @@ fn time_one_wake(cfg: &WakelabConfig) -> Result<(f64, Option<f64>, usize)> {
     Ok((seconds + later * seconds / steps as f64, peak, steps))
 }
 
-/// The side at which a network is timed: the study's, up to [`MEASURED_SIDE`], a multiple of the
+/// The side at which a network is timed: the study's, up to `largest`, a multiple of the
 /// U-Net's.
-fn measured_side(side: usize) -> usize {
+fn measured_side(side: usize, largest: usize) -> usize {
     let m = wakelab_schema::results::UNET_SIZE_MULTIPLE;
-    (side.min(MEASURED_SIDE) / m * m).max(m)
+    (side.min(largest) / m * m).max(m)
 }
 
 /// Seconds of the training `work` at side `side`, from the measured FLOP rates.
@@ -165,20 +182,6 @@ fn training_seconds(work: &TrainingWork, side: usize, width: usize, classifier_r
         .map(|&(c, n)| n as f64 * TRAINING_PASSES * unet_flops(c, width, side) / unet_rate)
         .sum();
     classifier + unet
-}
-
-fn training_flop(work: &TrainingWork, side: usize, width: usize) -> f64 {
-    let classifier: f64 = work
-        .classifier
-        .iter()
-        .map(|&(c, n)| n as f64 * classifier_flops(c, side))
-        .sum();
-    let unet: f64 = work
-        .unet
-        .iter()
-        .map(|&(c, n)| n as f64 * unet_flops(c, width, side))
-        .sum();
-    TRAINING_PASSES * (classifier + unet)
 }
 
 /// The dry run of `study` (see the module docs); unless `quiet`, says on stderr what it times.
@@ -209,16 +212,22 @@ pub fn dry_run(study: &Study, device: &Device, quiet: bool) -> Result<DryRun> {
     std::hint::black_box(wakelab_dataset::render::render_sea_scene(cfg, bands));
     let scene_seconds = t.elapsed().as_secs_f64();
 
-    let m = measured_side(side);
+    let m = measured_side(side, MEASURED_SIDE);
     progress("timing a training step of each network");
-    let unet = time_training_step(
-        TimedNetwork::UNet { width: plan.unet_width },
-        m,
-        plan.unet_batch_size,
-        1,
-        device,
-    );
-    let classifier = time_training_step(TimedNetwork::Classifier, m, plan.batch_size, 2, device);
+    let unet_network = TimedNetwork::UNet { width: plan.unet_width };
+    let cpu = Device::flex();
+    let unet = time_training_step(unet_network, m, plan.unet_batch_size, 1, &cpu);
+    let classifier = time_training_step(TimedNetwork::Classifier, m, plan.batch_size, 2, &cpu);
+    let gpu_timing = (!wakelab_learn::device::is_cpu(device)).then(|| {
+        let g = measured_side(side, GPU_MEASURED_SIDE);
+        progress(&format!("timing a training step of each network on {device:?}"));
+        // three steps after the warm-up, which also compiles and tunes the kernels
+        GpuTiming {
+            side: g,
+            unet: time_training_step(unet_network, g, plan.unet_batch_size, 3, device),
+            classifier: time_training_step(TimedNetwork::Classifier, g, plan.batch_size, 3, device),
+        }
+    });
     // The U-Net's peak: its weights, gradients and two Adam moments do not grow with the image;
     // the activations (what the step's peak holds beyond those) grow with the pixels.
     let params = unet_parameters(1, plan.unet_width) as f64;
@@ -272,9 +281,13 @@ pub fn dry_run(study: &Study, device: &Device, quiet: bool) -> Result<DryRun> {
             gpu_seconds: None,
         },
     ];
-    let (gpu, gpu_rate) = ESTIMATED_GPU;
+    let (named_gpu, classifier_rate, unet_rate) = MEASURED_GPU;
+    let width = plan.unet_width;
     for (stage, work) in training_work(study, &pairs) {
-        let width = plan.unet_width;
+        let gpu_seconds = match &gpu_timing {
+            Some(g) => training_seconds(&work, side, width, g.classifier.flop_per_second, g.unet.flop_per_second),
+            None => training_seconds(&work, side, width, classifier_rate, unet_rate),
+        };
         stages.push(StageEstimate {
             stage,
             work: format!(
@@ -283,7 +296,7 @@ pub fn dry_run(study: &Study, device: &Device, quiet: bool) -> Result<DryRun> {
                 thousands(work.unet_steps())
             ),
             cpu_seconds: training_seconds(&work, side, width, classifier.flop_per_second, unet.flop_per_second),
-            gpu_seconds: Some(training_flop(&work, side, width) / gpu_rate),
+            gpu_seconds: Some(gpu_seconds),
         });
     }
     let mut notes = vec![
@@ -304,10 +317,22 @@ pub fn dry_run(study: &Study, device: &Device, quiet: bool) -> Result<DryRun> {
             classifier.flop_per_second / 1e9,
             unet.flop_per_second / 1e9
         ),
-        format!(
-            "{gpu}: an estimate, not a measurement (no GPU was at hand): the same floating-point operations at an assumed {:.0} TFLOP/s.",
-            gpu_rate / 1e12
-        ),
+        match &gpu_timing {
+            Some(g) => format!(
+                "{}: measured, one step timed at {s} x {s} per network (\"base\" {:.4} s, U-Net {:.4} s: {:.2} and {:.2} TFLOP/s), carried to {side} x {side} likewise.",
+                wakelab_learn::device::describe_device(device),
+                g.classifier.seconds,
+                g.unet.seconds,
+                g.classifier.flop_per_second / 1e12,
+                g.unet.flop_per_second / 1e12,
+                s = g.side
+            ),
+            None => format!(
+                "{named_gpu}: the rates of its training steps measured at 256 x 256 on 2026-11-26 (\"base\" {:.2}, U-Net {:.2} TFLOP/s), carried to {side} x {side}; `--device wgpu` or `cuda` times this machine's GPU instead. On wgpu the U-Net's step at 1024 x 1024 in batches of 4 failed there (a 3 GiB buffer over the adapter's limit).",
+                classifier_rate / 1e12,
+                unet_rate / 1e12
+            ),
+        },
     ];
     let peak = unet_memory.max(hydro_memory.unwrap_or(0.0));
     notes.push(if peak.is_nan() {
@@ -331,9 +356,14 @@ pub fn dry_run(study: &Study, device: &Device, quiet: bool) -> Result<DryRun> {
         plan.repetitions,
         started.elapsed().as_secs_f64()
     );
+    let gpu = match gpu_timing {
+        Some(_) => format!("{} (measured)", wakelab_learn::device::describe_device(device)),
+        None => format!("{named_gpu} (measured rates)"),
+    };
     Ok(DryRun {
         headline,
         stages,
+        gpu,
         unet_memory: (unet_memory, memory_how),
         hydro_memory: hydro_memory.unwrap_or(f64::NAN),
         measured_seconds: started.elapsed().as_secs_f64(),
@@ -380,15 +410,8 @@ fn duration(seconds: f64) -> String {
 impl DryRun {
     /// The table and notes `wakelab run --dry-run` prints.
     pub fn describe(&self) -> String {
-        let gpu = ESTIMATED_GPU.0;
         let mut out = format!("{}\n\n", self.headline);
-        out += &format!(
-            "{:<22} {:<60} {:>20} {:>22}\n",
-            "stage",
-            "work",
-            "this CPU",
-            format!("{gpu} (estimate)")
-        );
+        out += &format!("{:<22} {:<60} {:>20} {:>22}\n", "stage", "work", "this CPU", self.gpu);
         for s in &self.stages {
             let gpu = s.gpu_seconds.map_or("-".to_string(), duration);
             out += &format!(
@@ -475,7 +498,9 @@ geometry_groups = 2
         assert_eq!(duration(600.0), "10 min");
         assert_eq!(duration(7200.0), "2.0 h");
         assert_eq!(duration(3600.0 * 14759.2), "14,759 h (615 days)");
-        assert_eq!(measured_side(1024), 128);
-        assert_eq!(measured_side(32), 32);
+        assert_eq!(measured_side(1024, MEASURED_SIDE), 128);
+        assert_eq!(measured_side(32, MEASURED_SIDE), 32);
+        assert_eq!(measured_side(1024, GPU_MEASURED_SIDE), 512);
+        assert_eq!(measured_side(256, GPU_MEASURED_SIDE), 256);
     }
 }

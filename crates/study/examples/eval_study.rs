@@ -33,7 +33,8 @@ fn time(args: &[String]) -> anyhow::Result<()> {
     };
     let network = match network.as_str() {
         "unet" => TimedNetwork::UNet { width: 64 },
-        _ => TimedNetwork::Classifier,
+        "classifier" => TimedNetwork::Classifier,
+        other => anyhow::bail!("network {other}: one of unet, classifier"),
     };
     let (side, batch): (usize, usize) = (side.parse()?, batch.parse()?);
     let t = Instant::now();

@@ -77,7 +77,7 @@ pub struct StudyArgs {
     #[arg(long, default_value = "auto")]
     pub device: String,
     /// Print each stage's work and its time on this CPU (from steps measured for about a minute)
-    /// and on a GPU (estimated), and the peak memory; write nothing.
+    /// and on a GPU (timed on the `--device` GPU, else an H100's measured rates), and the peak memory; write nothing.
     #[arg(long, conflicts_with_all = ["emit_slurm", "stage"])]
     pub dry_run: bool,
     /// Write a Slurm script, DIR/wakelab_run.slurm, that runs the study as jobs chained by

@@ -36,7 +36,15 @@ fn time(args: &[String]) -> anyhow::Result<()> {
         "classifier" => TimedNetwork::Classifier,
         other => anyhow::bail!("network {other}: one of unet, classifier"),
     };
-    let (side, batch): (usize, usize) = (side.parse()?, batch.parse()?);
+    let multiple = wakelab_schema::results::UNET_SIZE_MULTIPLE;
+    let side: usize = match side.parse() {
+        Ok(n) if n >= multiple && n % multiple == 0 => n,
+        _ => anyhow::bail!("SIDE {side}: a whole number of pixels, a positive multiple of {multiple}"),
+    };
+    let batch: usize = match batch.parse() {
+        Ok(n) if n >= 1 => n,
+        _ => anyhow::bail!("BATCH {batch}: a whole number of images, at least 1"),
+    };
     let t = Instant::now();
     let step = time_training_step(network, side, batch, 3, &wakelab_learn::device::parse_device(device)?);
     println!(

@@ -220,7 +220,10 @@ pub fn dry_run(study: &Study, device: &Device, quiet: bool) -> Result<DryRun> {
     let classifier = time_training_step(TimedNetwork::Classifier, m, plan.batch_size, 2, &cpu);
     let gpu_timing = (!wakelab_learn::device::is_cpu(device)).then(|| {
         let g = measured_side(side, GPU_MEASURED_SIDE);
-        progress(&format!("timing a training step of each network on {device:?}"));
+        progress(&format!(
+            "timing a training step of each network on {}",
+            wakelab_learn::device::describe_device(device)
+        ));
         // three steps after the warm-up, which also compiles and tunes the kernels
         GpuTiming {
             side: g,

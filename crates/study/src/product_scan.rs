@@ -6,7 +6,7 @@
 //! band of rows at a time, so memory holds one band, not the product. What was assumed is said in
 //! the scan's notes.
 
-use crate::sea_findings::{product_geometry, search_image, SeaFindings};
+use crate::sea_findings::{product_geometry, search_image, SeaFindings, SeaStream};
 use anyhow::Result;
 use std::path::Path;
 use wakelab_core::ConfigError;
@@ -257,7 +257,8 @@ fn masked_note(notes: &mut Vec<String>, masked: usize) {
 /// Scan a product read a band of rows at a time, averaged over whole `factor`s to the
 /// detector's spacing: each band starts at the first window row not yet scored and holds about
 /// [`BAND_ROWS`] more product rows (the window's rows past the stride are read twice), so
-/// memory holds one band.
+/// memory holds one band; the ship and wake searches ([`SeaStream`]) hold theirs with 5 km of
+/// rows either side, so that a wake crossing a band's edge is searched whole.
 fn scan_by_bands(
     source: RowSource,
     band: Band,
@@ -279,7 +280,7 @@ fn scan_by_bands(
     let mut sea = band.is_radar().then(|| {
         let (geometry, sea_notes) = product_geometry(&source.meta, scanned_spacing(&source.meta, info, factor));
         notes.extend(sea_notes);
-        SeaFindings::empty(geometry)
+        SeaStream::new(geometry, scanned.1, BAND_ROWS)
     });
     // scanned rows counted (masked, floored, overlay) so far: a band's overlap with the last
     // is not
@@ -302,7 +303,7 @@ fn scan_by_bands(
         let strip = strip.slice(ndarray::s![..end - start, ..]);
         overlay.add(start + fresh, strip.slice(ndarray::s![fresh.., ..]));
         if let Some(sea) = sea.as_mut() {
-            sea.add_band(strip, start, start + fresh..end);
+            sea.push(start, strip);
         }
         counted = end;
         (progress.reading)(last, rows);
@@ -325,6 +326,6 @@ fn scan_by_bands(
         band,
         notes,
         detection,
-        sea,
+        sea: sea.map(SeaStream::finish),
     })
 }

@@ -275,6 +275,87 @@ impl SeaFindings {
     }
 }
 
+/// How far (m) the searches reach from a row they own: a wake's searched length, the largest
+/// azimuth offset of a return from its ship and half the normalisation's background (5 km by
+/// default), so that a ship or wake near the edge of a band is searched as in the whole image.
+pub fn sea_margin_m() -> f64 {
+    let o = WakeOptions::default();
+    o.length_m + o.max_offset_m + 0.5 * wakelab_ships::BACKGROUND_M
+}
+
+/// The ship and wake searches over an image that arrives a band of rows at a time (a product
+/// streamed from disk): the rows are held until `margin` rows past a band of `own` rows have
+/// arrived, then that band is searched with `margin` rows either side and keeps what lies in
+/// its own rows. Memory holds one band and its margins; a wake that crosses a band's edge is
+/// searched whole, not cut there.
+pub struct SeaStream {
+    findings: SeaFindings,
+    own: usize,
+    margin: usize,
+    /// The rows held, and the first of them in the whole image.
+    held: ndarray::Array2<f32>,
+    held_from: usize,
+    /// Rows below this are owned by bands already searched.
+    searched: usize,
+}
+
+impl SeaStream {
+    /// A stream of images of `cols` columns at `geometry`, searched in bands of `own` rows.
+    pub fn new(geometry: Geometry, cols: usize, own: usize) -> Self {
+        Self {
+            margin: (sea_margin_m() / geometry.spacing.0).ceil() as usize,
+            findings: SeaFindings::empty(geometry),
+            own: own.max(1),
+            held: ndarray::Array2::zeros((0, cols)),
+            held_from: 0,
+            searched: 0,
+        }
+    }
+
+    fn held_to(&self) -> usize {
+        self.held_from + self.held.nrows()
+    }
+
+    /// Rows `first..first + rows.nrows()` of the image (rows already held are skipped; the
+    /// rows must follow on from those held, overlapping or not).
+    pub fn push(&mut self, first: usize, rows: ArrayView2<f32>) {
+        let skip = self.held_to().saturating_sub(first).min(rows.nrows());
+        assert!(first <= self.held_to(), "rows pushed in order without a gap");
+        let fresh = rows.slice(ndarray::s![skip.., ..]);
+        self.held = ndarray::concatenate(ndarray::Axis(0), &[self.held.view(), fresh]).expect("same columns");
+        while self.held_to() >= self.searched + self.own + self.margin {
+            self.search_band(self.searched + self.own);
+        }
+    }
+
+    /// Search the band of rows `searched..own_end` with its margins, then let go of the rows
+    /// no later band reaches.
+    fn search_band(&mut self, own_end: usize) {
+        let from = self.searched.saturating_sub(self.margin).max(self.held_from);
+        let to = (own_end + self.margin).min(self.held_to());
+        let band = self
+            .held
+            .slice(ndarray::s![from - self.held_from..to - self.held_from, ..]);
+        self.findings.add_band(band, from, self.searched..own_end);
+        self.searched = own_end;
+        let keep_from = self.searched.saturating_sub(self.margin).max(self.held_from);
+        self.held = self
+            .held
+            .slice(ndarray::s![keep_from - self.held_from.., ..])
+            .to_owned();
+        self.held_from = keep_from;
+    }
+
+    /// The findings, once every row has arrived.
+    pub fn finish(mut self) -> SeaFindings {
+        while self.searched < self.held_to() {
+            let end = (self.searched + self.own).min(self.held_to());
+            self.search_band(end);
+        }
+        self.findings
+    }
+}
+
 /// The true bearing (degrees clockwise from north) from `a` to `b`, both (lon, lat) in degrees:
 /// the initial course of the great circle.
 fn bearing(a: (f64, f64), b: (f64, f64)) -> f64 {
@@ -329,6 +410,73 @@ fn wake_entry(
 #[cfg(test)]
 mod tests {
     use super::*;
+    use rand::{RngExt, SeedableRng};
+
+    /// 4-look speckle at 10 m, 16 km of rows: a ship at row 700 sailing up the image, its trough
+    /// 3 dB dark and 60 m wide for 3 km behind it (rows 706-1006).
+    fn long_scene() -> ndarray::Array2<f32> {
+        let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(7);
+        let mut image = ndarray::Array2::from_shape_fn((1600, 300), |_| {
+            let s: f64 = (0..4).map(|_| -(1.0 - rng.random::<f64>()).ln()).sum();
+            (0.01 * s / 4.0) as f32
+        });
+        image
+            .slice_mut(ndarray::s![706..1006, 147..153])
+            .mapv_inplace(|v| v * 0.5);
+        image.slice_mut(ndarray::s![694..706, 149..152]).fill(3.0);
+        image
+    }
+
+    /// Streamed in bands of 200 rows (pushed as a scan does, overlapping), the searches find
+    /// what they find in the whole image: the ship, and its wake whole though it crosses the
+    /// bands' edges at rows 800 and 1000. Without the margins the wake is cut there.
+    #[test]
+    fn a_streamed_search_finds_what_the_whole_image_holds() {
+        let image = long_scene();
+        let g = Geometry::along_rows(10.0, 35.0, None);
+        let whole = search_image(image.view(), g);
+        assert_eq!(whole.ships.len(), 1, "{:?}", whole.ships);
+        let wake = whole.wakes.iter().find(|w| w.ship == Some(0)).expect("the ship's wake");
+        assert!(wake.length_m > 2500.0, "{wake:?}");
+        let mut stream = SeaStream::new(g, 300, 200);
+        for start in (0..1600).step_by(150) {
+            let end = (start + 170).min(1600);
+            stream.push(start, image.slice(ndarray::s![start..end, ..]));
+        }
+        let streamed = stream.finish();
+        assert_eq!(streamed.ships.len(), 1, "{:?}", streamed.ships);
+        let (a, b) = (&whole.ships[0], &streamed.ships[0]);
+        assert!(
+            (a.row - b.row).abs() < 0.5 && (a.col - b.col).abs() < 0.5,
+            "{a:?} {b:?}"
+        );
+        let found = streamed
+            .wakes
+            .iter()
+            .find(|w| w.ship == Some(0))
+            .expect("the streamed wake");
+        assert!(
+            (found.length_m - wake.length_m).abs() < 0.05 * wake.length_m,
+            "{found:?} against {wake:?}"
+        );
+        assert_eq!(streamed.wakes.len(), whole.wakes.len());
+        // bands without margins (as before): the wake stops at the band's edge, 1 km behind
+        let mut cut = SeaFindings::empty(g);
+        for start in (0..1600).step_by(200) {
+            cut.add_band(
+                image.slice(ndarray::s![start..start + 200, ..]),
+                start,
+                start..start + 200,
+            );
+        }
+        let short = cut
+            .wakes
+            .iter()
+            .filter(|w| w.ship.is_some())
+            .map(|w| w.length_m)
+            .fold(0.0, f64::max);
+        assert!(short < 0.5 * wake.length_m, "{short} m against {} m", wake.length_m);
+    }
 
     #[test]
     fn bearings_follow_the_compass() {

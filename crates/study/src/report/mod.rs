@@ -66,6 +66,7 @@ pub fn write_report(dir: &Path, study: &Study, run: &StudyRun) -> Result<Vec<Pat
     ));
     let ships = load_ships(dir)?;
     tables.push(ships::ships_table(&ships));
+    tables.extend(ships::wake_detectors_table(&ships));
     tables.push(ships::ships_scene_table(&ships));
     let timing = timing_table(run);
     let mut markdown = format!(

@@ -146,6 +146,52 @@ pub fn ships_table(results: &ShipsResults) -> Table {
     }
 }
 
+/// The wake detectors on the same detected ships: the classic search, the CNN, and their
+/// fusions (None when the run had no CNN that fits the scenes).
+pub fn wake_detectors_table(results: &ShipsResults) -> Option<Table> {
+    let (threshold, footprint) = (results.cnn_threshold?, results.cnn_footprint_m?);
+    if results.wake_detectors.is_empty() {
+        return None;
+    }
+    let rows = results
+        .wake_detectors
+        .iter()
+        .map(|d| {
+            vec![
+                d.detector.as_str().into(),
+                share(d.wakes_found as usize, d.wakes as usize),
+                share(d.false_alarms as usize, d.controls as usize),
+                Cell::number(d.mcc, 2),
+                or_dash(d.auc, |a| Cell::number(a, 2)),
+            ]
+        })
+        .collect();
+    Some(Table {
+        id: "ship_wake_detectors".into(),
+        title: "Wake detectors on the same ships: the classic search, the CNN and their fusion".into(),
+        caption: format!(
+            "For every detected ship of the scenes with the ship in view: its wake sought by the classic Radon \
+             search from the ship, and by the study's C-band \"base\" CNN ({footprint:.0} m windows a quarter \
+             window apart, centred within {radius:.0} m of the ship; wake when the largest probability reaches the \
+             detector's threshold {threshold:.2}); then the same surroundings in the scene's twin without the ship, \
+             where a wake found is a false alarm. Bayes fusion (spec Eqs. 5.1-5.5) and Dempster-Shafer (discounted \
+             masses, pignistic decision) weigh each source by its rates on the other scenes (leave one scene out). \
+             AUC: the area under the ROC curve of each detector's outputs over the scenes and their twins.",
+            radius = crate::steps::ship_windows::RADIUS_M,
+        ),
+        header: [
+            "wake detector",
+            "wakes found",
+            "false alarms (twin without the ship)",
+            "MCC",
+            "AUC",
+        ]
+        .map(String::from)
+        .to_vec(),
+        rows,
+    })
+}
+
 /// Every scene's truth and findings.
 pub fn ships_scene_table(results: &ShipsResults) -> Table {
     let rows = results

@@ -4,6 +4,7 @@
 mod context;
 pub mod environments;
 mod held_out;
+pub mod ship_windows;
 pub mod ships;
 mod study_run;
 pub mod whole_scene;

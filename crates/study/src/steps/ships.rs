@@ -9,6 +9,7 @@
 //! It writes `ships/ships.json`, which the report renders.
 
 use super::context::{fnv_hex, step_time};
+use super::ship_windows::{score_detectors, DetectorScore, ShipWindows, Trial};
 use crate::{Result, StepTime};
 use ndarray::Array2;
 use rand::{RngExt, SeedableRng};
@@ -20,8 +21,10 @@ use wakelab_core::units::RadarBand;
 use wakelab_core::{WakelabConfig, WakelabError};
 use wakelab_dataset::study::Study;
 use wakelab_ships::cfar::CfarOptions;
+use wakelab_ships::radon::SearchImage;
+use wakelab_ships::wake::ship_wake;
 use wakelab_ships::wake::WakeOptions;
-use wakelab_ships::{angle_difference, search, Geometry};
+use wakelab_ships::{angle_difference, search, Geometry, BACKGROUND_M};
 use wakelab_surface::scene::SceneGrid;
 
 /// The ships' speeds (m/s), scenes per speed with the ship in view, and scenes of free wakes.
@@ -61,6 +64,16 @@ pub struct SceneResult {
     pub speed_offset: Option<f64>,
     pub speed_kelvin: Option<f64>,
     pub no_speed: Vec<String>,
+    /// The classic search anchored on the detected ship in the twin without the ship: a wake
+    /// found there is a false alarm.
+    #[serde(default)]
+    pub wake_found_without: bool,
+    /// The CNN's largest window probability around the detected ship, in the scene and in its
+    /// twin without the ship (None: no ship detected, or no detector fits the scenes).
+    #[serde(default)]
+    pub cnn_with: Option<f64>,
+    #[serde(default)]
+    pub cnn_without: Option<f64>,
     /// Seconds the search took on this scene, and its area (km^2).
     pub seconds: f64,
     pub km2: f64,
@@ -72,6 +85,15 @@ pub struct ShipsResults {
     key: String,
     seconds: f64,
     pub scenes: Vec<SceneResult>,
+    /// The CNN's decision threshold and window footprint (m), when the run has a C-band
+    /// detector that fits the scenes' spacing.
+    #[serde(default)]
+    pub cnn_threshold: Option<f64>,
+    #[serde(default)]
+    pub cnn_footprint_m: Option<f64>,
+    /// The wake detectors on the detected ships (classic, CNN, their fusions).
+    #[serde(default)]
+    pub wake_detectors: Vec<DetectorScore>,
 }
 
 fn results_file(run_dir: &Path) -> PathBuf {
@@ -145,7 +167,7 @@ fn expected_return(c: &WakelabConfig, grid: &SceneGrid, g: &Geometry) -> (f64, f
 }
 
 /// Scene `k`: render it with and without its ship, search both and score the findings.
-fn run_scene(c: &WakelabConfig, run_dir: &Path, in_view: bool) -> Result<SceneResult> {
+fn run_scene(c: &WakelabConfig, run_dir: &Path, in_view: bool, cnn: Option<&ShipWindows>) -> Result<SceneResult> {
     c.validate()?;
     let map = wakelab_dataset::hydro_map(&run_dir.join("dataset"), c)?;
     let with = wakelab_surface::simulate_surface(c, Some(&map));
@@ -166,6 +188,17 @@ fn run_scene(c: &WakelabConfig, run_dir: &Path, in_view: bool) -> Result<SceneRe
     let tolerance = c.ship.length.max(100.0);
     let near = |s: &wakelab_ships::cfar::Ship| g.metres(s.row - expected.0, s.col - expected.1) <= tolerance;
     let found_ship = in_view.then(|| found.ships.ships.iter().position(near)).flatten();
+    // the same ship's surroundings in the twin without it: what each wake detector says there
+    let (mut wake_found_without, mut cnn_with, mut cnn_without) = (false, None, None);
+    if let Some(i) = found_ship {
+        let ship = &found.ships.ships[i];
+        let twin = SearchImage::new(plain.view(), &g, BACKGROUND_M);
+        wake_found_without = ship_wake(&twin, ship, i, &wakes).is_some();
+        if let Some(cnn) = cnn {
+            cnn_with = Some(cnn.score(&wake_image, (ship.row, ship.col), SPACING)?);
+            cnn_without = Some(cnn.score(&plain, (ship.row, ship.col), SPACING)?);
+        }
+    }
     let false_ships = found.ships.ships.len() - usize::from(found_ship.is_some());
     let wake = match found_ship {
         Some(i) => found.wakes.iter().find(|w| w.ship == Some(i)),
@@ -217,6 +250,9 @@ fn run_scene(c: &WakelabConfig, run_dir: &Path, in_view: bool) -> Result<SceneRe
         speed_offset,
         speed_kelvin,
         no_speed,
+        wake_found_without,
+        cnn_with,
+        cnn_without,
         seconds,
         km2: (c.scene.size as f64 * c.scene.pixel_spacing / 1000.0).powi(2),
     })
@@ -227,7 +263,12 @@ fn run_scene(c: &WakelabConfig, run_dir: &Path, in_view: bool) -> Result<SceneRe
 pub fn ships_step(run_dir: &Path, study: &Study) -> Result<StepTime> {
     let start = Instant::now();
     let base = study.base_config()?;
-    let key = fnv_hex(&format!("{base:?} {}", env!("CARGO_PKG_VERSION")));
+    let cnn = ShipWindows::load(run_dir, SPACING)?;
+    let key = fnv_hex(&format!(
+        "{base:?} {} detector {:?} trials-v4",
+        env!("CARGO_PKG_VERSION"),
+        cnn.as_ref().map(|c| c.hash)
+    ));
     if let Ok(found) = load_ships(run_dir) {
         if found.key == key {
             return Ok(step_time("ships", start, Some(found.seconds)));
@@ -245,12 +286,37 @@ pub fn ships_step(run_dir: &Path, study: &Study) -> Result<StepTime> {
     }
     let scenes = configs
         .iter()
-        .map(|(c, in_view)| run_scene(c, run_dir, *in_view))
+        .map(|(c, in_view)| run_scene(c, run_dir, *in_view, cnn.as_ref()))
         .collect::<Result<Vec<_>>>()?;
+    let cnn_threshold = cnn.as_ref().map(ShipWindows::threshold);
+    let trials: Vec<Trial> = scenes
+        .iter()
+        .enumerate()
+        .filter(|(_, s)| s.ship_found)
+        .flat_map(|(k, s)| {
+            let trial = |label: u8, classic: bool, cnn: Option<f64>| Trial {
+                scene: k,
+                label,
+                classic: if classic { 1.0 } else { 0.0 },
+                cnn: cnn.unwrap_or(0.0),
+            };
+            [
+                trial(1, s.wake_found, s.cnn_with),
+                trial(0, s.wake_found_without, s.cnn_without),
+            ]
+        })
+        .collect();
+    let wake_detectors = match cnn_threshold {
+        Some(t) if !trials.is_empty() => score_detectors(&trials, t),
+        _ => Vec::new(),
+    };
     let results = ShipsResults {
         key,
         seconds: start.elapsed().as_secs_f64(),
         scenes,
+        cnn_threshold,
+        cnn_footprint_m: cnn.as_ref().map(|c| c.footprint_m(SPACING)),
+        wake_detectors,
     };
     let file = results_file(run_dir);
     let dir = file.parent().expect("a folder");

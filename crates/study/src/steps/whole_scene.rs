@@ -247,7 +247,7 @@ fn scan_key(run_dir: &Path, manifest_hash: &str, pair: &ScenePair, bands: &[Band
 }
 
 /// The saved "base" detector of `band` in the run directory.
-fn model_path(run_dir: &Path, band: Band) -> PathBuf {
+pub(super) fn model_path(run_dir: &Path, band: Band) -> PathBuf {
     let input = Input::single(band);
     crate::output::detector_path(&run_dir.join("learn").join(input.name()), &input, Architecture::Base)
 }

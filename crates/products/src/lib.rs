@@ -379,6 +379,46 @@ impl RowSource {
         self.product.strip(start, n)
     }
 
+    /// The product's cross-polarised band on the same grid (VH beside VV, HV beside HH), read
+    /// with the same `options` (noise removal), where the product holds one and this source
+    /// reads a co-polarised band; None otherwise.
+    pub fn cross_polarised(&self, options: &ReadOptions) -> Result<Option<RowSource>, WakelabError> {
+        let partner = match self.meta.polarisation.as_deref() {
+            Some("VV") => "VH",
+            Some("HH") => "HV",
+            _ => return Ok(None),
+        };
+        if !self.meta.polarisations.iter().any(|p| p == partner) {
+            return Ok(None);
+        }
+        let Some(safe) = sentinel1::SafeLocation::find(&self.path)? else {
+            return Ok(None);
+        };
+        let options = ReadOptions {
+            polarisation: Some(partner.into()),
+            ..options.clone()
+        };
+        let product = sentinel1::Sentinel1::open(&safe, &options)?;
+        if (product.rows, product.cols) != self.dim() {
+            return Err(product_error(
+                &self.path,
+                format!(
+                    "its {partner} band is {} x {} pixels and its co-polarised band {} x {}: not one grid",
+                    product.rows,
+                    product.cols,
+                    self.dim().0,
+                    self.dim().1
+                ),
+            ));
+        }
+        Ok(Some(RowSource {
+            path: self.path.clone(),
+            meta: product.meta(),
+            frame: product.frame(),
+            product,
+        }))
+    }
+
     /// The whole product.
     pub fn read_all(self, progress: &mut dyn FnMut(usize, usize)) -> Result<Product, WakelabError> {
         let (rows, _) = self.dim();

@@ -200,3 +200,47 @@ fn a_product_without_its_files_or_polarisation_says_which() {
         "{err}"
     );
 }
+
+/// A dual-polarisation product (VV and VH): the co-polarised source offers its VH band on the
+/// same grid, calibrated by VH's own files, every pixel as the closed form of VH's numbers; a
+/// product of VV alone offers none.
+#[test]
+fn a_dual_polarisation_product_offers_its_cross_polarised_band() {
+    let dir = tempfile::tempdir().unwrap();
+    let vv = Synthetic::small(true);
+    let safe = write_safe(dir.path(), &vv);
+    let options = ReadOptions::default();
+    let single = match wakelab_products::open_source(&safe, &options, &mut |_, _| {}).unwrap() {
+        wakelab_products::Source::Rows(rows) => rows,
+        _ => panic!("a Sentinel-1 product reads by rows"),
+    };
+    assert!(single.cross_polarised(&options).unwrap().is_none());
+    let vh_dn = |l: usize, p: usize| dn(l, p) / 4;
+    let vh = Synthetic {
+        dn: &vh_dn,
+        ..Synthetic::small(true)
+    };
+    add_polarisation(&safe, &vh, "VH");
+    let co = match wakelab_products::open_source(&safe, &options, &mut |_, _| {}).unwrap() {
+        wakelab_products::Source::Rows(rows) => rows,
+        _ => panic!("a Sentinel-1 product reads by rows"),
+    };
+    assert_eq!(co.meta.polarisation.as_deref(), Some("VV"));
+    assert_eq!(co.meta.polarisations, ["VH", "VV"]);
+    let cross = co.cross_polarised(&options).unwrap().expect("its VH band");
+    assert_eq!(cross.meta.polarisation.as_deref(), Some("VH"));
+    assert_eq!(cross.dim(), co.dim());
+    let (image, _) = cross.rows(0, LINES).unwrap();
+    for l in 0..LINES {
+        for p in 0..SAMPLES {
+            let got = image[[l, p]];
+            match expected_sigma0(&vh, l, p, true) {
+                None => assert!(got.is_nan(), "({l}, {p})"),
+                Some(want) => assert!(
+                    ((got as f64) - want).abs() <= 1e-6 * want,
+                    "({l}, {p}): {got} against {want}"
+                ),
+            }
+        }
+    }
+}

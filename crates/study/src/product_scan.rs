@@ -204,13 +204,30 @@ pub fn scan_product(path: &Path, read: &ReadOptions, scanner: Scanner, progress:
     };
     let (factor, mut notes) = spacing_factor(meta, info)?;
     notes.extend(band_note);
-    let product = match source {
-        Source::Rows(rows) if factor.0.fract() == 0.0 && factor.1.fract() == 0.0 => {
-            return scan_by_bands(*rows, band, factor, notes, scanner, progress)
-        }
-        Source::Rows(rows) => rows.read_all(progress.reading)?,
-        Source::Whole(product) => *product,
+    // the ships are sought in the cross-polarised band where the product has one
+    let cross = match (&source, band.is_radar()) {
+        (Source::Rows(rows), true) => rows.cross_polarised(&read)?,
+        _ => None,
     };
+    let (product, cross) = match source {
+        Source::Rows(rows) if factor.0.fract() == 0.0 && factor.1.fract() == 0.0 => {
+            return scan_by_bands(*rows, cross, band, factor, notes, scanner, progress)
+        }
+        Source::Rows(rows) => {
+            let cross = cross.map(|c| c.read_all(&mut |_, _| {})).transpose()?;
+            (rows.read_all(progress.reading)?, cross)
+        }
+        Source::Whole(product) => (*product, None),
+    };
+    let cross = cross.map(|c| {
+        let pol = c.meta.polarisation.unwrap_or_default();
+        let image = if factor == (1.0, 1.0) {
+            c.image
+        } else {
+            wakelab_products::resample::area_average(&c.image, factor.0, factor.1)
+        };
+        (image, pol)
+    });
     let masked = product.report.masked;
     let (image, frame) = if factor == (1.0, 1.0) {
         (product.image, product.frame.clone())
@@ -226,7 +243,12 @@ pub fn scan_product(path: &Path, read: &ReadOptions, scanner: Scanner, progress:
     let sea = band.is_radar().then(|| {
         let (geometry, sea_notes) = product_geometry(&product.meta, scanned_spacing(&product.meta, info, factor));
         notes.extend(sea_notes);
-        search_image(image.view(), geometry)
+        notes.extend(cross.as_ref().map(|c| cross_note(&c.1)));
+        search_image(
+            image.view(),
+            cross.as_ref().map(|c| (c.0.view(), c.1.as_str())),
+            geometry,
+        )
     });
     notes.splice(0..0, product.report.notes.iter().cloned());
     masked_note(&mut notes, masked);
@@ -246,6 +268,13 @@ pub fn scan_product(path: &Path, read: &ReadOptions, scanner: Scanner, progress:
     })
 }
 
+/// What the notes say of ships sought in the cross-polarised band `pol`.
+fn cross_note(pol: &str) -> String {
+    format!(
+        "ships sought in the product's cross-polarised {pol} band (the sea is darker there), wakes in the scanned band"
+    )
+}
+
 fn masked_note(notes: &mut Vec<String>, masked: usize) {
     if masked > 0 {
         notes.push(format!(
@@ -261,6 +290,7 @@ fn masked_note(notes: &mut Vec<String>, masked: usize) {
 /// rows either side, so that a wake crossing a band's edge is searched whole.
 fn scan_by_bands(
     source: RowSource,
+    cross: Option<RowSource>,
     band: Band,
     factor: (f64, f64),
     mut notes: Vec<String>,
@@ -280,7 +310,9 @@ fn scan_by_bands(
     let mut sea = band.is_radar().then(|| {
         let (geometry, sea_notes) = product_geometry(&source.meta, scanned_spacing(&source.meta, info, factor));
         notes.extend(sea_notes);
-        SeaStream::new(geometry, scanned.1, BAND_ROWS)
+        let pol = cross.as_ref().map(|c| c.meta.polarisation.clone().unwrap_or_default());
+        notes.extend(pol.as_deref().map(cross_note));
+        SeaStream::new(geometry, scanned.1, BAND_ROWS, pol)
     });
     // scanned rows counted (masked, floored, overlay) so far: a band's overlap with the last
     // is not
@@ -295,15 +327,26 @@ fn scan_by_bands(
         let product_rows = strip.slice(ndarray::s![fresh * fr.., ..]);
         masked += product_rows.iter().filter(|v| v.is_nan()).count();
         floored += floored_per_row[fresh * fr..].iter().sum::<usize>();
-        let strip = if (fr, fc) == (1, 1) {
-            strip
-        } else {
-            wakelab_products::resample::area_average(&strip, fr as f64, fc as f64)
+        let average = |strip: ndarray::Array2<f32>| {
+            if (fr, fc) == (1, 1) {
+                strip
+            } else {
+                wakelab_products::resample::area_average(&strip, fr as f64, fc as f64)
+            }
         };
+        let strip = average(strip);
         let strip = strip.slice(ndarray::s![..end - start, ..]);
+        let cross_strip = match (&cross, &sea) {
+            (Some(c), Some(_)) => Some(average(c.rows(start * fr, last - start * fr)?.0)),
+            _ => None,
+        };
         overlay.add(start + fresh, strip.slice(ndarray::s![fresh.., ..]));
         if let Some(sea) = sea.as_mut() {
-            sea.push(start, strip);
+            sea.push(
+                start,
+                strip,
+                cross_strip.as_ref().map(|c| c.slice(ndarray::s![..end - start, ..])),
+            );
         }
         counted = end;
         (progress.reading)(last, rows);

@@ -18,7 +18,7 @@ use wakelab_products::geojson::{Finding, Kind};
 use wakelab_products::ProductMeta;
 use wakelab_ships::cfar::{CfarOptions, Ship};
 use wakelab_ships::wake::{Wake, WakeOptions};
-use wakelab_ships::{search, Geometry};
+use wakelab_ships::{search_polarised, Geometry};
 
 /// The ships and wakes found in a scanned product, in the scanned grid's pixels, with the
 /// geometry that placed them.
@@ -31,6 +31,9 @@ pub struct SeaFindings {
     pub sidelobes: usize,
     pub too_long: usize,
     pub geometry: Geometry,
+    /// The cross-polarised band the ships were sought in (VH, HV), where the product has one;
+    /// None: the scanned band itself.
+    pub ships_polarisation: Option<String>,
 }
 
 /// Whether `meta` is a product in radar geometry (lines in azimuth time, columns in range).
@@ -86,9 +89,16 @@ pub fn product_geometry(meta: &ProductMeta, spacing: (f64, f64)) -> (Geometry, V
     )
 }
 
-/// The searches on `image` (linear sigma0 as scanned).
-pub fn search_image(image: ArrayView2<f32>, geometry: Geometry) -> SeaFindings {
-    let found = search(image, &geometry, &CfarOptions::default(), &WakeOptions::default());
+/// The searches on `image` (linear sigma0 as scanned), the ships sought in `cross` (the
+/// product's cross-polarised band on the same grid, named `polarisation`) where one is given.
+pub fn search_image(image: ArrayView2<f32>, cross: Option<(ArrayView2<f32>, &str)>, geometry: Geometry) -> SeaFindings {
+    let found = search_polarised(
+        image,
+        cross.map(|c| c.0),
+        &geometry,
+        &CfarOptions::default(),
+        &WakeOptions::default(),
+    );
     SeaFindings {
         ambiguities: found.ships.ambiguities.len(),
         sidelobes: found.ships.sidelobes,
@@ -96,12 +106,14 @@ pub fn search_image(image: ArrayView2<f32>, geometry: Geometry) -> SeaFindings {
         ships: found.ships.ships,
         wakes: found.wakes,
         geometry,
+        ships_polarisation: cross.map(|c| c.1.to_string()),
     }
 }
 
 impl SeaFindings {
-    /// No findings yet, for a product searched a band at a time.
-    pub fn empty(geometry: Geometry) -> Self {
+    /// No findings yet, for a product searched a band at a time (its ships in the
+    /// cross-polarised band `ships_polarisation` where it has one).
+    pub fn empty(geometry: Geometry, ships_polarisation: Option<String>) -> Self {
         Self {
             ships: Vec::new(),
             wakes: Vec::new(),
@@ -109,14 +121,23 @@ impl SeaFindings {
             sidelobes: 0,
             too_long: 0,
             geometry,
+            ships_polarisation,
         }
     }
 
     /// Add the findings of a band of rows `first_row..` of the scanned image, keeping the ships
     /// whose centre (and the free wakes whose middle) lies in `own` rows of the whole image:
     /// the bands overlap, and a finding belongs to the band that owns its rows.
-    pub fn add_band(&mut self, band: ArrayView2<f32>, first_row: usize, own: Range<usize>) {
-        let found = search_image(band, self.geometry);
+    /// `cross` is the band's rows of the cross-polarised band where the product has one.
+    pub fn add_band(
+        &mut self,
+        band: ArrayView2<f32>,
+        cross: Option<ArrayView2<f32>>,
+        first_row: usize,
+        own: Range<usize>,
+    ) {
+        let polarisation = self.ships_polarisation.clone().unwrap_or_default();
+        let found = search_image(band, cross.map(|c| (c, polarisation.as_str())), self.geometry);
         let shift = first_row as f64;
         let owned = |row: f64| own.contains(&((row + shift).max(0.0) as usize));
         let mut index = std::collections::BTreeMap::new();
@@ -187,6 +208,7 @@ impl SeaFindings {
                 properties.insert("peak_sigma0_db".into(), json!(s.peak_db));
                 properties.insert("contrast_db".into(), json!(s.contrast_db));
                 properties.insert("ship".into(), json!(k));
+                properties.insert("found_in".into(), json!(self.ships_polarisation));
                 findings.push(Finding {
                     kind: Kind::Ship,
                     row,
@@ -196,6 +218,8 @@ impl SeaFindings {
                 });
                 let mut entry = serde_json::to_value(s).expect("a ship serialises");
                 entry["product_row"] = json!(row);
+                // the cross-polarised band the ship was found in; null: the scanned band
+                entry["found_in"] = json!(self.ships_polarisation);
                 entry["product_col"] = json!(col);
                 entry["lon"] = json!(ll.map(|p| p.0));
                 entry["lat"] = json!(ll.map(|p| p.1));
@@ -292,19 +316,23 @@ pub struct SeaStream {
     findings: SeaFindings,
     own: usize,
     margin: usize,
-    /// The rows held, and the first of them in the whole image.
+    /// The rows held (and the cross-polarised band's), and the first of them in the whole image.
     held: ndarray::Array2<f32>,
+    held_cross: Option<ndarray::Array2<f32>>,
     held_from: usize,
     /// Rows below this are owned by bands already searched.
     searched: usize,
 }
 
 impl SeaStream {
-    /// A stream of images of `cols` columns at `geometry`, searched in bands of `own` rows.
-    pub fn new(geometry: Geometry, cols: usize, own: usize) -> Self {
+    /// A stream of images of `cols` columns at `geometry`, searched in bands of `own` rows; with
+    /// the rows of the cross-polarised band `ships_polarisation`, where there is one, pushed
+    /// beside them.
+    pub fn new(geometry: Geometry, cols: usize, own: usize, ships_polarisation: Option<String>) -> Self {
         Self {
             margin: (sea_margin_m() / geometry.spacing.0).ceil() as usize,
-            findings: SeaFindings::empty(geometry),
+            held_cross: ships_polarisation.as_ref().map(|_| ndarray::Array2::zeros((0, cols))),
+            findings: SeaFindings::empty(geometry, ships_polarisation),
             own: own.max(1),
             held: ndarray::Array2::zeros((0, cols)),
             held_from: 0,
@@ -316,13 +344,19 @@ impl SeaStream {
         self.held_from + self.held.nrows()
     }
 
-    /// Rows `first..first + rows.nrows()` of the image (rows already held are skipped; the
-    /// rows must follow on from those held, overlapping or not).
-    pub fn push(&mut self, first: usize, rows: ArrayView2<f32>) {
+    /// Rows `first..first + rows.nrows()` of the image and of its cross-polarised band (rows
+    /// already held are skipped; the rows must follow on from those held, overlapping or not).
+    pub fn push(&mut self, first: usize, rows: ArrayView2<f32>, cross: Option<ArrayView2<f32>>) {
         let skip = self.held_to().saturating_sub(first).min(rows.nrows());
         assert!(first <= self.held_to(), "rows pushed in order without a gap");
-        let fresh = rows.slice(ndarray::s![skip.., ..]);
-        self.held = ndarray::concatenate(ndarray::Axis(0), &[self.held.view(), fresh]).expect("same columns");
+        let append = |held: &ndarray::Array2<f32>, rows: ArrayView2<f32>| {
+            ndarray::concatenate(ndarray::Axis(0), &[held.view(), rows.slice(ndarray::s![skip.., ..])])
+                .expect("same columns")
+        };
+        self.held = append(&self.held, rows);
+        if let (Some(held), Some(cross)) = (self.held_cross.as_mut(), cross) {
+            *held = append(held, cross);
+        }
         while self.held_to() >= self.searched + self.own + self.margin {
             self.search_band(self.searched + self.own);
         }
@@ -333,16 +367,17 @@ impl SeaStream {
     fn search_band(&mut self, own_end: usize) {
         let from = self.searched.saturating_sub(self.margin).max(self.held_from);
         let to = (own_end + self.margin).min(self.held_to());
-        let band = self
-            .held
-            .slice(ndarray::s![from - self.held_from..to - self.held_from, ..]);
-        self.findings.add_band(band, from, self.searched..own_end);
+        let rows = ndarray::s![from - self.held_from..to - self.held_from, ..];
+        let cross = self.held_cross.as_ref().map(|c| c.slice(rows));
+        self.findings
+            .add_band(self.held.slice(rows), cross, from, self.searched..own_end);
         self.searched = own_end;
         let keep_from = self.searched.saturating_sub(self.margin).max(self.held_from);
-        self.held = self
-            .held
-            .slice(ndarray::s![keep_from - self.held_from.., ..])
-            .to_owned();
+        let kept = ndarray::s![keep_from - self.held_from.., ..];
+        self.held = self.held.slice(kept).to_owned();
+        if let Some(cross) = self.held_cross.as_mut() {
+            *cross = cross.slice(kept).to_owned();
+        }
         self.held_from = keep_from;
     }
 
@@ -434,14 +469,14 @@ mod tests {
     fn a_streamed_search_finds_what_the_whole_image_holds() {
         let image = long_scene();
         let g = Geometry::along_rows(10.0, 35.0, None);
-        let whole = search_image(image.view(), g);
+        let whole = search_image(image.view(), None, g);
         assert_eq!(whole.ships.len(), 1, "{:?}", whole.ships);
         let wake = whole.wakes.iter().find(|w| w.ship == Some(0)).expect("the ship's wake");
         assert!(wake.length_m > 2500.0, "{wake:?}");
-        let mut stream = SeaStream::new(g, 300, 200);
+        let mut stream = SeaStream::new(g, 300, 200, None);
         for start in (0..1600).step_by(150) {
             let end = (start + 170).min(1600);
-            stream.push(start, image.slice(ndarray::s![start..end, ..]));
+            stream.push(start, image.slice(ndarray::s![start..end, ..]), None);
         }
         let streamed = stream.finish();
         assert_eq!(streamed.ships.len(), 1, "{:?}", streamed.ships);
@@ -461,10 +496,11 @@ mod tests {
         );
         assert_eq!(streamed.wakes.len(), whole.wakes.len());
         // bands without margins (as before): the wake stops at the band's edge, 1 km behind
-        let mut cut = SeaFindings::empty(g);
+        let mut cut = SeaFindings::empty(g, None);
         for start in (0..1600).step_by(200) {
             cut.add_band(
                 image.slice(ndarray::s![start..start + 200, ..]),
+                None,
                 start,
                 start..start + 200,
             );

@@ -11,7 +11,9 @@ use ndarray::Array2;
 use std::path::{Path, PathBuf};
 use wakelab_products::cog::{write_cog, BandInfo};
 use wakelab_products::frame::{Frame, Placement};
-use wakelab_products::sentinel1::synthetic::{expected_sigma0, latitude, longitude, write_safe, Synthetic};
+use wakelab_products::sentinel1::synthetic::{
+    add_polarisation, expected_sigma0, latitude, longitude, write_safe, Synthetic,
+};
 
 const SIDE: usize = 160;
 /// UTM zone 33N, 10 m pixels.
@@ -428,4 +430,87 @@ fn a_ship_and_its_wake_come_out_as_geojson() {
     let printed: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
     assert_eq!(printed["ships"], report["ships"]);
     assert_eq!(printed["wakes"], report["wakes"]);
+}
+
+/// A dual-polarisation Sentinel-1 product of 2,500 lines (read in three bands): a ship 3 dB over
+/// a 4-look VV sea, its trough 3 dB dark for 2.5 km behind it across the first band's edge, and
+/// 25 dB over the VH sea. Scanned with VV alone, the CFAR cannot see the ship; with its VH band
+/// beside it, `detect` finds the ship in VH, says so, and finds its whole wake in VV.
+#[test]
+fn a_dual_polarisation_product_shows_its_ships_in_cross_polarisation() {
+    let root = tempfile::tempdir().unwrap();
+    let dir = root.path();
+    let lines = 2500;
+    let looks: Vec<Array2<f32>> = (0..4).map(|k| sea_of(lines * (k + 1))).collect();
+    let (ship_r, ship_c) = (900usize, 80usize);
+    let vv = Array2::from_shape_fn((lines, SIDE), |(r, c)| {
+        let mean = looks
+            .iter()
+            .enumerate()
+            .map(|(k, l)| l[[lines * k + r, c]])
+            .sum::<f32>()
+            / 4.0;
+        let trough = (ship_r + 6..ship_r + 256).contains(&r) && c.abs_diff(ship_c) <= 2;
+        let ship = r.abs_diff(ship_r) <= 6 && c.abs_diff(ship_c) <= 1;
+        mean * if trough {
+            0.5
+        } else if ship {
+            2.0
+        } else {
+            1.0
+        }
+    });
+    let vh = Array2::from_shape_fn((lines, SIDE), |(r, c)| {
+        let ship = r.abs_diff(ship_r) <= 6 && c.abs_diff(ship_c) <= 1;
+        if ship {
+            3.0
+        } else {
+            0.01 * looks[1][[r, c]]
+        }
+    });
+    let luts = Synthetic {
+        lines,
+        samples: SIDE,
+        since_2_9: true,
+        dn: &|_, _| 0,
+    };
+    // digital numbers whose sigma0 (noise kept) is the image: DN = A sqrt(sigma0)
+    let numbers = |image: &Array2<f32>, l: usize, p: usize| -> u16 {
+        let a = luts.gain(l as f64, p as f64);
+        (a * (image[[l, p]] as f64).sqrt()).round().clamp(1.0, 65535.0) as u16
+    };
+    let (dn_vv, dn_vh) = (|l, p| numbers(&vv, l, p), |l, p| numbers(&vh, l, p));
+    let safe = write_safe(dir, &Synthetic { dn: &dn_vv, ..luts });
+    let model = detector(dir);
+    let co = detect(&safe, &model, &dir.join("scan_vv"), &["--keep-noise"]);
+    assert!(co["ships"].as_array().unwrap().is_empty(), "{}", co["ships"]);
+    add_polarisation(&safe, &Synthetic { dn: &dn_vh, ..luts }, "VH");
+    let dual = detect(&safe, &model, &dir.join("scan_dual"), &["--keep-noise"]);
+    let ships = dual["ships"].as_array().unwrap();
+    assert_eq!(ships.len(), 1, "{ships:?}");
+    let ship = &ships[0];
+    assert_eq!(ship["found_in"], "VH");
+    let (row, col) = (
+        ship["product_row"].as_f64().unwrap(),
+        ship["product_col"].as_f64().unwrap(),
+    );
+    assert!(
+        (row - ship_r as f64).abs() < 2.0 && (col - ship_c as f64).abs() < 2.0,
+        "{ship}"
+    );
+    assert!(
+        dual["notes"].to_string().contains("cross-polarised VH"),
+        "{}",
+        dual["notes"]
+    );
+    let wake = dual["wakes"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .find(|w| w["ship"] == 0)
+        .expect("the ship's wake");
+    // the ship sails up the image; its wake crosses the first band's last row (about 1,040)
+    let course = wake["course_image_deg"].as_f64().unwrap();
+    assert!(course.min(360.0 - course) < 3.0, "{wake}");
+    assert!(wake["length_m"].as_f64().unwrap() > 2000.0, "{wake}");
 }

@@ -273,6 +273,23 @@ pub fn write_safe(dir: &Path, s: &Synthetic) -> PathBuf {
     root
 }
 
+/// Add a second polarisation `pol` (say "VH") with its own digital numbers to a product
+/// [`write_safe`] wrote at `root`: its annotation, calibration and noise files (the same
+/// look-up tables) and its measurement, named as ESA names a dual-polarisation product's
+/// (the manifest still lists VV alone; wakelab finds the bands by their annotation files).
+pub fn add_polarisation(root: &Path, s: &Synthetic, pol: &str) {
+    let stem = STEM.replace("-vv-", &format!("-{}-", pol.to_ascii_lowercase()));
+    for (name, bytes) in annotation_files(s).into_iter().skip(1) {
+        let text = String::from_utf8(bytes).unwrap().replace(
+            "<polarisation>VV</polarisation>",
+            &format!("<polarisation>{}</polarisation>", pol.to_ascii_uppercase()),
+        );
+        let path = root.join(name.replace(STEM, &stem));
+        std::fs::write(path, text).unwrap();
+    }
+    write_measurement(s, &root.join(format!("measurement/{stem}.tiff")));
+}
+
 /// Write the product as a `.zip` (the SAFE folder inside, as ESA distributes it), through
 /// GDAL's /vsizip/ writer.
 pub fn write_zip(dir: &Path, s: &Synthetic) -> PathBuf {

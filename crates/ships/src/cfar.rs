@@ -89,9 +89,10 @@ pub struct Ship {
 pub struct ShipSearch {
     pub ships: Vec<Ship>,
     pub ambiguities: Vec<Ship>,
-    pub sidelobes: usize,
-    /// Targets rejected for their length.
-    pub too_long: usize,
+    /// The centres (row, column) of the targets rejected as sidelobes, and of those rejected
+    /// for their length.
+    pub sidelobes: Vec<(f64, f64)>,
+    pub too_long: Vec<(f64, f64)>,
     /// The threshold in background standard deviations, Phi^-1(1 - P_fa).
     pub threshold_sigmas: f64,
     pub options: CfarOptions,
@@ -268,17 +269,21 @@ pub fn find_ships(image: ArrayView2<f32>, geometry: &Geometry, options: &CfarOpt
         .map(|g| describe(&g, image, &mean, geometry))
         .collect();
     targets.sort_by(|a, b| b.peak_sigma0.total_cmp(&a.peak_sigma0));
-    let too_long = targets.iter().filter(|s| s.length_m > options.max_length_m).count();
+    let too_long = targets
+        .iter()
+        .filter(|s| s.length_m > options.max_length_m)
+        .map(|s| (s.row, s.col))
+        .collect();
     targets.retain(|s| s.length_m <= options.max_length_m && s.pixels >= options.min_pixels);
     // ghosts: weaker targets on the range or azimuth lines of brighter ones
-    let (mut ships, mut ambiguities, mut sidelobes): (Vec<Ship>, Vec<Ship>, usize) = (Vec::new(), Vec::new(), 0);
+    let (mut ships, mut ambiguities, mut sidelobes) = (Vec::new(), Vec::new(), Vec::new());
     let azimuth = geometry.step(geometry.azimuth_deg);
     for target in targets {
         let verdict = ships
             .iter()
             .find_map(|bright: &Ship| ghost_of(bright, &target, azimuth, geometry, options));
         match verdict {
-            Some(Ghost::Sidelobe) => sidelobes += 1,
+            Some(Ghost::Sidelobe) => sidelobes.push((target.row, target.col)),
             Some(Ghost::Ambiguity) => ambiguities.push(target),
             None => ships.push(target),
         }
@@ -464,6 +469,6 @@ mod tests {
         );
         assert!((ship.contrast_db - 40.0).abs() < 3.0, "{}", ship.contrast_db);
         assert_eq!(found.ambiguities.len(), 1);
-        assert!(found.sidelobes >= 1);
+        assert!(!found.sidelobes.is_empty());
     }
 }

@@ -6,7 +6,7 @@
 //! band of rows at a time, so memory holds one band, not the product. What was assumed is said in
 //! the scan's notes.
 
-use crate::sea_findings::{product_geometry, search_image, SeaFindings, SeaStream};
+use crate::sea_findings::{product_geometry, search_image, SeaFindings, SeaStream, TILE_ROWS};
 use anyhow::Result;
 use std::path::Path;
 use wakelab_core::ConfigError;
@@ -312,7 +312,7 @@ fn scan_by_bands(
         notes.extend(sea_notes);
         let pol = cross.as_ref().map(|c| c.meta.polarisation.clone().unwrap_or_default());
         notes.extend(pol.as_deref().map(cross_note));
-        SeaStream::new(geometry, scanned.1, BAND_ROWS, pol)
+        SeaStream::new(geometry, scanned.1, TILE_ROWS, pol)
     });
     // scanned rows counted (masked, floored, overlay) so far: a band's overlap with the last
     // is not

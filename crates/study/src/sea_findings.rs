@@ -90,24 +90,12 @@ pub fn product_geometry(meta: &ProductMeta, spacing: (f64, f64)) -> (Geometry, V
 }
 
 /// The searches on `image` (linear sigma0 as scanned), the ships sought in `cross` (the
-/// product's cross-polarised band on the same grid, named `polarisation`) where one is given.
+/// product's cross-polarised band on the same grid, named `polarisation`) where one is given:
+/// tile by tile as a streamed product's ([`SeaStream`]), so that memory holds one tile's search.
 pub fn search_image(image: ArrayView2<f32>, cross: Option<(ArrayView2<f32>, &str)>, geometry: Geometry) -> SeaFindings {
-    let found = search_polarised(
-        image,
-        cross.map(|c| c.0),
-        &geometry,
-        &CfarOptions::default(),
-        &WakeOptions::default(),
-    );
-    SeaFindings {
-        ambiguities: found.ships.ambiguities.len(),
-        sidelobes: found.ships.sidelobes,
-        too_long: found.ships.too_long,
-        ships: found.ships.ships,
-        wakes: found.wakes,
-        geometry,
-        ships_polarisation: cross.map(|c| c.1.to_string()),
-    }
+    let mut stream = SeaStream::new(geometry, image.ncols(), TILE_ROWS, cross.map(|c| c.1.to_string()));
+    stream.push(0, image, cross.map(|c| c.0));
+    stream.finish()
 }
 
 impl SeaFindings {
@@ -125,45 +113,57 @@ impl SeaFindings {
         }
     }
 
-    /// Add the findings of a band of rows `first_row..` of the scanned image, keeping the ships
-    /// whose centre (and the free wakes whose middle) lies in `own` rows of the whole image:
-    /// the bands overlap, and a finding belongs to the band that owns its rows.
-    /// `cross` is the band's rows of the cross-polarised band where the product has one.
-    pub fn add_band(
+    /// Add the findings of a tile of the scanned image whose first pixel is `origin` (row,
+    /// column) of the whole image, keeping the ships (and the targets rejected as ghosts) whose
+    /// centre, and the free wakes whose middle, lies in its `own` rows and columns: the tiles
+    /// overlap, and a finding belongs to the tile that owns its place. `cross` is the tile of
+    /// the cross-polarised band where the product has one.
+    pub fn add_tile(
         &mut self,
-        band: ArrayView2<f32>,
+        tile: ArrayView2<f32>,
         cross: Option<ArrayView2<f32>>,
-        first_row: usize,
-        own: Range<usize>,
+        origin: (usize, usize),
+        own: (Range<usize>, Range<usize>),
     ) {
-        let polarisation = self.ships_polarisation.clone().unwrap_or_default();
-        let found = search_image(band, cross.map(|c| (c, polarisation.as_str())), self.geometry);
-        let shift = first_row as f64;
-        let owned = |row: f64| own.contains(&((row + shift).max(0.0) as usize));
+        let found = search_polarised(
+            tile,
+            cross,
+            &self.geometry,
+            &CfarOptions::default(),
+            &WakeOptions::default(),
+        );
+        let shift = (origin.0 as f64, origin.1 as f64);
+        let owned = |(row, col): (f64, f64)| {
+            own.0.contains(&((row + shift.0).max(0.0) as usize)) && own.1.contains(&((col + shift.1).max(0.0) as usize))
+        };
         let mut index = std::collections::BTreeMap::new();
-        for (i, mut ship) in found.ships.into_iter().enumerate() {
-            if owned(ship.row) {
-                ship.row += shift;
-                ship.peak_row += first_row;
+        for (i, mut ship) in found.ships.ships.into_iter().enumerate() {
+            if owned((ship.row, ship.col)) {
+                ship.row += shift.0;
+                ship.col += shift.1;
+                ship.peak_row += origin.0;
+                ship.peak_col += origin.1;
                 index.insert(i, self.ships.len());
                 self.ships.push(ship);
             }
         }
         for mut wake in found.wakes {
+            let middle = (0.5 * (wake.start.0 + wake.end.0), 0.5 * (wake.start.1 + wake.end.1));
             let keep = match wake.ship {
                 Some(i) => index.get(&i).copied().map(Some),
-                None => owned(0.5 * (wake.start.0 + wake.end.0)).then_some(None),
+                None => owned(middle).then_some(None),
             };
             if let Some(ship) = keep {
                 wake.ship = ship;
-                wake.start.0 += shift;
-                wake.end.0 += shift;
+                wake.start = (wake.start.0 + shift.0, wake.start.1 + shift.1);
+                wake.end = (wake.end.0 + shift.0, wake.end.1 + shift.1);
                 self.wakes.push(wake);
             }
         }
-        self.ambiguities += found.ambiguities;
-        self.sidelobes += found.sidelobes;
-        self.too_long += found.too_long;
+        let count = |places: Vec<(f64, f64)>| places.into_iter().filter(|&p| owned(p)).count();
+        self.ambiguities += count(found.ships.ambiguities.iter().map(|a| (a.row, a.col)).collect());
+        self.sidelobes += count(found.ships.sidelobes);
+        self.too_long += count(found.ships.too_long);
     }
 
     /// "2 ship(s), 1 wake(s) (1 of a ship, 0 free)".
@@ -307,6 +307,12 @@ pub fn sea_margin_m() -> f64 {
     o.length_m + o.max_offset_m + 0.5 * wakelab_ships::BACKGROUND_M
 }
 
+/// Rows and columns a tile of the searches owns: with its margins, a tile of a 10 m product is
+/// 2,048 + 1,000 rows by 8,192 + 1,000 columns (on a whole Sentinel-1 IW product, 22 % more
+/// time than searching bands without margins, measured: docs/results.md).
+pub const TILE_ROWS: usize = 2048;
+const TILE_COLUMNS: usize = 8192;
+
 /// The ship and wake searches over an image that arrives a band of rows at a time (a product
 /// streamed from disk): the rows are held until `margin` rows past a band of `own` rows have
 /// arrived, then that band is searched with `margin` rows either side and keeps what lies in
@@ -315,7 +321,9 @@ pub fn sea_margin_m() -> f64 {
 pub struct SeaStream {
     findings: SeaFindings,
     own: usize,
+    /// Margins in rows and in columns.
     margin: usize,
+    margin_cols: usize,
     /// The rows held (and the cross-polarised band's), and the first of them in the whole image.
     held: ndarray::Array2<f32>,
     held_cross: Option<ndarray::Array2<f32>>,
@@ -331,6 +339,7 @@ impl SeaStream {
     pub fn new(geometry: Geometry, cols: usize, own: usize, ships_polarisation: Option<String>) -> Self {
         Self {
             margin: (sea_margin_m() / geometry.spacing.0).ceil() as usize,
+            margin_cols: (sea_margin_m() / geometry.spacing.1).ceil() as usize,
             held_cross: ships_polarisation.as_ref().map(|_| ndarray::Array2::zeros((0, cols))),
             findings: SeaFindings::empty(geometry, ships_polarisation),
             own: own.max(1),
@@ -367,10 +376,20 @@ impl SeaStream {
     fn search_band(&mut self, own_end: usize) {
         let from = self.searched.saturating_sub(self.margin).max(self.held_from);
         let to = (own_end + self.margin).min(self.held_to());
-        let rows = ndarray::s![from - self.held_from..to - self.held_from, ..];
-        let cross = self.held_cross.as_ref().map(|c| c.slice(rows));
-        self.findings
-            .add_band(self.held.slice(rows), cross, from, self.searched..own_end);
+        let cols = self.held.ncols();
+        // tiles of TILE_COLUMNS own columns across the band, each searched with its margins
+        for c0 in (0..cols.max(1)).step_by(TILE_COLUMNS) {
+            let c1 = (c0 + TILE_COLUMNS).min(cols);
+            let (left, right) = (c0.saturating_sub(self.margin_cols), (c1 + self.margin_cols).min(cols));
+            let tile = ndarray::s![from - self.held_from..to - self.held_from, left..right];
+            let cross = self.held_cross.as_ref().map(|c| c.slice(tile));
+            self.findings.add_tile(
+                self.held.slice(tile),
+                cross,
+                (from, left),
+                (self.searched..own_end, c0..c1),
+            );
+        }
         self.searched = own_end;
         let keep_from = self.searched.saturating_sub(self.margin).max(self.held_from);
         let kept = ndarray::s![keep_from - self.held_from.., ..];
@@ -447,62 +466,80 @@ mod tests {
     use super::*;
     use rand::{RngExt, SeedableRng};
 
-    /// 4-look speckle at 10 m, 16 km of rows: a ship at row 700 sailing up the image, its trough
-    /// 3 dB dark and 60 m wide for 3 km behind it (rows 706-1006).
-    fn long_scene() -> ndarray::Array2<f32> {
+    /// 4-look speckle at 10 m of `rows` x `cols`, a ship at `ship` (3 pixels across, 12
+    /// along its course) sailing along `course` (0: up, 270: left), its trough 3 dB dark and 60
+    /// m wide for 3 km behind it.
+    fn ship_scene(rows: usize, cols: usize, ship: (usize, usize), course: u32) -> ndarray::Array2<f32> {
         let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(7);
-        let mut image = ndarray::Array2::from_shape_fn((1600, 300), |_| {
+        let mut image = ndarray::Array2::from_shape_fn((rows, cols), |_| {
             let s: f64 = (0..4).map(|_| -(1.0 - rng.random::<f64>()).ln()).sum();
             (0.01 * s / 4.0) as f32
         });
-        image
-            .slice_mut(ndarray::s![706..1006, 147..153])
-            .mapv_inplace(|v| v * 0.5);
-        image.slice_mut(ndarray::s![694..706, 149..152]).fill(3.0);
+        let (r, c) = ship;
+        let (hull, trough) = match course {
+            0 => (
+                ndarray::s![r - 6..r + 6, c - 1..c + 2],
+                ndarray::s![r + 6..r + 306, c - 3..c + 3],
+            ),
+            270 => (
+                ndarray::s![r - 1..r + 2, c - 6..c + 6],
+                ndarray::s![r - 3..r + 3, c + 6..c + 306],
+            ),
+            _ => unreachable!("the tests' courses"),
+        };
+        image.slice_mut(trough).mapv_inplace(|v| v * 0.5);
+        image.slice_mut(hull).fill(3.0);
         image
     }
 
-    /// Streamed in bands of 200 rows (pushed as a scan does, overlapping), the searches find
-    /// what they find in the whole image: the ship, and its wake whole though it crosses the
-    /// bands' edges at rows 800 and 1000. Without the margins the wake is cut there.
-    #[test]
-    fn a_streamed_search_finds_what_the_whole_image_holds() {
-        let image = long_scene();
-        let g = Geometry::along_rows(10.0, 35.0, None);
-        let whole = search_image(image.view(), None, g);
-        assert_eq!(whole.ships.len(), 1, "{:?}", whole.ships);
+    /// What the search of the whole image at once finds: one ship and its wake.
+    fn whole_search(image: &ndarray::Array2<f32>, g: &Geometry) -> (Ship, Wake) {
+        let whole = wakelab_ships::search(image.view(), g, &CfarOptions::default(), &WakeOptions::default());
+        assert_eq!(whole.ships.ships.len(), 1, "{:?}", whole.ships.ships);
         let wake = whole.wakes.iter().find(|w| w.ship == Some(0)).expect("the ship's wake");
         assert!(wake.length_m > 2500.0, "{wake:?}");
+        (whole.ships.ships[0].clone(), wake.clone())
+    }
+
+    /// The streamed or tiled findings hold the same ship and its wake, as long.
+    fn assert_same(found: &SeaFindings, ship: &Ship, wake: &Wake) {
+        assert_eq!(found.ships.len(), 1, "{:?}", found.ships);
+        let b = &found.ships[0];
+        assert!(
+            (ship.row - b.row).abs() < 0.5 && (ship.col - b.col).abs() < 0.5,
+            "{ship:?} {b:?}"
+        );
+        let w = found.wakes.iter().find(|w| w.ship == Some(0)).expect("its wake");
+        assert!(
+            (w.length_m - wake.length_m).abs() < 0.05 * wake.length_m,
+            "{w:?} against {wake:?}"
+        );
+        assert!((w.start.1 - wake.start.1).abs() < 1.0 && (w.start.0 - wake.start.0).abs() < 1.0);
+    }
+
+    /// Streamed in bands of 200 rows (pushed as a scan does, overlapping), the searches find
+    /// what the whole image holds: the ship, and its wake whole though it crosses the bands'
+    /// edges at rows 800 and 1000. Without the margins the wake is cut there.
+    #[test]
+    fn a_streamed_search_finds_what_the_whole_image_holds() {
+        let image = ship_scene(1600, 300, (700, 150), 0);
+        let g = Geometry::along_rows(10.0, 35.0, None);
+        let (ship, wake) = whole_search(&image, &g);
         let mut stream = SeaStream::new(g, 300, 200, None);
         for start in (0..1600).step_by(150) {
             let end = (start + 170).min(1600);
             stream.push(start, image.slice(ndarray::s![start..end, ..]), None);
         }
         let streamed = stream.finish();
-        assert_eq!(streamed.ships.len(), 1, "{:?}", streamed.ships);
-        let (a, b) = (&whole.ships[0], &streamed.ships[0]);
-        assert!(
-            (a.row - b.row).abs() < 0.5 && (a.col - b.col).abs() < 0.5,
-            "{a:?} {b:?}"
-        );
-        let found = streamed
-            .wakes
-            .iter()
-            .find(|w| w.ship == Some(0))
-            .expect("the streamed wake");
-        assert!(
-            (found.length_m - wake.length_m).abs() < 0.05 * wake.length_m,
-            "{found:?} against {wake:?}"
-        );
-        assert_eq!(streamed.wakes.len(), whole.wakes.len());
+        assert_same(&streamed, &ship, &wake);
         // bands without margins (as before): the wake stops at the band's edge, 1 km behind
         let mut cut = SeaFindings::empty(g, None);
         for start in (0..1600).step_by(200) {
-            cut.add_band(
+            cut.add_tile(
                 image.slice(ndarray::s![start..start + 200, ..]),
                 None,
-                start,
-                start..start + 200,
+                (start, 0),
+                (start..start + 200, 0..300),
             );
         }
         let short = cut
@@ -512,6 +549,16 @@ mod tests {
             .map(|w| w.length_m)
             .fold(0.0, f64::max);
         assert!(short < 0.5 * wake.length_m, "{short} m against {} m", wake.length_m);
+    }
+
+    /// An image wider than a tile: the ship left of the tiles' edge (column 4,096) sailing
+    /// left, its wake crossing the edge, is found once and its wake whole.
+    #[test]
+    fn a_wide_image_is_searched_tile_by_tile_as_a_whole() {
+        let image = ship_scene(300, 4800, (150, 4000), 270);
+        let g = Geometry::along_rows(10.0, 35.0, None);
+        let (ship, wake) = whole_search(&image, &g);
+        assert_same(&search_image(image.view(), None, g), &ship, &wake);
     }
 
     #[test]

@@ -73,6 +73,12 @@ pub fn ships_table(results: &ShipsResults) -> Table {
         None => Cell::Missing,
     };
     let rate = 100.0 * false_ships as f64 / area.max(1e-9);
+    let false_wakes: usize = results
+        .scenes
+        .iter()
+        .map(|s| s.false_wakes + s.false_wakes_without)
+        .sum();
+    let wake_rate = 100.0 * false_wakes as f64 / area.max(1e-9);
     let rows = vec![
         vec![
             "ships detected".into(),
@@ -93,6 +99,17 @@ pub fn ships_table(results: &ShipsResults) -> Table {
         vec![
             "wakes of detected ships found".into(),
             share(anchored.len(), found.len()),
+            Cell::Missing,
+        ],
+        vec![
+            "false wakes per 100 km^2".into(),
+            Cell::number(wake_rate, 2)
+                .and("count", false_wakes.to_string(), String::new())
+                .and(
+                    "area (km^2)",
+                    format!("{area:.0}"),
+                    format!("{wake_rate:.2} ({false_wakes} in {area:.0} km^2)"),
+                ),
             Cell::Missing,
         ],
         vec![
@@ -208,6 +225,9 @@ pub fn ships_scene_table(results: &ShipsResults) -> Table {
                 yes(s.ship_found),
                 Cell::count(s.false_ships + s.false_ships_without),
                 yes(s.wake_found),
+                Cell::count(s.false_wakes + s.false_wakes_without),
+                or_dash(s.cnn_with, |p| Cell::number(p, 2)),
+                or_dash(s.cnn_without, |p| Cell::number(p, 2)),
                 or_dash(s.course_error, |e| Cell::signed(e, 1)),
                 or_dash(s.speed_offset, |v| Cell::number(v, 1)),
                 or_dash(s.speed_kelvin, |v| Cell::number(v, 1)),
@@ -218,8 +238,10 @@ pub fn ships_scene_table(results: &ShipsResults) -> Table {
         id: "ships_scenes".into(),
         title: "Ships and wakes, scene by scene".into(),
         caption: "Each simulated scene: the ship's speed (m/s), course, the radar's look in the image (deg clockwise \
-                  from up), R/V (s) and the wind (m/s); what was found; the course error (deg) and the speeds read \
-                  (m/s) from the azimuth offset and from the Kelvin wavelength."
+                  from up), R/V (s) and the wind (m/s); what was found (false ships and wakes: in the scene and its \
+                  twin without the ship); the CNN's largest window probability around the detected ship in the scene \
+                  and in its twin; the course error (deg) and the speeds read (m/s) from the azimuth offset and from \
+                  the Kelvin wavelength."
             .into(),
         header: [
             "speed",
@@ -231,6 +253,9 @@ pub fn ships_scene_table(results: &ShipsResults) -> Table {
             "ship found",
             "false ships",
             "wake found",
+            "false wakes",
+            "CNN (scene)",
+            "CNN (twin)",
             "course error",
             "speed (offset)",
             "speed (Kelvin)",

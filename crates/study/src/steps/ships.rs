@@ -29,7 +29,7 @@ use wakelab_surface::scene::SceneGrid;
 
 /// The ships' speeds (m/s), scenes per speed with the ship in view, and scenes of free wakes.
 pub const SPEEDS: [f64; 3] = [6.0, 9.0, 12.0];
-const SCENES_PER_SPEED: usize = 4;
+const SCENES_PER_SPEED: usize = 8;
 const FREE_SCENES: usize = 3;
 /// The scenes' side (pixels) and spacing (m): 5.12 km.
 const SIDE: usize = 512;
@@ -60,6 +60,12 @@ pub struct SceneResult {
     /// The ship's wake found (anchored on the found ship, or free), its course error (degrees;
     /// for a free wake the axis's, modulo 180) and the speeds read (m/s) or why not.
     pub wake_found: bool,
+    /// Wakes found that are not the ship's (anchored on a false ship, or free and off its
+    /// track), in this scene and in its twin without the ship (every wake there).
+    #[serde(default)]
+    pub false_wakes: usize,
+    #[serde(default)]
+    pub false_wakes_without: usize,
     pub course_error: Option<f64>,
     pub speed_offset: Option<f64>,
     pub speed_kelvin: Option<f64>,
@@ -246,6 +252,8 @@ fn run_scene(c: &WakelabConfig, run_dir: &Path, in_view: bool, cnn: Option<&Ship
         false_ships,
         false_ships_without: control.ships.ships.len(),
         wake_found: wake.is_some(),
+        false_wakes: found.wakes.len() - usize::from(wake.is_some()),
+        false_wakes_without: control.wakes.len(),
         course_error,
         speed_offset,
         speed_kelvin,
@@ -265,7 +273,7 @@ pub fn ships_step(run_dir: &Path, study: &Study) -> Result<StepTime> {
     let base = study.base_config()?;
     let cnn = ShipWindows::load(run_dir, SPACING)?;
     let key = fnv_hex(&format!(
-        "{base:?} {} detector {:?} trials-v4",
+        "{base:?} {} detector {:?} trials-v5",
         env!("CARGO_PKG_VERSION"),
         cnn.as_ref().map(|c| c.hash)
     ));

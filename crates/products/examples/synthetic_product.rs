@@ -2,10 +2,11 @@
 //! with 4-look speckle once calibrated and denoised (DN = sqrt(eta + A^2 sigma0)), for
 //! benchmarks and trials of `wakelab calibrate` / `wakelab detect` on a whole product.
 //!
-//! cargo run --release -p wakelab-products --example synthetic_product -- DIR [LINES SAMPLES]
-//! (default 16854 x 25931, an IW GRDH product's size)
+//! cargo run --release -p wakelab-products --example synthetic_product -- DIR [LINES SAMPLES [dual]]
+//! (default 16854 x 25931, an IW GRDH product's size; `dual`: a VH band too, its sea -28 dB,
+//! as most IW products are VV + VH)
 
-use wakelab_products::sentinel1::synthetic::{write_safe, Synthetic};
+use wakelab_products::sentinel1::synthetic::{add_polarisation, write_safe, Synthetic};
 
 /// A 4-look gamma variate of mean 1 from (line, pixel): the mean of four exponentials drawn by
 /// a hash of the position (splitmix64), so every pixel is reproducible in any order.
@@ -33,19 +34,23 @@ fn main() {
         since_2_9: true,
         dn: &|_, _| 0,
     };
-    let dn = |l: usize, p: usize| -> u16 {
+    let numbers = |l: usize, p: usize, mean: f64| -> u16 {
         if p < 40 || p + 25 >= samples {
             return 0; // the swath's no-data border
         }
         let (lf, pf) = (l as f64, p as f64);
         let eta = luts.noise_range(lf, pf) * luts.noise_azimuth(lf, pf);
-        let sigma0 = 0.01 * speckle(l, p);
+        let sigma0 = mean * speckle(l, p);
         (eta + luts.gain(lf, pf).powi(2) * sigma0)
             .sqrt()
             .round()
             .clamp(1.0, 65535.0) as u16
     };
+    let (vv, vh) = (|l, p| numbers(l, p, 0.01), |l, p| numbers(l, p, 0.0016));
     std::fs::create_dir_all(&dir).expect("the output directory");
-    let product = Synthetic { dn: &dn, ..luts };
-    println!("{}", write_safe(&dir, &product).display());
+    let safe = write_safe(&dir, &Synthetic { dn: &vv, ..luts });
+    if args.get(4).is_some_and(|a| a == "dual") {
+        add_polarisation(&safe, &Synthetic { dn: &vh, ..luts }, "VH");
+    }
+    println!("{}", safe.display());
 }

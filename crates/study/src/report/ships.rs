@@ -191,7 +191,7 @@ pub fn wake_detectors_table(results: &ShipsResults) -> Option<Table> {
              search from the ship, and by the study's C-band \"base\" CNN ({footprint:.0} m windows a quarter \
              window apart, centred within {radius:.0} m of the ship; wake when the largest probability reaches the \
              detector's threshold {threshold:.2}); then the same surroundings in the scene's twin without the ship, \
-             where a wake found is a false alarm. Bayes fusion (spec Eqs. 5.1-5.5) and Dempster-Shafer (discounted \
+             where a wake found is a false alarm. Bayes fusion (spec Eqs. (5.1)-(5.5)) and Dempster-Shafer (discounted \
              masses, pignistic decision) weigh each source by its rates on the other scenes (leave one scene out). \
              AUC: the area under the ROC curve of each detector's outputs over the scenes and their twins.",
             radius = crate::steps::ship_windows::RADIUS_M,

@@ -49,6 +49,18 @@ fn speed_errors(scenes: &[&SceneResult], read: impl Fn(&SceneResult) -> Option<f
         .collect()
 }
 
+/// `count` false alarms in `area` km^2 as a rate per 100 km^2, with the count and the area.
+fn per_100_km2(count: usize, area: f64) -> Cell {
+    let rate = 100.0 * count as f64 / area.max(1e-9);
+    Cell::number(rate, 2)
+        .and("count", count.to_string(), String::new())
+        .and(
+            "area (km^2)",
+            format!("{area:.0}"),
+            format!("{rate:.2} ({count} in {area:.0} km^2)"),
+        )
+}
+
 /// The summary table.
 pub fn ships_table(results: &ShipsResults) -> Table {
     let in_view: Vec<&SceneResult> = results.scenes.iter().filter(|s| s.ship_in_view).collect();
@@ -72,13 +84,11 @@ pub fn ships_table(results: &ShipsResults) -> Table {
         Some(m) => Cell::number(m, 1).and("n", v.len().to_string(), format!("{m:.1}% (n = {})", v.len())),
         None => Cell::Missing,
     };
-    let rate = 100.0 * false_ships as f64 / area.max(1e-9);
     let false_wakes: usize = results
         .scenes
         .iter()
         .map(|s| s.false_wakes + s.false_wakes_without)
         .sum();
-    let wake_rate = 100.0 * false_wakes as f64 / area.max(1e-9);
     let rows = vec![
         vec![
             "ships detected".into(),
@@ -87,13 +97,7 @@ pub fn ships_table(results: &ShipsResults) -> Table {
         ],
         vec![
             "false ships per 100 km^2".into(),
-            Cell::number(rate, 2)
-                .and("count", false_ships.to_string(), String::new())
-                .and(
-                    "area (km^2)",
-                    format!("{area:.0}"),
-                    format!("{rate:.2} ({false_ships} in {area:.0} km^2)"),
-                ),
+            per_100_km2(false_ships, area),
             Cell::Missing,
         ],
         vec![
@@ -103,13 +107,7 @@ pub fn ships_table(results: &ShipsResults) -> Table {
         ],
         vec![
             "false wakes per 100 km^2".into(),
-            Cell::number(wake_rate, 2)
-                .and("count", false_wakes.to_string(), String::new())
-                .and(
-                    "area (km^2)",
-                    format!("{area:.0}"),
-                    format!("{wake_rate:.2} ({false_wakes} in {area:.0} km^2)"),
-                ),
+            per_100_km2(false_wakes, area),
             Cell::Missing,
         ],
         vec![

@@ -377,7 +377,7 @@ pub struct EvalArgs {
 /// How a product is read (`detect` and `calibrate`).
 #[derive(Args, Debug, Clone)]
 pub struct ReadArgs {
-    /// Polarisation of a multi-polarisation product (default VV, else HH).
+    /// Polarisation to read (default VV, else HH); `detect` seeks ships in VH / HV where present.
     #[arg(long, value_name = "VV|HH|VH|HV")]
     pub pol: Option<String>,
     /// Keep the thermal noise in a Sentinel-1 or TerraSAR-X product's sigma0 (removed by

@@ -39,6 +39,10 @@ const SPACING: f64 = 10.0;
 const IN_VIEW: f64 = 1200.0;
 const SAILED_OUT: f64 = 4500.0;
 
+/// The layout of `ships.json` and what the step computes: a file of another layout (an older
+/// wakelab's) is recomputed, not read with fields missing.
+const RESULTS_FORMAT: &str = "scenes-24-cnn-fusion";
+
 /// One simulated scene and what the detectors found in it.
 #[derive(Debug, Clone, Serialize, Deserialize)]
 pub struct SceneResult {
@@ -273,7 +277,7 @@ pub fn ships_step(run_dir: &Path, study: &Study) -> Result<StepTime> {
     let base = study.base_config()?;
     let cnn = ShipWindows::load(run_dir, SPACING)?;
     let key = fnv_hex(&format!(
-        "{base:?} {} detector {:?} trials-v5",
+        "{base:?} {} detector {:?} {RESULTS_FORMAT}",
         env!("CARGO_PKG_VERSION"),
         cnn.as_ref().map(|c| c.hash)
     ));

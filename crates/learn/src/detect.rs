@@ -321,6 +321,7 @@ impl<'a> Scan<'a> {
                 .collect();
             for (batch, (p, masks)) in group.chunks(batch_size).zip(scored) {
                 for (i, (&(r, c), &probability)) in batch.iter().zip(&p).enumerate() {
+                    let probability = self.info.probability(probability);
                     self.add(r, c, probability, masks.as_ref().map(|m| &m[i]));
                 }
             }

@@ -45,6 +45,7 @@ impl EvalOptions {
             pixel_spacing,
             looks,
             input_scale: Some("linear".into()),
+            calibration: None,
         }
     }
 

@@ -7,6 +7,7 @@
 //! backend by default, `wgpu` and `cuda` behind the cargo features of the same names.
 
 pub mod augment;
+pub mod calibration;
 pub mod cost;
 pub mod data;
 pub mod detect;

@@ -58,6 +58,23 @@ pub struct ModelInfo {
     /// The scale of the training images' radar pixels ("linear": wakelab renders linear sigma0).
     #[serde(default)]
     pub input_scale: Option<String>,
+    /// How its probabilities were calibrated and its threshold set (None: raw scores and the
+    /// study's threshold).
+    #[serde(default)]
+    pub calibration: Option<Calibration>,
+}
+
+/// A detector's calibration ([`crate::calibration`]): the temperature its logit is divided by,
+/// and the false-alarm rate on simulated open sea its threshold was set for.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct Calibration {
+    /// T of p' = sigmoid(logit(p) / T), fitted on the test chips of the detector's own training
+    /// run (chips it never trained on).
+    pub temperature: f64,
+    /// Alarms per 1,000 km^2 the threshold allows on simulated open sea with look-alikes, and
+    /// the area that set it (km^2); None: the threshold was not set for an alarm rate.
+    pub false_alarms_per_1000_km2: Option<f64>,
+    pub open_sea_km2: Option<f64>,
 }
 
 fn default_unet_width() -> usize {
@@ -80,6 +97,24 @@ impl ModelInfo {
             ("wakelab.pixel_spacing", self.pixel_spacing.map(|v| v.to_string())),
             ("wakelab.looks", self.looks.map(|v| v.to_string())),
             ("wakelab.input_scale", self.input_scale.clone()),
+            (
+                "wakelab.temperature",
+                self.calibration.as_ref().map(|c| c.temperature.to_string()),
+            ),
+            (
+                "wakelab.false_alarms_per_1000_km2",
+                self.calibration
+                    .as_ref()
+                    .and_then(|c| c.false_alarms_per_1000_km2)
+                    .map(|v| v.to_string()),
+            ),
+            (
+                "wakelab.open_sea_km2",
+                self.calibration
+                    .as_ref()
+                    .and_then(|c| c.open_sea_km2)
+                    .map(|v| v.to_string()),
+            ),
         ];
         for (key, value) in optional {
             if let Some(v) = value {
@@ -135,7 +170,41 @@ impl ModelInfo {
             pixel_spacing: optional_number(meta, "wakelab.pixel_spacing").map_err(err)?,
             looks: optional_number(meta, "wakelab.looks").map_err(err)?,
             input_scale: meta.get("wakelab.input_scale").cloned(),
+            calibration: match optional_number(meta, "wakelab.temperature").map_err(err)? {
+                Some(temperature) if temperature > 0.0 && temperature.is_finite() => Some(Calibration {
+                    temperature,
+                    false_alarms_per_1000_km2: optional_number(meta, "wakelab.false_alarms_per_1000_km2")
+                        .map_err(err)?,
+                    open_sea_km2: optional_number(meta, "wakelab.open_sea_km2").map_err(err)?,
+                }),
+                Some(t) => return Err(err(format!("temperature {t}: must be a positive number"))),
+                None => None,
+            },
         })
+    }
+
+    /// What a scan's user should know of the detector's calibration: "probabilities calibrated
+    /// (temperature 1.05); threshold 0.9714 set for 1 alarm per 1,000 km^2 on 1049 km^2 of
+    /// simulated open sea". None for a detector of raw scores.
+    pub fn calibration_note(&self) -> Option<String> {
+        let c = self.calibration.as_ref()?;
+        let mut note = format!("probabilities calibrated (temperature {:.2})", c.temperature);
+        if let (Some(rate), Some(km2)) = (c.false_alarms_per_1000_km2, c.open_sea_km2) {
+            note += &format!(
+                "; threshold {:.4} set for {rate} alarm(s) per 1,000 km^2 on {km2:.0} km^2 of simulated open sea",
+                self.threshold
+            );
+        }
+        Some(note)
+    }
+
+    /// A window's wake probability as the detector reports it: its network's output scaled by
+    /// its calibration's temperature, if it has one.
+    pub fn probability(&self, network_output: f64) -> f64 {
+        match &self.calibration {
+            Some(c) => crate::calibration::scaled(network_output, c.temperature),
+            None => network_output,
+        }
     }
 
     /// Image channels the detector reads (one per band).
@@ -394,4 +463,50 @@ pub fn load_detector(
     let mut store = SafetensorsStore::from_bytes(Some(bytes));
     detector.load_from(&mut store).map_err(|e| store_error(path, e))?;
     Ok((detector, info))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn info(calibration: Option<Calibration>) -> ModelInfo {
+        ModelInfo {
+            architecture: Architecture::Base,
+            bands: "C".parse().unwrap(),
+            input_size: 32,
+            threshold: 0.93,
+            unet_width: 16,
+            pixel_spacing: Some(10.0),
+            looks: Some(4.0),
+            input_scale: Some("linear".into()),
+            calibration,
+        }
+    }
+
+    /// A calibration survives the file's metadata, and a file without one reads as raw scores.
+    #[test]
+    fn the_calibration_reads_back_from_the_metadata() {
+        let path = Path::new("m.safetensors");
+        let calibrated = info(Some(Calibration {
+            temperature: 3.25,
+            false_alarms_per_1000_km2: Some(1.0),
+            open_sea_km2: Some(1048.576),
+        }));
+        let back = ModelInfo::from_metadata(&calibrated.to_metadata(), path).unwrap();
+        assert_eq!(back, calibrated);
+        assert!((back.probability(0.5) - 0.5).abs() < 1e-12);
+        assert_eq!(
+            back.calibration_note().unwrap(),
+            "probabilities calibrated (temperature 3.25); threshold 0.9300 set for 1 alarm(s) per 1,000 km^2 on \
+             1049 km^2 of simulated open sea"
+        );
+        let raw = info(None);
+        assert_eq!(ModelInfo::from_metadata(&raw.to_metadata(), path).unwrap(), raw);
+        assert_eq!(raw.probability(0.8), 0.8);
+        assert_eq!(raw.calibration_note(), None);
+        let mut meta = calibrated.to_metadata();
+        meta.insert("wakelab.temperature".into(), "-1".into());
+        let e = ModelInfo::from_metadata(&meta, path).unwrap_err().to_string();
+        assert!(e.contains("temperature -1"), "{e}");
+    }
 }

@@ -351,6 +351,7 @@ fn a_scan_gives_the_same_map_on_wgpu_and_cpu() {
         pixel_spacing: None,
         looks: None,
         input_scale: None,
+        calibration: None,
     };
     let scan = |d: &Device, detector: &Detector| {
         let options = ScanOptions {

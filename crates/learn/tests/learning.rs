@@ -210,6 +210,7 @@ fn same_seed_gives_the_same_weights_and_outputs_bit_for_bit() {
             pixel_spacing: Some(10.0),
             looks: Some(4.0),
             input_scale: Some("linear".into()),
+            calibration: None,
         };
         let (path, _) = save_detector(&d, &info, &dir.path().join("m.safetensors")).unwrap();
         let (loaded, loaded_info) = load_detector(&path, Some((Architecture::Unet, 24)), &device).unwrap();
@@ -248,6 +249,7 @@ fn saved_detector_reloads_with_the_same_outputs_and_refuses_the_wrong_architectu
         pixel_spacing: None,
         looks: None,
         input_scale: None,
+        calibration: None,
     };
     let (_, export) = save_detector(&detector, &info, &path).unwrap();
     assert!(export.exists());
@@ -315,6 +317,7 @@ fn a_scan_of_a_large_scene_peaks_on_its_line() {
         pixel_spacing: None,
         looks: None,
         input_scale: None,
+        calibration: None,
     };
     let options = ScanOptions {
         stride: Some(16),
@@ -366,6 +369,37 @@ fn a_scan_of_a_large_scene_peaks_on_its_line() {
                 .zip(scan.map.iter())
                 .all(|(a, b)| a.to_bits() == b.to_bits()),
             "bands of {height} rows"
+        );
+    }
+    // the same detector calibrated (T = 2.5): every window's probability is its raw output
+    // scaled by the temperature, in the same order
+    let calibrated_info = ModelInfo {
+        calibration: Some(wakelab_learn::store::Calibration {
+            temperature: 2.5,
+            false_alarms_per_1000_km2: None,
+            open_sea_km2: None,
+        }),
+        ..info.clone()
+    };
+    let calibrated = detect_image(&detector, &calibrated_info, &scene, options, &device, &mut |_, _| {}).unwrap();
+    let unsaturated = |t: &&(&wakelab_learn::detect::Tile, &wakelab_learn::detect::Tile)| {
+        (1e-6..1.0 - 1e-6).contains(&t.0.probability)
+    };
+    assert_eq!(calibrated.tiles.len(), scan.tiles.len());
+    for (raw, cal) in scan
+        .tiles
+        .iter()
+        .zip(&calibrated.tiles)
+        .collect::<Vec<_>>()
+        .iter()
+        .filter(unsaturated)
+    {
+        let expected = 1.0 / (1.0 + (-(raw.probability / (1.0 - raw.probability)).ln() / 2.5).exp());
+        assert!(
+            (cal.probability - expected).abs() < 1e-9,
+            "{} -> {}",
+            raw.probability,
+            cal.probability
         );
     }
     let first = scan.detections.first().expect("a detection");

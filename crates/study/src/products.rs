@@ -86,7 +86,8 @@ pub fn detect(request: DetectRequest, progress: ScanProgress) -> Result<Detected
         device: &device,
         force: request.force,
     };
-    let scan = scan_product(request.image, &request.read, scanner, progress)?;
+    let mut scan = scan_product(request.image, &request.read, scanner, progress)?;
+    scan.notes.extend(info.calibration_note());
     let dir = request.out.unwrap_or_else(|| default_scan_dir(request.image));
     let scanned = Scanned {
         path: &scan.path,

@@ -267,6 +267,7 @@ fn the_report_only_renders() {
         "wakelab_schema::",
         "wakelab_dataset::study",
         "wakelab_dataset::learning",
+        "wakelab_learn::calibration::ReliabilityBin",
         "wakelab_learn::evaluate",
         "wakelab_learn::masks",
         "wakelab_learn::models",

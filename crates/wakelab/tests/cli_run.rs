@@ -159,6 +159,7 @@ fn run_does_the_whole_study_reuses_its_stages_and_repeats_its_tables() {
         "spec_environments",
         "ships_and_wakes",
         "ships_scenes",
+        "calibration",
         "timing",
     ] {
         assert!(report.join("tables").join(format!("{t}.csv")).exists(), "{t}.csv");
@@ -223,6 +224,7 @@ fn run_does_the_whole_study_reuses_its_stages_and_repeats_its_tables() {
             "scan",
             "environments",
             "ships",
+            "calibration",
             "report"
         ]
     );

@@ -286,6 +286,7 @@ pub fn report_page(
     timing: &Table,
     radar_figures: &[String],
     whole_scene: &str,
+    reliability: Option<&str>,
 ) -> Result<String> {
     let mut s = String::new();
     let title = format!("wakelab study \"{}\"", study.study.name);
@@ -329,6 +330,9 @@ pub fn report_page(
     for t in tables {
         let _ = write!(s, "<li><a href=\"#{}\">{}</a></li>", t.id, escape(&t.title));
     }
+    if reliability.is_some() {
+        s.push_str("<li><a href=\"#reliability\">Reliability</a></li>");
+    }
     s.push_str(
         "<li><a href=\"#test-scenes\">Test scenes</a></li>\
          <li><a href=\"#whole-scene\">Whole-scene maps</a></li>\
@@ -354,6 +358,15 @@ pub fn report_page(
     s.push_str("<h2>Results</h2>");
     for t in tables {
         s.push_str(&table_html(t));
+    }
+    if let Some(svg) = reliability {
+        let _ = write!(
+            s,
+            "<h2 id=\"reliability\">Reliability</h2><p>The C-band detectors' test chips of all repetitions: the \
+             share of wake chips against the mean wake probability in each tenth of [0, 1], raw (dashed) and \
+             calibrated (solid, each chip by a temperature fitted on the other half of its repetition's chips); \
+             a calibrated detector lies on the diagonal (table \"Calibrated probabilities\").</p><figure>{svg}</figure>"
+        );
     }
     s.push_str(
         "<h2 id=\"test-scenes\">Test scenes</h2><p>Per band and wind speed, the first repetition's test scenes \

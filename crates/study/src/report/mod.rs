@@ -3,6 +3,7 @@
 //! `environments/`) as HTML, Markdown and CSV, and runs no physics and trains nothing. The
 //! tables mirror the spec's Tables 4.4-4.6 and 5.1-5.3, with the paper's own numbers beside ours.
 
+mod calibration;
 mod environments;
 mod figure;
 mod html;
@@ -22,6 +23,7 @@ pub use learning_tables::{confusion_rows, paper_value};
 use learning_tables::{confusion_table, fusion_table, sar_ir_table, single_input_table, timing_table};
 pub use table::Table;
 
+use crate::steps::calibration::load_calibration;
 use crate::steps::environments::load_environments;
 use crate::steps::ships::load_ships;
 use crate::steps::whole_scene::load_whole_scene;
@@ -68,6 +70,9 @@ pub fn write_report(dir: &Path, study: &Study, run: &StudyRun) -> Result<Vec<Pat
     tables.push(ships::ships_table(&ships));
     tables.extend(ships::wake_detectors_table(&ships));
     tables.push(ships::ships_scene_table(&ships));
+    let calibrated = load_calibration(dir)?;
+    tables.push(calibration::calibration_table(&calibrated));
+    tables.extend(calibration::open_sea_table(&calibrated));
     let timing = timing_table(run);
     let mut markdown = format!(
         "# wakelab study \"{}\"\n\nwakelab {}, run {} on {}; {} scenes; see report.html for pictures and plots.\n\n",
@@ -94,7 +99,19 @@ pub fn write_report(dir: &Path, study: &Study, run: &StudyRun) -> Result<Vec<Pat
     for (name, svg) in names.iter().zip(&svgs) {
         write_atomically(out.join(format!("{name}.svg")), svg.as_bytes())?;
     }
-    let page = html::report_page(study, run, &tables, &timing, &svgs, &whole_scene_html)?;
+    let reliability = calibration::reliability_plot(&calibrated, "C").map(|p| p.to_svg());
+    if let Some(svg) = &reliability {
+        write_atomically(out.join("reliability_C.svg"), svg.as_bytes())?;
+    }
+    let page = html::report_page(
+        study,
+        run,
+        &tables,
+        &timing,
+        &svgs,
+        &whole_scene_html,
+        reliability.as_deref(),
+    )?;
     let html = write_atomically(out.join("report.html"), page.as_bytes())?;
     Ok(vec![html, md, tables_dir])
 }

@@ -1,6 +1,7 @@
-//! The named steps of `wakelab run` (dataset, learning, held-out, fusion, scan, environments, ships;
-//! the report renders what they wrote), each reused when its inputs have not changed.
+//! The named steps of `wakelab run` (dataset, learning, held-out, fusion, scan, environments, ships,
+//! calibration; the report renders what they wrote), each reused when its inputs have not changed.
 
+pub mod calibration;
 mod context;
 pub mod environments;
 mod held_out;
@@ -223,8 +224,8 @@ pub fn run_one_step(
     })
 }
 
-/// Run every step but the report: dataset, learning, held-out, fusion, scan, environments and
-/// ships.
+/// Run every step but the report: dataset, learning, held-out, fusion, scan, environments,
+/// ships and calibration.
 pub fn run_steps(
     study: &Study,
     dir: &Path,
@@ -277,6 +278,9 @@ pub fn run_steps(
     let environments_time = environments::environments_step(dir, study)?;
     display.step(7, "ships", 1, "steps");
     let ships_time = ships::ships_step(dir, study)?;
-    run.times.extend([scan_time, environments_time, ships_time]);
+    display.step(8, "calibration", 1, "steps");
+    let calibration_time = calibration::calibration_step(dir, study, &run)?;
+    run.times
+        .extend([scan_time, environments_time, ships_time, calibration_time]);
     Ok(run)
 }

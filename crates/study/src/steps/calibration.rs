@@ -1,0 +1,519 @@
+//! The calibration step of `wakelab run`: probabilities that mean what they say, and a scan's
+//! threshold set for a stated false-alarm rate (issue 38, item 5).
+//!
+//! - Every saved detector (the last repetition's of each input and architecture) gets the
+//!   temperature of its logit that fits its own test chips best ([`fit_temperature`]; chips it
+//!   never trained on). The reliability of all repetitions' test chips is shown before and after,
+//!   each chip scaled by a temperature fitted on the other half of its repetition's chips
+//!   ([`cross_fitted`]), so that no chip is calibrated with its own label.
+//! - The C-band detectors then scan [`SCENES`] simulated C-band scenes of 5.12 km of open sea
+//!   with the field's commonest look-alikes the simulator makes (natural slicks drawn long and
+//!   thin, up to 30 % of the sea, and wind varying by up to 30 % over the scene), about 1,000
+//!   km^2, at the study's sea, winds of 4-10 m/s and any look. Their separate alarms set the
+//!   least threshold that holds [`ALARMS_PER_1000_KM2`] on that sea; the same seas with a ship
+//!   and its wake say how many wakes survive it (a wake is found when an alarm lies within
+//!   [`FOUND_WITHIN_M`] of its track, the rule of issue 38 for real images).
+//! - The C-band detectors so calibrated, their threshold stored, are written to `detectors/`:
+//!   what `wakelab detect --model` reads for a Sentinel-1 product.
+//!
+//! It writes `calibration/calibration.json`, which the report renders.
+
+use super::context::{fnv_hex, step_time};
+use super::ships::{scene_config, SPACING, SPEEDS};
+use super::study_run::StudyRun;
+use crate::{Result, StepTime};
+use ndarray::Array2;
+use rand::{RngExt, SeedableRng};
+use serde::{Deserialize, Serialize};
+use std::path::{Path, PathBuf};
+use std::time::Instant;
+use wakelab_core::io::write_atomically;
+use wakelab_core::units::RadarBand;
+use wakelab_core::{WakelabConfig, WakelabError};
+use wakelab_dataset::study::Study;
+use wakelab_learn::calibration::{
+    brier, cross_fitted, expected_calibration_error, fit_temperature, reliability, threshold_for_alarm_rate,
+    ReliabilityBin,
+};
+use wakelab_learn::data::RadarScale;
+use wakelab_learn::detect::{detect_image, ScanOptions};
+use wakelab_learn::device::{parse_device, Device};
+use wakelab_learn::models::Architecture;
+use wakelab_learn::store::{load_detector, save_detector, Calibration, Detector, ModelInfo};
+use wakelab_schema::band::{Band, Input};
+use wakelab_schema::split::Split;
+
+/// The false-alarm rate a calibrated scan's threshold holds on simulated open sea (issue 38:
+/// at most 1 per 1,000 km^2, about 40 per Sentinel-1 IW scene before ships anchor them).
+pub const ALARMS_PER_1000_KM2: f64 = 1.0;
+/// Open-sea scenes (5.12 km each): 40 make 1,049 km^2, enough to see one alarm per 1,000 km^2.
+pub const SCENES: usize = 40;
+/// A wake is found when an alarm's centre lies this close to its track (m).
+pub const FOUND_WITHIN_M: f64 = 500.0;
+/// Bins of the reliability diagrams.
+pub const BINS: usize = 10;
+/// The layout of `calibration.json` and what the step computes.
+const RESULTS_FORMAT: &str = "calibration-1";
+/// Scene index offset: the ships step's scenes use 0..27.
+const FIRST_SCENE: usize = 1000;
+
+/// One saved detector's calibration on its test chips, and (C band) its scan of open sea.
+#[derive(Debug, Clone, Serialize, Deserialize)]
+pub struct DetectorCalibration {
+    pub input: Input,
+    pub architecture: Architecture,
+    /// The temperature stored with the detector (fitted on the last repetition's test chips).
+    pub temperature: f64,
+    /// Test chips of all repetitions, their ECE and Brier score raw and cross-fitted.
+    pub test_chips: usize,
+    pub ece_raw: f64,
+    pub ece_calibrated: f64,
+    pub brier_raw: f64,
+    pub brier_calibrated: f64,
+    pub bins_raw: Vec<ReliabilityBin>,
+    pub bins_calibrated: Vec<ReliabilityBin>,
+    pub open_sea: Option<OpenSea>,
+}
+
+/// A C-band detector's scans of open sea with look-alikes and of the same seas with a wake.
+#[derive(Debug, Clone, Serialize, Deserialize)]
+pub struct OpenSea {
+    pub scenes: usize,
+    pub km2: f64,
+    /// The study's threshold (0.5; the same in raw and calibrated probability) and its alarms
+    /// per 1,000 km^2 of open sea.
+    pub study_threshold: f64,
+    pub alarms_at_study_threshold: f64,
+    /// The least threshold that holds [`ALARMS_PER_1000_KM2`] (calibrated probability), and the
+    /// rate it gives.
+    pub threshold: f64,
+    pub alarms_at_threshold: f64,
+    /// The wakes found among the scenes', at either threshold, and the alarms off the wake in
+    /// those scenes (per 1,000 km^2) at either.
+    pub wakes_found_at_study_threshold: usize,
+    pub wakes_found: usize,
+    pub off_wake_alarms_at_study_threshold: f64,
+    pub off_wake_alarms: f64,
+    /// The largest probability of a window on open sea.
+    pub largest_open_sea: f64,
+    /// The calibrated detector's file.
+    pub file: PathBuf,
+}
+
+/// `calibration/calibration.json`.
+#[derive(Serialize, Deserialize)]
+pub struct CalibrationResults {
+    key: String,
+    seconds: f64,
+    pub alarms_target: f64,
+    pub detectors: Vec<DetectorCalibration>,
+}
+
+fn results_file(run_dir: &Path) -> PathBuf {
+    run_dir.join("calibration").join("calibration.json")
+}
+
+/// Where the calibrated detectors are written.
+pub fn detectors_dir(run_dir: &Path) -> PathBuf {
+    run_dir.join("detectors")
+}
+
+/// What the calibration step wrote into `run_dir`.
+pub fn load_calibration(run_dir: &Path) -> Result<CalibrationResults> {
+    let file = results_file(run_dir);
+    let text = std::fs::read_to_string(&file).map_err(|e| WakelabError::io(&file, e))?;
+    serde_json::from_str(&text).map_err(|e| anyhow::anyhow!("{}: {e}", file.display()))
+}
+
+/// The test outputs of `input` and `architecture`: (repetition, score, label).
+fn test_outputs(run: &StudyRun, input: &Input, architecture: Architecture) -> Vec<(usize, f64, u8)> {
+    run.outputs
+        .iter()
+        .filter(|o| &o.bands == input && o.architecture == architecture && o.split == Split::Test)
+        .map(|o| (o.repetition, o.output, o.label))
+        .collect()
+}
+
+/// The calibration on test chips of one detector (no open sea yet).
+fn chip_calibration(run: &StudyRun, input: &Input, architecture: Architecture) -> Option<DetectorCalibration> {
+    let outputs = test_outputs(run, input, architecture);
+    let last = outputs.iter().map(|o| o.0).max()?;
+    let (scores, labels): (Vec<f64>, Vec<u8>) = outputs.iter().filter(|o| o.0 == last).map(|o| (o.1, o.2)).unzip();
+    let temperature = fit_temperature(&scores, &labels);
+    let (mut raw, mut calibrated, mut all_labels) = (Vec::new(), Vec::new(), Vec::new());
+    for r in 0..=last {
+        let (s, l): (Vec<f64>, Vec<u8>) = outputs.iter().filter(|o| o.0 == r).map(|o| (o.1, o.2)).unzip();
+        calibrated.extend(cross_fitted(&s, &l));
+        raw.extend(s);
+        all_labels.extend(l);
+    }
+    let (bins_raw, bins_calibrated) = (
+        reliability(&raw, &all_labels, BINS),
+        reliability(&calibrated, &all_labels, BINS),
+    );
+    Some(DetectorCalibration {
+        input: input.clone(),
+        architecture,
+        temperature,
+        test_chips: raw.len(),
+        ece_raw: expected_calibration_error(&bins_raw),
+        ece_calibrated: expected_calibration_error(&bins_calibrated),
+        brier_raw: brier(&raw, &all_labels),
+        brier_calibrated: brier(&calibrated, &all_labels),
+        bins_raw,
+        bins_calibrated,
+        open_sea: None,
+    })
+}
+
+/// Open-sea scene `j`: the ships step's scene draws (its sea, any course and look, a ship of the
+/// study's speeds in view) with look-alikes: slicks over 5-30 % of the sea in filaments 4-16
+/// times as long as wide, and the wind varying by up to 30 %.
+fn open_sea_config(base: &WakelabConfig, j: usize) -> Option<WakelabConfig> {
+    let k = FIRST_SCENE + j;
+    let mut c = scene_config(base, k, SPEEDS[j % SPEEDS.len()], true)?;
+    let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(base.seed ^ (0xCA1B_0000 + k as u64));
+    c.slicks.coverage = rng.random_range(0.05..0.3);
+    c.slicks.elongation = rng.random_range(4.0..16.0);
+    c.environment.wind.variability = rng.random_range(0.0..0.3);
+    Some(c)
+}
+
+/// One scene rendered in C-band VV with its ship and wake and without them, and the wake's
+/// track as a segment (pixels): from the stern to well beyond the scene.
+struct SeaPair {
+    with: Array2<f32>,
+    without: Array2<f32>,
+    track: ((f64, f64), (f64, f64)),
+    spacing: f64,
+    km2: f64,
+}
+
+fn render(c: &WakelabConfig, run_dir: &Path) -> Result<SeaPair> {
+    c.validate()?;
+    let map = wakelab_dataset::hydro_map(&run_dir.join("dataset"), c)?;
+    let with = wakelab_surface::simulate_surface(c, Some(&map));
+    let without = wakelab_surface::simulate_surface(c, None);
+    let image = |scene| -> Array2<f32> {
+        wakelab_sensors::render_sar(c, scene, RadarBand::C)
+            .sigma0
+            .mapv(|v| v as f32)
+    };
+    let side = c.scene.size as f64 * c.scene.pixel_spacing;
+    let track = (
+        with.grid.pixel_of(0.0, 0.0),
+        with.grid.pixel_of(c.scene.along_track + 2.0 * side, 0.0),
+    );
+    Ok(SeaPair {
+        with: image(&with),
+        without: image(&without),
+        track,
+        spacing: c.scene.pixel_spacing,
+        km2: (side / 1000.0).powi(2),
+    })
+}
+
+/// Distance (pixels) of point `p` from the segment `ab`.
+fn distance_to_segment(p: (f64, f64), (a, b): ((f64, f64), (f64, f64))) -> f64 {
+    let (dr, dc) = (b.0 - a.0, b.1 - a.1);
+    let len2 = dr * dr + dc * dc;
+    let t = if len2 > 0.0 {
+        (((p.0 - a.0) * dr + (p.1 - a.1) * dc) / len2).clamp(0.0, 1.0)
+    } else {
+        0.0
+    };
+    (p.0 - a.0 - t * dr).hypot(p.1 - a.1 - t * dc)
+}
+
+/// A C-band detector at the scenes' spacing, calibrated by `temperature`.
+struct Scanner {
+    detector: Detector,
+    info: ModelInfo,
+    /// Scene pixels per detector pixel.
+    factor: usize,
+}
+
+impl Scanner {
+    /// The separate alarms (window centres in scene pixels, probability) of a scan of `image`
+    /// at half the window's stride: every window that overlaps no stronger one.
+    fn alarms(&self, image: &Array2<f32>, device: &Device) -> Result<Vec<(f64, f64, f64)>> {
+        let f = self.factor as f64;
+        let averaged;
+        let image = if self.factor == 1 {
+            image
+        } else {
+            averaged = wakelab_products::resample::area_average(image, f, f);
+            &averaged
+        };
+        let options = ScanOptions {
+            stride: Some((self.info.input_size / 2).max(1)),
+            scale: RadarScale::Linear,
+            threshold: Some(0.0),
+            ..ScanOptions::default()
+        };
+        let found = detect_image(&self.detector, &self.info, image, options, device, &mut |_, _| {})?;
+        Ok(found
+            .detections
+            .iter()
+            .map(|d| (d.row * f, d.col * f, d.score))
+            .collect())
+    }
+}
+
+/// Alarms per 1,000 km^2 of `count` alarms on `km2`.
+fn per_1000(count: usize, km2: f64) -> f64 {
+    count as f64 * 1000.0 / km2
+}
+
+/// The C-band detectors' scans of the first `scenes` open-sea scenes: each detector's
+/// [`OpenSea`] (its file written to `detectors/`).
+fn open_sea(
+    run_dir: &Path,
+    base: &WakelabConfig,
+    study_threshold: f64,
+    detectors: &mut [DetectorCalibration],
+    scenes: usize,
+) -> Result<()> {
+    let device = parse_device("cpu")?;
+    let mut scanners = Vec::new();
+    for (i, d) in detectors.iter().enumerate() {
+        if d.input != Input::single(Band::C) {
+            continue;
+        }
+        let path = crate::output::detector_path(&run_dir.join("learn").join(d.input.name()), &d.input, d.architecture);
+        if !path.exists() {
+            continue;
+        }
+        let (detector, mut info) = load_detector(&path, None, &device)?;
+        let ratio = info.pixel_spacing.unwrap_or(SPACING) / SPACING;
+        if ratio < 1.0 || (ratio - ratio.round()).abs() > 1e-6 {
+            continue;
+        }
+        info.calibration = Some(Calibration {
+            temperature: d.temperature,
+            false_alarms_per_1000_km2: None,
+            open_sea_km2: None,
+        });
+        scanners.push((
+            i,
+            Scanner {
+                detector,
+                info,
+                factor: ratio.round() as usize,
+            },
+        ));
+    }
+    if scanners.is_empty() {
+        return Ok(());
+    }
+    let configs: Vec<WakelabConfig> = (0..scenes).filter_map(|j| open_sea_config(base, j)).collect();
+    // per scanner: open-sea alarm scores, and per wake scene its alarms with their distance to
+    // the track (m)
+    let mut sea: Vec<Vec<f64>> = vec![Vec::new(); scanners.len()];
+    let mut wake_scenes: Vec<Vec<Vec<(f64, f64)>>> = vec![Vec::new(); scanners.len()];
+    let mut km2 = 0.0;
+    for c in &configs {
+        let pair = render(c, run_dir)?;
+        km2 += pair.km2;
+        for (k, (_, scanner)) in scanners.iter().enumerate() {
+            sea[k].extend(scanner.alarms(&pair.without, &device)?.into_iter().map(|a| a.2));
+            let alarms = scanner
+                .alarms(&pair.with, &device)?
+                .into_iter()
+                .map(|(r, c, p)| (distance_to_segment((r, c), pair.track) * pair.spacing, p))
+                .collect();
+            wake_scenes[k].push(alarms);
+        }
+    }
+    std::fs::create_dir_all(detectors_dir(run_dir)).map_err(|e| WakelabError::io(detectors_dir(run_dir), e))?;
+    for (k, (i, scanner)) in scanners.into_iter().enumerate() {
+        let threshold = threshold_for_alarm_rate(&sea[k], km2, ALARMS_PER_1000_KM2);
+        let above = |t: f64| sea[k].iter().filter(|&&p| p > t).count();
+        let found = |t: f64| {
+            wake_scenes[k]
+                .iter()
+                .filter(|alarms| alarms.iter().any(|&(d, p)| d <= FOUND_WITHIN_M && p > t))
+                .count()
+        };
+        let off = |t: f64| {
+            wake_scenes[k]
+                .iter()
+                .flatten()
+                .filter(|&&(d, p)| d > FOUND_WITHIN_M && p > t)
+                .count()
+        };
+        let Scanner { detector, mut info, .. } = scanner;
+        info.threshold = threshold;
+        info.calibration = Some(Calibration {
+            temperature: detectors[i].temperature,
+            false_alarms_per_1000_km2: Some(ALARMS_PER_1000_KM2),
+            open_sea_km2: Some(km2),
+        });
+        let d = &detectors[i];
+        let file = detectors_dir(run_dir).join(format!("{}_{}.safetensors", d.input.name(), d.architecture));
+        save_detector(&detector, &info, &file)?;
+        detectors[i].open_sea = Some(OpenSea {
+            scenes: configs.len(),
+            km2,
+            study_threshold,
+            alarms_at_study_threshold: per_1000(above(study_threshold), km2),
+            threshold,
+            alarms_at_threshold: per_1000(above(threshold), km2),
+            wakes_found_at_study_threshold: found(study_threshold),
+            wakes_found: found(threshold),
+            off_wake_alarms_at_study_threshold: per_1000(off(study_threshold), km2),
+            off_wake_alarms: per_1000(off(threshold), km2),
+            largest_open_sea: sea[k].iter().copied().fold(0.0, f64::max),
+            file,
+        });
+    }
+    Ok(())
+}
+
+/// The calibration step (reused when the base configuration, the detectors and wakelab's
+/// version are unchanged).
+pub fn calibration_step(run_dir: &Path, study: &Study, run: &StudyRun) -> Result<StepTime> {
+    let start = Instant::now();
+    let base = study.base_config()?;
+    let mut pairs = Vec::new();
+    for input in &run.inputs {
+        for architecture in Architecture::ALL {
+            pairs.push((input.clone(), architecture));
+        }
+    }
+    let mut hashes = Vec::new();
+    for (input, architecture) in &pairs {
+        let path = crate::output::detector_path(&run_dir.join("learn").join(input.name()), input, *architecture);
+        if let Ok(bytes) = std::fs::read(&path) {
+            hashes.push(wakelab_dataset::fnv(bytes));
+        }
+    }
+    let outputs: Vec<u64> = pairs
+        .iter()
+        .flat_map(|(i, a)| test_outputs(run, i, *a))
+        .map(|o| o.1.to_bits() ^ o.0 as u64)
+        .collect();
+    let key = fnv_hex(&format!(
+        "{base:?} {} {hashes:?} {outputs:?} {} {RESULTS_FORMAT}",
+        env!("CARGO_PKG_VERSION"),
+        run.plan.threshold
+    ));
+    if let Ok(found) = load_calibration(run_dir) {
+        if found.key == key
+            && found
+                .detectors
+                .iter()
+                .all(|d| d.open_sea.as_ref().is_none_or(|o| o.file.exists()))
+        {
+            return Ok(step_time("calibration", start, Some(found.seconds)));
+        }
+    }
+    let mut detectors: Vec<DetectorCalibration> = pairs
+        .iter()
+        .filter_map(|(input, architecture)| chip_calibration(run, input, *architecture))
+        .collect();
+    open_sea(run_dir, &base, run.plan.threshold, &mut detectors, SCENES)?;
+    let results = CalibrationResults {
+        key,
+        seconds: start.elapsed().as_secs_f64(),
+        alarms_target: ALARMS_PER_1000_KM2,
+        detectors,
+    };
+    let file = results_file(run_dir);
+    let dir = file.parent().expect("a folder");
+    std::fs::create_dir_all(dir).map_err(|e| WakelabError::io(dir, e))?;
+    write_atomically(&file, serde_json::to_string_pretty(&results)?.as_bytes())?;
+    Ok(step_time("calibration", start, None))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_distance_to_a_segment_is_to_its_nearest_point() {
+        let seg = ((0.0, 0.0), (0.0, 10.0));
+        assert_eq!(distance_to_segment((3.0, 5.0), seg), 3.0);
+        assert_eq!(distance_to_segment((0.0, -4.0), seg), 4.0);
+        assert_eq!(distance_to_segment((3.0, 14.0), seg), 5.0);
+    }
+
+    /// An untrained C-band detector's scans of two open-sea scenes: the threshold it is given
+    /// leaves no alarm on their 52 km^2 (fewer than one allowed), at most as many as 0.5 does;
+    /// the file written holds that threshold, the temperature and the area, and reads back.
+    #[test]
+    fn the_open_sea_sets_the_threshold_stored_with_the_detector() {
+        let study = Study::from_toml_str(wakelab_dataset::study::DEFAULT_STUDY, "default").unwrap();
+        let base = study.base_config().unwrap();
+        let run_dir = tempfile::tempdir().unwrap();
+        let device = parse_device("cpu").unwrap();
+        let input = Input::single(Band::C);
+        let detector = Detector {
+            classifier: wakelab_learn::models::WakeClassifier::new(
+                Architecture::Base.classifier_channels(1),
+                32,
+                &device,
+            ),
+            segmenter: None,
+        };
+        let info = ModelInfo {
+            architecture: Architecture::Base,
+            bands: input.clone(),
+            input_size: 32,
+            threshold: 0.5,
+            unet_width: 16,
+            pixel_spacing: Some(SPACING),
+            looks: Some(4.0),
+            input_scale: Some("linear".into()),
+            calibration: None,
+        };
+        let path = crate::output::detector_path(&run_dir.path().join("learn").join("C"), &input, Architecture::Base);
+        std::fs::create_dir_all(path.parent().unwrap()).unwrap();
+        save_detector(&detector, &info, &path).unwrap();
+        let bins = reliability(&[], &[], BINS);
+        let mut detectors = vec![DetectorCalibration {
+            input,
+            architecture: Architecture::Base,
+            temperature: 1.7,
+            test_chips: 0,
+            ece_raw: 0.0,
+            ece_calibrated: 0.0,
+            brier_raw: 0.0,
+            brier_calibrated: 0.0,
+            bins_raw: bins.clone(),
+            bins_calibrated: bins,
+            open_sea: None,
+        }];
+        open_sea(run_dir.path(), &base, 0.5, &mut detectors, 2).unwrap();
+        let o = detectors[0]
+            .open_sea
+            .as_ref()
+            .expect("a C-band detector scans the open sea");
+        assert_eq!(o.scenes, 2);
+        assert!((o.km2 - 2.0 * 5.12 * 5.12).abs() < 1e-9, "{}", o.km2);
+        assert_eq!(o.alarms_at_threshold, 0.0);
+        assert!(o.alarms_at_study_threshold >= o.alarms_at_threshold);
+        assert!(o.wakes_found <= o.wakes_found_at_study_threshold && o.wakes_found_at_study_threshold <= 2);
+        assert!(o.threshold >= o.largest_open_sea - 1e-12 && o.largest_open_sea > 0.0);
+        let (_, stored) = load_detector(&o.file, None, &device).unwrap();
+        assert_eq!(stored.threshold, o.threshold);
+        let calibration = stored.calibration.expect("calibrated");
+        assert_eq!(calibration.temperature, 1.7);
+        assert_eq!(calibration.open_sea_km2, Some(o.km2));
+        assert_eq!(calibration.false_alarms_per_1000_km2, Some(ALARMS_PER_1000_KM2));
+    }
+
+    /// Every open-sea scene is a valid 5.12 km scene with its look-alikes.
+    #[test]
+    fn the_open_sea_scenes_are_valid() {
+        let study = Study::from_toml_str(wakelab_dataset::study::DEFAULT_STUDY, "default").unwrap();
+        let base = study.base_config().unwrap();
+        let configs: Vec<_> = (0..SCENES).filter_map(|j| open_sea_config(&base, j)).collect();
+        assert_eq!(configs.len(), SCENES);
+        for c in &configs {
+            c.validate().unwrap();
+            assert_eq!(c.scene.size as f64 * c.scene.pixel_spacing, 5120.0);
+            assert!((0.05..0.3).contains(&c.slicks.coverage));
+        }
+    }
+}

@@ -129,6 +129,44 @@ pub fn mean_and_spread(values: &[f64]) -> (f64, f64) {
     (mean, var.sqrt())
 }
 
+/// Spearman's rank correlation (Spearman 1904): Pearson's correlation of the ranks, tied values
+/// sharing their mean rank; None for fewer than 3 pairs or a constant variable.
+pub fn spearman(x: &[f64], y: &[f64]) -> Option<f64> {
+    if x.len() != y.len() || x.len() < 3 {
+        return None;
+    }
+    let (rx, ry) = (ranks(x), ranks(y));
+    let n = x.len() as f64;
+    let (mx, my) = (rx.iter().sum::<f64>() / n, ry.iter().sum::<f64>() / n);
+    let (mut sxy, mut sxx, mut syy) = (0.0, 0.0, 0.0);
+    for (a, b) in rx.iter().zip(&ry) {
+        sxy += (a - mx) * (b - my);
+        sxx += (a - mx) * (a - mx);
+        syy += (b - my) * (b - my);
+    }
+    (sxx > 0.0 && syy > 0.0).then(|| sxy / (sxx * syy).sqrt())
+}
+
+/// Ranks from 1, ties given the mean of the ranks they span.
+pub fn ranks(v: &[f64]) -> Vec<f64> {
+    let mut order: Vec<usize> = (0..v.len()).collect();
+    order.sort_by(|&a, &b| v[a].total_cmp(&v[b]));
+    let mut out = vec![0.0; v.len()];
+    let mut i = 0;
+    while i < order.len() {
+        let mut j = i;
+        while j + 1 < order.len() && v[order[j + 1]] == v[order[i]] {
+            j += 1;
+        }
+        let mean = (i + j) as f64 / 2.0 + 1.0;
+        for &k in &order[i..=j] {
+            out[k] = mean;
+        }
+        i = j + 1;
+    }
+    out
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -184,5 +222,25 @@ mod tests {
         let (m, s) = mean_and_spread(&[2.0, 4.0, 4.0, 4.0, 5.0, 5.0, 7.0, 9.0]);
         assert_eq!(m, 5.0);
         assert!((s - (32.0f64 / 7.0).sqrt()).abs() < 1e-12);
+    }
+
+    #[test]
+    fn spearman_matches_the_textbook_formula_and_handles_ties() {
+        // no ties: rho = 1 - 6 sum d^2 / (n (n^2 - 1)) = 1 - 6 * 4 / 120 = 0.8
+        let x = [1.0, 2.0, 3.0, 4.0, 5.0];
+        let y = [2.0, 1.0, 4.0, 3.0, 5.0];
+        assert!((spearman(&x, &y).unwrap() - 0.8).abs() < 1e-12);
+        // any monotone map of x ranks the same: +1 increasing, -1 decreasing
+        let cubes: Vec<f64> = x.iter().map(|v| v * v * v).collect();
+        assert!((spearman(&x, &cubes).unwrap() - 1.0).abs() < 1e-12);
+        let falling: Vec<f64> = x.iter().map(|v| -v).collect();
+        assert!((spearman(&x, &falling).unwrap() + 1.0).abs() < 1e-12);
+        // ties share their mean rank: y's ranks are 1.5, 1.5, 3, 4
+        assert_eq!(ranks(&[2.0, 2.0, 5.0, 7.0]), vec![1.5, 1.5, 3.0, 4.0]);
+        // Pearson of ranks (1, 2, 3, 4) and (1.5, 1.5, 3, 4): 4.5 / sqrt(5 * 4.5)
+        let rho = spearman(&[1.0, 2.0, 3.0, 4.0], &[2.0, 2.0, 5.0, 7.0]).unwrap();
+        assert!((rho - 4.5 / (5.0f64 * 4.5).sqrt()).abs() < 1e-12);
+        assert_eq!(spearman(&[1.0, 2.0, 3.0], &[4.0, 4.0, 4.0]), None);
+        assert_eq!(spearman(&[1.0, 2.0], &[1.0, 2.0]), None);
     }
 }

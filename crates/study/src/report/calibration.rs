@@ -144,3 +144,61 @@ pub fn reliability_plot(results: &CalibrationResults, band: &str) -> Option<Line
         paired: true,
     })
 }
+
+/// What the windows' own normalisation does on the open sea (C band); None without such a
+/// detector.
+pub fn window_normalisation_table(results: &CalibrationResults) -> Option<Table> {
+    let rows: Vec<Vec<Cell>> = results
+        .detectors
+        .iter()
+        .filter_map(|d| d.open_sea.as_ref().map(|o| (d, &o.normalisation)))
+        .map(|(d, w)| {
+            let optional = |v: Option<f64>| v.map_or(Cell::Missing, |v| Cell::number(v, 2));
+            vec![
+                d.architecture.name().into(),
+                optional(w.rho_spread_probability),
+                Cell::number(w.probability_least_spread, 2),
+                Cell::number(w.probability_most_spread, 2),
+                Cell::number(w.spread_open_sea, 2),
+                Cell::number(w.spread_on_wake, 2),
+                Cell::number(w.probability_open_sea, 2),
+                Cell::number(w.probability_on_wake, 2),
+                optional(w.auc_probability),
+                optional(w.auc_spread),
+            ]
+        })
+        .collect();
+    let (first, w) = results
+        .detectors
+        .iter()
+        .find_map(|d| d.open_sea.as_ref().map(|o| (o, &o.normalisation)))?;
+    Some(Table {
+        id: "window_normalisation".into(),
+        title: "What each window's own normalisation does on open sea (C band)".into(),
+        caption: format!(
+            "Each window is normalised by the median and robust spread (1.4826 MAD) of its own dB, which \
+             stretches a window of plain sea to the contrast of a wake window. The same scans as the table \
+             above: {} open-sea windows of {} scenes, and {} windows whose centre lies within half a window \
+             of a wake's track. Spearman's rho of an open-sea window's spread and its probability; the mean \
+             probability of the fifth of open-sea windows of least and of most spread; the median spread (dB) \
+             and probability of open-sea and wake windows; and the ROC AUC of wake against open-sea windows \
+             by the probability and by the spread alone.",
+            w.open_sea_windows, first.scenes, w.wake_windows
+        ),
+        header: [
+            "network",
+            "rho(spread, p)",
+            "p, least spread",
+            "p, most spread",
+            "spread open sea (dB)",
+            "spread on wake (dB)",
+            "p open sea",
+            "p on wake",
+            "AUC by p",
+            "AUC by spread",
+        ]
+        .map(String::from)
+        .to_vec(),
+        rows,
+    })
+}

@@ -73,6 +73,7 @@ pub fn write_report(dir: &Path, study: &Study, run: &StudyRun) -> Result<Vec<Pat
     let calibrated = load_calibration(dir)?;
     tables.push(calibration::calibration_table(&calibrated));
     tables.extend(calibration::open_sea_table(&calibrated));
+    tables.extend(calibration::window_normalisation_table(&calibrated));
     let timing = timing_table(run);
     let mut markdown = format!(
         "# wakelab study \"{}\"\n\nwakelab {}, run {} on {}; {} scenes; see report.html for pictures and plots.\n\n",

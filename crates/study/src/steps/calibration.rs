@@ -35,12 +35,13 @@ use wakelab_learn::calibration::{
     brier, cross_fitted, expected_calibration_error, fit_temperature, reliability, threshold_for_alarm_rate,
     ReliabilityBin,
 };
-use wakelab_learn::data::RadarScale;
+use wakelab_learn::data::{median, RadarScale};
 use wakelab_learn::detect::{detect_image, ScanOptions};
 use wakelab_learn::device::{parse_device, Device};
 use wakelab_learn::models::Architecture;
 use wakelab_learn::store::{load_detector, save_detector, Calibration, Detector, ModelInfo};
 use wakelab_schema::band::{Band, Input};
+use wakelab_schema::metrics::{roc_auc, spearman};
 use wakelab_schema::split::Split;
 
 /// The false-alarm rate a calibrated scan's threshold holds on simulated open sea (issue 38:
@@ -53,7 +54,7 @@ pub const FOUND_WITHIN_M: f64 = 500.0;
 /// Bins of the reliability diagrams.
 pub const BINS: usize = 10;
 /// The layout of `calibration.json` and what the step computes.
-const RESULTS_FORMAT: &str = "calibration-1";
+const RESULTS_FORMAT: &str = "calibration-2";
 /// Scene index offset: the ships step's scenes use 0..27.
 const FIRST_SCENE: usize = 1000;
 
@@ -96,6 +97,8 @@ pub struct OpenSea {
     pub off_wake_alarms: f64,
     /// The largest probability of a window on open sea.
     pub largest_open_sea: f64,
+    /// What the windows' own normalisation does on this sea.
+    pub normalisation: WindowNormalisation,
     /// The calibrated detector's file.
     pub file: PathBuf,
 }
@@ -233,10 +236,19 @@ struct Scanner {
     factor: usize,
 }
 
+/// A scan's findings: its separate alarms and every window, in scene pixels.
+struct Scanned {
+    /// Window centres (row, column) and probability of the windows that overlap no stronger
+    /// one (the alarms at any threshold below their probability).
+    alarms: Vec<(f64, f64, f64)>,
+    /// Every window: centre (row, column), robust spread of its dB (1.4826 MAD, what its
+    /// normalisation divides by) and probability.
+    windows: Vec<(f64, f64, f64, f64)>,
+}
+
 impl Scanner {
-    /// The separate alarms (window centres in scene pixels, probability) of a scan of `image`
-    /// at half the window's stride: every window that overlaps no stronger one.
-    fn alarms(&self, image: &Array2<f32>, device: &Device) -> Result<Vec<(f64, f64, f64)>> {
+    /// A scan of `image` (linear sigma0) at half the window's stride.
+    fn scan(&self, image: &Array2<f32>, device: &Device) -> Result<Scanned> {
         let f = self.factor as f64;
         let averaged;
         let image = if self.factor == 1 {
@@ -245,18 +257,104 @@ impl Scanner {
             averaged = wakelab_products::resample::area_average(image, f, f);
             &averaged
         };
+        let n = self.info.input_size;
         let options = ScanOptions {
-            stride: Some((self.info.input_size / 2).max(1)),
+            stride: Some((n / 2).max(1)),
             scale: RadarScale::Linear,
             threshold: Some(0.0),
             ..ScanOptions::default()
         };
         let found = detect_image(&self.detector, &self.info, image, options, device, &mut |_, _| {})?;
-        Ok(found
-            .detections
+        let half = 0.5 * n as f64;
+        let windows = found
+            .tiles
             .iter()
-            .map(|d| (d.row * f, d.col * f, d.score))
-            .collect())
+            .map(|t| {
+                let window = image
+                    .slice(ndarray::s![t.row..t.row + n, t.col..t.col + n])
+                    .mapv(|v| RadarScale::Linear.decibels(v));
+                let centre = median(&window);
+                let spread = 1.4826 * median(&window.mapv(|v| (v - centre).abs())) as f64;
+                (
+                    (t.row as f64 + half) * f,
+                    (t.col as f64 + half) * f,
+                    spread,
+                    t.probability,
+                )
+            })
+            .collect();
+        Ok(Scanned {
+            alarms: found
+                .detections
+                .iter()
+                .map(|d| (d.row * f, d.col * f, d.score))
+                .collect(),
+            windows,
+        })
+    }
+}
+
+/// What a window's own normalisation (its dB less their median, over their robust spread) does
+/// on open sea (issue 38, item 1): whether plain sea scores high where the normalisation
+/// stretches it most (the windows of least spread), and whether spread or probability tells
+/// the windows on a wake from those of the open sea.
+#[derive(Debug, Clone, Serialize, Deserialize)]
+pub struct WindowNormalisation {
+    /// Open-sea windows and windows on a wake (centre within half a window of the track).
+    pub open_sea_windows: usize,
+    pub wake_windows: usize,
+    /// Spearman's rho of an open-sea window's robust spread (dB) and its probability.
+    pub rho_spread_probability: Option<f64>,
+    /// Median robust spread (dB) of the open-sea and the wake windows.
+    pub spread_open_sea: f64,
+    pub spread_on_wake: f64,
+    /// Mean probability of the open-sea windows in the fifth of least spread and in the fifth of
+    /// most.
+    pub probability_least_spread: f64,
+    pub probability_most_spread: f64,
+    /// Median probability of the open-sea and the wake windows.
+    pub probability_open_sea: f64,
+    pub probability_on_wake: f64,
+    /// ROC AUC of wake windows against open-sea windows by the detector's probability, and by
+    /// the spread alone (larger spread: wake).
+    pub auc_probability: Option<f64>,
+    pub auc_spread: Option<f64>,
+}
+
+/// The median (the mean of the middle two of an even count; NaN when empty).
+fn median_of(values: &[f64]) -> f64 {
+    let mut sorted = values.to_vec();
+    sorted.sort_by(f64::total_cmp);
+    match sorted.len() {
+        0 => f64::NAN,
+        n if n % 2 == 1 => sorted[n / 2],
+        n => 0.5 * (sorted[n / 2 - 1] + sorted[n / 2]),
+    }
+}
+
+/// [`WindowNormalisation`] of open-sea windows `sea` and wake windows `wake`, each (spread,
+/// probability).
+fn window_normalisation(sea: &[(f64, f64)], wake: &[(f64, f64)]) -> WindowNormalisation {
+    let (sea_spread, sea_p): (Vec<f64>, Vec<f64>) = sea.iter().copied().unzip();
+    let (wake_spread, wake_p): (Vec<f64>, Vec<f64>) = wake.iter().copied().unzip();
+    let mut by_spread = sea.to_vec();
+    by_spread.sort_by(|a, b| a.0.total_cmp(&b.0));
+    let fifth = (by_spread.len() / 5).max(1).min(by_spread.len());
+    let mean_p = |part: &[(f64, f64)]| part.iter().map(|w| w.1).sum::<f64>() / part.len().max(1) as f64;
+    let labels: Vec<u8> = sea.iter().map(|_| 0).chain(wake.iter().map(|_| 1)).collect();
+    let scores = |a: &[f64], b: &[f64]| -> Vec<f64> { a.iter().chain(b).copied().collect() };
+    WindowNormalisation {
+        open_sea_windows: sea.len(),
+        wake_windows: wake.len(),
+        rho_spread_probability: spearman(&sea_spread, &sea_p),
+        spread_open_sea: median_of(&sea_spread),
+        spread_on_wake: median_of(&wake_spread),
+        probability_least_spread: mean_p(&by_spread[..fifth]),
+        probability_most_spread: mean_p(&by_spread[by_spread.len() - fifth..]),
+        probability_open_sea: median_of(&sea_p),
+        probability_on_wake: median_of(&wake_p),
+        auc_probability: roc_auc(&scores(&sea_p, &wake_p), &labels),
+        auc_spread: roc_auc(&scores(&sea_spread, &wake_spread), &labels),
     }
 }
 
@@ -311,18 +409,27 @@ fn open_sea(
     // the track (m)
     let mut sea: Vec<Vec<f64>> = vec![Vec::new(); scanners.len()];
     let mut wake_scenes: Vec<Vec<Vec<(f64, f64)>>> = vec![Vec::new(); scanners.len()];
+    // every window's (spread, probability) on open sea and on a wake
+    let mut sea_windows: Vec<Vec<(f64, f64)>> = vec![Vec::new(); scanners.len()];
+    let mut wake_windows: Vec<Vec<(f64, f64)>> = vec![Vec::new(); scanners.len()];
     let mut km2 = 0.0;
     for c in &configs {
         let pair = render(c, run_dir)?;
         km2 += pair.km2;
         for (k, (_, scanner)) in scanners.iter().enumerate() {
-            sea[k].extend(scanner.alarms(&pair.without, &device)?.into_iter().map(|a| a.2));
-            let alarms = scanner
-                .alarms(&pair.with, &device)?
-                .into_iter()
-                .map(|(r, c, p)| (distance_to_segment((r, c), pair.track) * pair.spacing, p))
-                .collect();
-            wake_scenes[k].push(alarms);
+            let open = scanner.scan(&pair.without, &device)?;
+            sea[k].extend(open.alarms.iter().map(|a| a.2));
+            sea_windows[k].extend(open.windows.iter().map(|w| (w.2, w.3)));
+            let with = scanner.scan(&pair.with, &device)?;
+            let metres = |r: f64, c: f64| distance_to_segment((r, c), pair.track) * pair.spacing;
+            wake_scenes[k].push(with.alarms.iter().map(|&(r, c, p)| (metres(r, c), p)).collect());
+            let half_window = 0.5 * (scanner.info.input_size * scanner.factor) as f64 * pair.spacing;
+            wake_windows[k].extend(
+                with.windows
+                    .iter()
+                    .filter(|w| metres(w.0, w.1) <= half_window)
+                    .map(|w| (w.2, w.3)),
+            );
         }
     }
     std::fs::create_dir_all(detectors_dir(run_dir)).map_err(|e| WakelabError::io(detectors_dir(run_dir), e))?;
@@ -364,6 +471,7 @@ fn open_sea(
             off_wake_alarms_at_study_threshold: per_1000(off(study_threshold), km2),
             off_wake_alarms: per_1000(off(threshold), km2),
             largest_open_sea: sea[k].iter().copied().fold(0.0, f64::max),
+            normalisation: window_normalisation(&sea_windows[k], &wake_windows[k]),
             file,
         });
     }
@@ -501,6 +609,22 @@ mod tests {
         assert_eq!(calibration.temperature, 1.7);
         assert_eq!(calibration.open_sea_km2, Some(o.km2));
         assert_eq!(calibration.false_alarms_per_1000_km2, Some(ALARMS_PER_1000_KM2));
+    }
+
+    /// Open-sea windows whose probability falls as their spread grows, and two wake windows of
+    /// larger spread and probability: every statistic as counted by hand.
+    #[test]
+    fn the_window_normalisation_statistics_read_the_windows() {
+        let sea: Vec<(f64, f64)> = (0..10).map(|i| (1.0 + 0.1 * i as f64, 0.9 - 0.05 * i as f64)).collect();
+        let wake = [(3.0, 0.95), (3.5, 0.99)];
+        let w = window_normalisation(&sea, &wake);
+        assert_eq!((w.open_sea_windows, w.wake_windows), (10, 2));
+        assert!((w.rho_spread_probability.unwrap() + 1.0).abs() < 1e-12);
+        // the fifths: spreads 1.0 and 1.1 (p 0.9, 0.85), 1.8 and 1.9 (p 0.5, 0.45)
+        assert!((w.probability_least_spread - 0.875).abs() < 1e-12);
+        assert!((w.probability_most_spread - 0.475).abs() < 1e-12);
+        assert_eq!((w.spread_on_wake, w.spread_open_sea), (3.25, 1.45));
+        assert_eq!((w.auc_probability, w.auc_spread), (Some(1.0), Some(1.0)));
     }
 
     /// Every open-sea scene is a valid 5.12 km scene with its look-alikes.

@@ -18,7 +18,7 @@
 //!
 //! It writes `calibration/calibration.json`, which the report renders.
 
-use super::context::{fnv_hex, step_time};
+use super::context::{at_factor, fnv_hex, step_time, whole_factor, write_results};
 use super::ships::{scene_config, SPACING, SPEEDS};
 use super::study_run::StudyRun;
 use crate::{Result, StepTime};
@@ -27,7 +27,6 @@ use rand::{RngExt, SeedableRng};
 use serde::{Deserialize, Serialize};
 use std::path::{Path, PathBuf};
 use std::time::Instant;
-use wakelab_core::io::write_atomically;
 use wakelab_core::units::RadarBand;
 use wakelab_core::{WakelabConfig, WakelabError};
 use wakelab_dataset::study::Study;
@@ -250,13 +249,7 @@ impl Scanner {
     /// A scan of `image` (linear sigma0) at half the window's stride.
     fn scan(&self, image: &Array2<f32>, device: &Device) -> Result<Scanned> {
         let f = self.factor as f64;
-        let averaged;
-        let image = if self.factor == 1 {
-            image
-        } else {
-            averaged = wakelab_products::resample::area_average(image, f, f);
-            &averaged
-        };
+        let image = at_factor(image, self.factor);
         let n = self.info.input_size;
         let options = ScanOptions {
             stride: Some((n / 2).max(1)),
@@ -264,7 +257,7 @@ impl Scanner {
             threshold: Some(0.0),
             ..ScanOptions::default()
         };
-        let found = detect_image(&self.detector, &self.info, image, options, device, &mut |_, _| {})?;
+        let found = detect_image(&self.detector, &self.info, &image, options, device, &mut |_, _| {})?;
         let half = 0.5 * n as f64;
         let windows = found
             .tiles
@@ -383,23 +376,15 @@ fn open_sea(
             continue;
         }
         let (detector, mut info) = load_detector(&path, None, &device)?;
-        let ratio = info.pixel_spacing.unwrap_or(SPACING) / SPACING;
-        if ratio < 1.0 || (ratio - ratio.round()).abs() > 1e-6 {
+        let Some(factor) = whole_factor(&info, SPACING) else {
             continue;
-        }
+        };
         info.calibration = Some(Calibration {
             temperature: d.temperature,
             false_alarms_per_1000_km2: None,
             open_sea_km2: None,
         });
-        scanners.push((
-            i,
-            Scanner {
-                detector,
-                info,
-                factor: ratio.round() as usize,
-            },
-        ));
+        scanners.push((i, Scanner { detector, info, factor }));
     }
     if scanners.is_empty() {
         return Ok(());
@@ -527,10 +512,7 @@ pub fn calibration_step(run_dir: &Path, study: &Study, run: &StudyRun) -> Result
         alarms_target: ALARMS_PER_1000_KM2,
         detectors,
     };
-    let file = results_file(run_dir);
-    let dir = file.parent().expect("a folder");
-    std::fs::create_dir_all(dir).map_err(|e| WakelabError::io(dir, e))?;
-    write_atomically(&file, serde_json::to_string_pretty(&results)?.as_bytes())?;
+    write_results(&results_file(run_dir), &results)?;
     Ok(step_time("calibration", start, None))
 }
 

@@ -108,6 +108,31 @@ impl<'a> Context<'a> {
     }
 }
 
+/// Write a step's results as pretty JSON at `file` (its folder made first).
+pub(crate) fn write_results<T: Serialize>(file: &Path, results: &T) -> crate::Result<()> {
+    let dir = file.parent().expect("a folder");
+    std::fs::create_dir_all(dir).map_err(|e| wakelab_core::WakelabError::io(dir, e))?;
+    wakelab_core::io::write_atomically(file, serde_json::to_string_pretty(results)?.as_bytes())?;
+    Ok(())
+}
+
+/// Scene pixels per detector pixel: the detector's training spacing over the scenes' `spacing`
+/// (m), None unless a whole number of at least 1.
+pub(crate) fn whole_factor(info: &wakelab_learn::store::ModelInfo, spacing: f64) -> Option<usize> {
+    let ratio = info.pixel_spacing.unwrap_or(spacing) / spacing;
+    (ratio >= 1.0 && (ratio - ratio.round()).abs() <= 1e-6).then(|| ratio.round() as usize)
+}
+
+/// `image` averaged over `factor` x `factor` pixels (itself when `factor` is 1).
+pub(crate) fn at_factor(image: &ndarray::Array2<f32>, factor: usize) -> std::borrow::Cow<'_, ndarray::Array2<f32>> {
+    if factor == 1 {
+        std::borrow::Cow::Borrowed(image)
+    } else {
+        let f = factor as f64;
+        std::borrow::Cow::Owned(wakelab_products::resample::area_average(image, f, f))
+    }
+}
+
 pub(crate) fn fnv_hex(text: &str) -> String {
     format!("{:016x}", wakelab_dataset::fnv(text))
 }

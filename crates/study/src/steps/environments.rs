@@ -10,14 +10,13 @@
 //! the refraction source R exceeds the extra damping d. So beside each contrast the table gives
 //! the largest R across the wake at its age, and d and the relaxation rate mu where R is largest.
 
-use super::context::{fnv_hex, step_time};
+use super::context::{fnv_hex, step_time, write_results};
 use crate::{Result, StepTime};
 use serde::{Deserialize, Serialize};
 use std::path::Path;
 use std::time::Instant;
 use wakelab_core::config::Polarisation;
 use wakelab_core::config::{NamedDirection, SwellDirection};
-use wakelab_core::io::write_atomically;
 use wakelab_core::units::RadarBand;
 use wakelab_core::WakelabConfig;
 use wakelab_core::WakelabError;
@@ -249,9 +248,7 @@ pub fn environments_step(run_dir: &Path, study: &Study) -> Result<StepTime> {
         contrasts,
         sigma0,
     };
-    let dir = file.parent().expect("a folder");
-    std::fs::create_dir_all(dir).map_err(|e| WakelabError::io(dir, e))?;
-    write_atomically(&file, serde_json::to_string_pretty(&environments)?.as_bytes())?;
+    write_results(&file, &environments)?;
     Ok(step_time("environments", start, None))
 }
 

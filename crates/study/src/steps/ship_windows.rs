@@ -6,6 +6,7 @@
 //! from the other scenes (leave one scene out): the fused trial is never part of the data that
 //! weighs its sources (erratum 11).
 
+use super::context::{at_factor, whole_factor};
 use super::whole_scene::model_path;
 use crate::Result;
 use ndarray::Array2;
@@ -46,15 +47,14 @@ impl ShipWindows {
         let bytes = std::fs::read(&path).map_err(|e| wakelab_core::WakelabError::io(&path, e))?;
         let device = parse_device("cpu")?;
         let (detector, info) = load_detector(&path, None, &device)?;
-        let ratio = info.pixel_spacing.unwrap_or(spacing) / spacing;
-        if ratio < 1.0 || (ratio - ratio.round()).abs() > 1e-6 {
+        let Some(factor) = whole_factor(&info, spacing) else {
             return Ok(None);
-        }
+        };
         Ok(Some(Self {
             detector,
             info,
             device,
-            factor: ratio.round() as usize,
+            factor,
             hash: wakelab_dataset::fnv(bytes),
         }))
     }
@@ -74,13 +74,7 @@ impl ShipWindows {
     /// sigma0.
     pub fn score(&self, image: &Array2<f32>, centre: (f64, f64), spacing: f64) -> Result<f64> {
         let f = self.factor as f64;
-        let averaged;
-        let image = if self.factor == 1 {
-            image
-        } else {
-            averaged = wakelab_products::resample::area_average(image, f, f);
-            &averaged
-        };
+        let image = at_factor(image, self.factor);
         let (n, dx) = (self.info.input_size, spacing * f);
         let (cr, cc) = (centre.0 / f, centre.1 / f);
         let reach = RADIUS_M / dx + 0.5 * n as f64;

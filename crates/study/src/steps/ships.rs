@@ -8,7 +8,7 @@
 //! km^2, wake detection, the course's error, and both speeds' errors where they are reported.
 //! It writes `ships/ships.json`, which the report renders.
 
-use super::context::{fnv_hex, step_time};
+use super::context::{fnv_hex, step_time, write_results};
 use super::ship_windows::{score_detectors, DetectorScore, ShipWindows, Trial};
 use crate::{Result, StepTime};
 use ndarray::Array2;
@@ -16,7 +16,6 @@ use rand::{RngExt, SeedableRng};
 use serde::{Deserialize, Serialize};
 use std::path::{Path, PathBuf};
 use std::time::Instant;
-use wakelab_core::io::write_atomically;
 use wakelab_core::units::RadarBand;
 use wakelab_core::{WakelabConfig, WakelabError};
 use wakelab_dataset::study::Study;
@@ -330,10 +329,7 @@ pub fn ships_step(run_dir: &Path, study: &Study) -> Result<StepTime> {
         cnn_footprint_m: cnn.as_ref().map(|c| c.footprint_m(SPACING)),
         wake_detectors,
     };
-    let file = results_file(run_dir);
-    let dir = file.parent().expect("a folder");
-    std::fs::create_dir_all(dir).map_err(|e| WakelabError::io(dir, e))?;
-    write_atomically(&file, serde_json::to_string_pretty(&results)?.as_bytes())?;
+    write_results(&results_file(run_dir), &results)?;
     Ok(step_time("ships", start, None))
 }
 

@@ -417,7 +417,7 @@ pub struct DetectArgs {
     /// TerraSAR-X MGD product (its directory), a COSMO-SkyMed .h5, a GeoTIFF / COG of sigma0 or
     /// brightness temperature, an npy array or a PNG.
     pub image: PathBuf,
-    /// Detector file written by `train` or `eval`.
+    /// Detector file written by `train`, `eval` or `run` (calibrated: `RUN/detectors/*`).
     #[arg(long, value_name = "FILE")]
     pub model: PathBuf,
     /// Step between the detector's windows (pixels, at most the window side); default: half

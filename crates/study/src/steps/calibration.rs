@@ -18,27 +18,23 @@
 //!
 //! It writes `calibration/calibration.json`, which the report renders.
 
-use super::context::{at_factor, fnv_hex, step_time, whole_factor, write_results};
-use super::ships::{scene_config, SPACING, SPEEDS};
+use super::context::{fnv_hex, step_time, whole_factor, write_results};
+use super::open_sea::{open_sea_config, scan_scenes, Scanner};
+use super::ships::SPACING;
 use super::study_run::StudyRun;
 use crate::{Result, StepTime};
-use ndarray::Array2;
-use rand::{RngExt, SeedableRng};
 use serde::{Deserialize, Serialize};
 use std::path::{Path, PathBuf};
 use std::time::Instant;
-use wakelab_core::units::RadarBand;
 use wakelab_core::{WakelabConfig, WakelabError};
 use wakelab_dataset::study::Study;
 use wakelab_learn::calibration::{
     brier, cross_fitted, expected_calibration_error, fit_temperature, reliability, threshold_for_alarm_rate,
     ReliabilityBin,
 };
-use wakelab_learn::data::{median, RadarScale};
-use wakelab_learn::detect::{detect_image, ScanOptions};
-use wakelab_learn::device::{parse_device, Device};
+use wakelab_learn::device::parse_device;
 use wakelab_learn::models::Architecture;
-use wakelab_learn::store::{load_detector, save_detector, Calibration, Detector, ModelInfo};
+use wakelab_learn::store::{load_detector, save_detector, Calibration};
 use wakelab_schema::band::{Band, Input};
 use wakelab_schema::metrics::{roc_auc, spearman};
 use wakelab_schema::split::Split;
@@ -168,125 +164,6 @@ fn chip_calibration(run: &StudyRun, input: &Input, architecture: Architecture) -
     })
 }
 
-/// Open-sea scene `j`: the ships step's scene draws (its sea, any course and look, a ship of the
-/// study's speeds in view) with look-alikes: slicks over 5-30 % of the sea in filaments 4-16
-/// times as long as wide, and the wind varying by up to 30 %.
-fn open_sea_config(base: &WakelabConfig, j: usize) -> Option<WakelabConfig> {
-    let k = FIRST_SCENE + j;
-    let mut c = scene_config(base, k, SPEEDS[j % SPEEDS.len()], true)?;
-    let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(base.seed ^ (0xCA1B_0000 + k as u64));
-    c.slicks.coverage = rng.random_range(0.05..0.3);
-    c.slicks.elongation = rng.random_range(4.0..16.0);
-    c.environment.wind.variability = rng.random_range(0.0..0.3);
-    Some(c)
-}
-
-/// One scene rendered in C-band VV with its ship and wake and without them, and the wake's
-/// track as a segment (pixels): from the stern to well beyond the scene.
-struct SeaPair {
-    with: Array2<f32>,
-    without: Array2<f32>,
-    track: ((f64, f64), (f64, f64)),
-    spacing: f64,
-    km2: f64,
-}
-
-fn render(c: &WakelabConfig, run_dir: &Path) -> Result<SeaPair> {
-    c.validate()?;
-    let map = wakelab_dataset::hydro_map(&run_dir.join("dataset"), c)?;
-    let with = wakelab_surface::simulate_surface(c, Some(&map));
-    let without = wakelab_surface::simulate_surface(c, None);
-    let image = |scene| -> Array2<f32> {
-        wakelab_sensors::render_sar(c, scene, RadarBand::C)
-            .sigma0
-            .mapv(|v| v as f32)
-    };
-    let side = c.scene.size as f64 * c.scene.pixel_spacing;
-    let track = (
-        with.grid.pixel_of(0.0, 0.0),
-        with.grid.pixel_of(c.scene.along_track + 2.0 * side, 0.0),
-    );
-    Ok(SeaPair {
-        with: image(&with),
-        without: image(&without),
-        track,
-        spacing: c.scene.pixel_spacing,
-        km2: (side / 1000.0).powi(2),
-    })
-}
-
-/// Distance (pixels) of point `p` from the segment `ab`.
-fn distance_to_segment(p: (f64, f64), (a, b): ((f64, f64), (f64, f64))) -> f64 {
-    let (dr, dc) = (b.0 - a.0, b.1 - a.1);
-    let len2 = dr * dr + dc * dc;
-    let t = if len2 > 0.0 {
-        (((p.0 - a.0) * dr + (p.1 - a.1) * dc) / len2).clamp(0.0, 1.0)
-    } else {
-        0.0
-    };
-    (p.0 - a.0 - t * dr).hypot(p.1 - a.1 - t * dc)
-}
-
-/// A C-band detector at the scenes' spacing, calibrated by `temperature`.
-struct Scanner {
-    detector: Detector,
-    info: ModelInfo,
-    /// Scene pixels per detector pixel.
-    factor: usize,
-}
-
-/// A scan's findings: its separate alarms and every window, in scene pixels.
-struct Scanned {
-    /// Window centres (row, column) and probability of the windows that overlap no stronger
-    /// one (the alarms at any threshold below their probability).
-    alarms: Vec<(f64, f64, f64)>,
-    /// Every window: centre (row, column), robust spread of its dB (1.4826 MAD, what its
-    /// normalisation divides by) and probability.
-    windows: Vec<(f64, f64, f64, f64)>,
-}
-
-impl Scanner {
-    /// A scan of `image` (linear sigma0) at half the window's stride.
-    fn scan(&self, image: &Array2<f32>, device: &Device) -> Result<Scanned> {
-        let f = self.factor as f64;
-        let image = at_factor(image, self.factor);
-        let n = self.info.input_size;
-        let options = ScanOptions {
-            stride: Some((n / 2).max(1)),
-            scale: RadarScale::Linear,
-            threshold: Some(0.0),
-            ..ScanOptions::default()
-        };
-        let found = detect_image(&self.detector, &self.info, &image, options, device, &mut |_, _| {})?;
-        let half = 0.5 * n as f64;
-        let windows = found
-            .tiles
-            .iter()
-            .map(|t| {
-                let window = image
-                    .slice(ndarray::s![t.row..t.row + n, t.col..t.col + n])
-                    .mapv(|v| RadarScale::Linear.decibels(v));
-                let centre = median(&window);
-                let spread = 1.4826 * median(&window.mapv(|v| (v - centre).abs())) as f64;
-                (
-                    (t.row as f64 + half) * f,
-                    (t.col as f64 + half) * f,
-                    spread,
-                    t.probability,
-                )
-            })
-            .collect();
-        Ok(Scanned {
-            alarms: found
-                .detections
-                .iter()
-                .map(|d| (d.row * f, d.col * f, d.score))
-                .collect(),
-            windows,
-        })
-    }
-}
-
 /// What a window's own normalisation (its dB less their median, over their robust spread) does
 /// on open sea (issue 38, item 1): whether plain sea scores high where the normalisation
 /// stretches it most (the windows of least spread), and whether spread or probability tells
@@ -389,51 +266,17 @@ fn open_sea(
     if scanners.is_empty() {
         return Ok(());
     }
-    let configs: Vec<WakelabConfig> = (0..scenes).filter_map(|j| open_sea_config(base, j)).collect();
-    // per scanner: open-sea alarm scores, and per wake scene its alarms with their distance to
-    // the track (m)
-    let mut sea: Vec<Vec<f64>> = vec![Vec::new(); scanners.len()];
-    let mut wake_scenes: Vec<Vec<Vec<(f64, f64)>>> = vec![Vec::new(); scanners.len()];
-    // every window's (spread, probability) on open sea and on a wake
-    let mut sea_windows: Vec<Vec<(f64, f64)>> = vec![Vec::new(); scanners.len()];
-    let mut wake_windows: Vec<Vec<(f64, f64)>> = vec![Vec::new(); scanners.len()];
-    let mut km2 = 0.0;
-    for c in &configs {
-        let pair = render(c, run_dir)?;
-        km2 += pair.km2;
-        for (k, (_, scanner)) in scanners.iter().enumerate() {
-            let open = scanner.scan(&pair.without, &device)?;
-            sea[k].extend(open.alarms.iter().map(|a| a.2));
-            sea_windows[k].extend(open.windows.iter().map(|w| (w.2, w.3)));
-            let with = scanner.scan(&pair.with, &device)?;
-            let metres = |r: f64, c: f64| distance_to_segment((r, c), pair.track) * pair.spacing;
-            wake_scenes[k].push(with.alarms.iter().map(|&(r, c, p)| (metres(r, c), p)).collect());
-            let half_window = 0.5 * (scanner.info.input_size * scanner.factor) as f64 * pair.spacing;
-            wake_windows[k].extend(
-                with.windows
-                    .iter()
-                    .filter(|w| metres(w.0, w.1) <= half_window)
-                    .map(|w| (w.2, w.3)),
-            );
-        }
-    }
+    let configs: Vec<WakelabConfig> = (0..scenes)
+        .filter_map(|j| open_sea_config(base, FIRST_SCENE, j))
+        .collect();
+    let (indices, scanners): (Vec<usize>, Vec<Scanner>) = scanners.into_iter().unzip();
+    let (tallies, km2) = scan_scenes(run_dir, &configs, &scanners, &device, &mut |_| {})?;
     std::fs::create_dir_all(detectors_dir(run_dir)).map_err(|e| WakelabError::io(detectors_dir(run_dir), e))?;
-    for (k, (i, scanner)) in scanners.into_iter().enumerate() {
-        let threshold = threshold_for_alarm_rate(&sea[k], km2, ALARMS_PER_1000_KM2);
-        let above = |t: f64| sea[k].iter().filter(|&&p| p > t).count();
-        let found = |t: f64| {
-            wake_scenes[k]
-                .iter()
-                .filter(|alarms| alarms.iter().any(|&(d, p)| d <= FOUND_WITHIN_M && p > t))
-                .count()
-        };
-        let off = |t: f64| {
-            wake_scenes[k]
-                .iter()
-                .flatten()
-                .filter(|&&(d, p)| d > FOUND_WITHIN_M && p > t)
-                .count()
-        };
+    for ((i, scanner), tally) in indices.into_iter().zip(scanners).zip(tallies) {
+        let threshold = threshold_for_alarm_rate(&tally.sea, km2, ALARMS_PER_1000_KM2);
+        let above = |t: f64| tally.sea_alarms(t);
+        let found = |t: f64| tally.wakes_found(t, FOUND_WITHIN_M);
+        let off = |t: f64| tally.off_wake_alarms(t, FOUND_WITHIN_M);
         let Scanner { detector, mut info, .. } = scanner;
         info.threshold = threshold;
         info.calibration = Some(Calibration {
@@ -455,8 +298,8 @@ fn open_sea(
             wakes_found: found(threshold),
             off_wake_alarms_at_study_threshold: per_1000(off(study_threshold), km2),
             off_wake_alarms: per_1000(off(threshold), km2),
-            largest_open_sea: sea[k].iter().copied().fold(0.0, f64::max),
-            normalisation: window_normalisation(&sea_windows[k], &wake_windows[k]),
+            largest_open_sea: tally.largest_open_sea(),
+            normalisation: window_normalisation(&tally.sea_windows, &tally.wake_windows),
             file,
         });
     }
@@ -519,14 +362,7 @@ pub fn calibration_step(run_dir: &Path, study: &Study, run: &StudyRun) -> Result
 #[cfg(test)]
 mod tests {
     use super::*;
-
-    #[test]
-    fn the_distance_to_a_segment_is_to_its_nearest_point() {
-        let seg = ((0.0, 0.0), (0.0, 10.0));
-        assert_eq!(distance_to_segment((3.0, 5.0), seg), 3.0);
-        assert_eq!(distance_to_segment((0.0, -4.0), seg), 4.0);
-        assert_eq!(distance_to_segment((3.0, 14.0), seg), 5.0);
-    }
+    use wakelab_learn::store::{Detector, ModelInfo};
 
     /// An untrained C-band detector's scans of two open-sea scenes: the threshold it is given
     /// leaves no alarm on their 52 km^2 (fewer than one allowed), at most as many as 0.5 does;
@@ -614,7 +450,9 @@ mod tests {
     fn the_open_sea_scenes_are_valid() {
         let study = Study::from_toml_str(wakelab_dataset::study::DEFAULT_STUDY, "default").unwrap();
         let base = study.base_config().unwrap();
-        let configs: Vec<_> = (0..SCENES).filter_map(|j| open_sea_config(&base, j)).collect();
+        let configs: Vec<_> = (0..SCENES)
+            .filter_map(|j| open_sea_config(&base, FIRST_SCENE, j))
+            .collect();
         assert_eq!(configs.len(), SCENES);
         for c in &configs {
             c.validate().unwrap();

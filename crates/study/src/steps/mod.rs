@@ -2,9 +2,10 @@
 //! calibration; the report renders what they wrote), each reused when its inputs have not changed.
 
 pub mod calibration;
-mod context;
+pub(crate) mod context;
 pub mod environments;
 mod held_out;
+pub(crate) mod open_sea;
 pub mod ship_windows;
 pub mod ships;
 mod study_run;

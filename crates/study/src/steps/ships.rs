@@ -32,7 +32,7 @@ const SCENES_PER_SPEED: usize = 8;
 const FREE_SCENES: usize = 3;
 /// The scenes' side (pixels) and spacing (m): 5.12 km.
 const SIDE: usize = 512;
-pub(super) const SPACING: f64 = 10.0;
+pub(crate) const SPACING: f64 = 10.0;
 /// The scene centre behind the stern (m): the ship in view 1.2 km off the centre, or sailed out
 /// of it (4.5 km) for the free wakes.
 const IN_VIEW: f64 = 1200.0;
@@ -119,7 +119,7 @@ pub fn load_ships(run_dir: &Path) -> Result<ShipsResults> {
 /// The configuration of scene `k` of the step (`in_view`: the ship in the image), None when the
 /// study's simulated wake is too short for it: the scene (5.12 km, else 2.56 or 1.28) must end
 /// within the wake, and hold the ship (at most half its half-side off its centre) or not.
-pub(super) fn scene_config(base: &WakelabConfig, k: usize, speed: f64, in_view: bool) -> Option<WakelabConfig> {
+pub(crate) fn scene_config(base: &WakelabConfig, k: usize, speed: f64, in_view: bool) -> Option<WakelabConfig> {
     let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(base.seed ^ (0x5415_0000 + k as u64));
     let mut c = base.clone();
     c.seed = base.seed.wrapping_add(1000 + k as u64);

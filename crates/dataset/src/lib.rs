@@ -14,6 +14,7 @@ pub mod render;
 pub mod shard;
 pub mod slurm;
 pub mod study;
+pub mod transfer;
 
 pub use manifest::write_manifest;
 use ndarray_npy::write_npy;

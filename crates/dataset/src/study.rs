@@ -64,6 +64,10 @@ pub struct Study {
     /// How `wakelab run` trains and evaluates on the dataset (default: the spec's recipe).
     #[serde(default)]
     pub learning: crate::learning::LearningPlan,
+    /// Detectors for real images (issue 38): a study with this table trains them instead of the
+    /// chip study (`wakelab run --study transfer`).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub transfer: Option<crate::transfer::TransferPlan>,
 }
 
 /// A wake scene and its matching no-wake scene: the same environment, platform and seed.
@@ -95,6 +99,8 @@ impl ScenePair {
 pub const DEFAULT_STUDY: &str = include_str!("../../../configs/study/default.toml");
 /// The spec's scale: 180 pairs of 1024 x 1024 images on the `paper` grid.
 pub const PAPER_STUDY: &str = include_str!("../../../configs/study/paper.toml");
+/// Detectors for real images (issue 38): kilometre windows, domain randomisation, look-alikes.
+pub const TRANSFER_STUDY: &str = include_str!("../../../configs/study/transfer.toml");
 
 fn study_error(field: &str, value: impl ToString, allowed: &str) -> WakelabError {
     ConfigError::new(field, value, allowed).into()
@@ -109,6 +115,9 @@ impl Study {
         })?;
         study.pairs()?;
         study.learning.validate(&study.study.bands)?;
+        if let Some(plan) = &study.transfer {
+            plan.validate()?;
+        }
         Ok(study)
     }
 

@@ -42,6 +42,7 @@ pub mod scene;
 pub mod sea_findings;
 pub mod slurm;
 pub mod steps;
+pub mod transfer;
 
 use indicatif::{ProgressBar, ProgressStyle};
 use serde::{Deserialize, Serialize};
@@ -143,7 +144,7 @@ const DISPLAY_TEMPLATE: &str =
     "{spinner} {prefix:<22} [{bar:30}] {pos}/{len} | {rate} | {msg} | {elapsed_precise}, {eta} left in step";
 
 impl Display {
-    fn new(quiet: bool, steps: usize, dir: &Path) -> Self {
+    pub(crate) fn new(quiet: bool, steps: usize, dir: &Path) -> Self {
         let previous = std::fs::read_to_string(dir.join("timing.json"))
             .ok()
             .and_then(|t| serde_json::from_str::<Vec<StepTime>>(&t).ok())
@@ -218,20 +219,21 @@ impl Display {
         }
     }
 
-    fn finish(&self) {
+    pub(crate) fn finish(&self) {
         self.bar.finish_and_clear();
     }
 }
 
 /// The study of a name: a study TOML file, or the embedded `default` or `paper` study.
 pub fn load_study(name: &str) -> Result<wakelab_dataset::study::Study> {
-    use wakelab_dataset::study::{Study, DEFAULT_STUDY, PAPER_STUDY};
+    use wakelab_dataset::study::{Study, DEFAULT_STUDY, PAPER_STUDY, TRANSFER_STUDY};
     let path = Path::new(name);
     Ok(match name {
         _ if path.exists() => Study::from_file(path)?,
         "default" => Study::from_toml_str(DEFAULT_STUDY, "<embedded default study>")?,
         "paper" => Study::from_toml_str(PAPER_STUDY, "<embedded paper study>")?,
-        _ => anyhow::bail!("--study {name}: no such file (or use `default` or `paper`)"),
+        "transfer" => Study::from_toml_str(TRANSFER_STUDY, "<embedded transfer study>")?,
+        _ => anyhow::bail!("--study {name}: no such file (or use `default`, `paper` or `transfer`)"),
     })
 }
 
@@ -295,6 +297,22 @@ pub fn run_study(
         files,
         seconds: start.elapsed().as_secs_f64(),
     })
+}
+
+/// `wakelab run`: the study's run (the chip study, or a transfer study's when it has a
+/// `[transfer]` table), its summary printed on stdout; returns what it did, a line each.
+pub fn run_and_describe(
+    study: &wakelab_dataset::study::Study,
+    dir: &Path,
+    device: &Device,
+    quiet: bool,
+) -> Result<String> {
+    if study.transfer.is_some() {
+        return Ok(transfer::run_transfer(study, dir, device, quiet)?.join("\n"));
+    }
+    let outcome = run_study(study, dir, device, quiet)?;
+    report::print_summary(&outcome.run);
+    Ok(outcome.describe(&study.study.name))
 }
 
 /// `wakelab run --stage ...`: one learning step of `study` in `dir`, on its finished dataset.

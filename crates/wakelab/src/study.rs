@@ -29,8 +29,6 @@ pub fn run_study_command(args: &StudyArgs, quiet: bool) -> Result<()> {
         eprintln!("  {done}");
         return Ok(());
     }
-    let outcome = wakelab_study::run_study(&study, &dir, &device, quiet)?;
-    wakelab_study::report::print_summary(&outcome.run);
-    eprintln!("{}", outcome.describe(&study.study.name));
+    eprintln!("{}", wakelab_study::run_and_describe(&study, &dir, &device, quiet)?);
     Ok(())
 }

@@ -1,0 +1,117 @@
+//! The transfer study's report (issue 38, item 8): `report/transfer.md` and
+//! `report/tables/transfer.csv`, one row per footprint: false alarms per 100 km^2 and per 1,000
+//! km^2 on simulated open sea with look-alikes (where the threshold was set, and unseen), wake
+//! recall on whole scenes, and the window-level AUC.
+
+use super::results::{TransferDetector, TransferResults};
+use crate::Result;
+use std::fmt::Write;
+use std::path::{Path, PathBuf};
+use wakelab_core::io::write_atomically;
+
+/// One line: what the detector of a footprint does.
+pub fn describe(d: &TransferDetector) -> String {
+    format!(
+        "  {:.2} km window ({:.0} m pixels): threshold {:.4} for {:.1} alarms per 1,000 km^2; unseen open sea {:.1} per 1,000 km^2; wakes found {}/{} (unseen seas {}/{}); window AUC {}",
+        d.footprint / 1000.0,
+        d.spacing,
+        d.threshold,
+        d.alarms_at_threshold,
+        d.unseen_alarms,
+        d.wakes_found,
+        d.scenes,
+        d.unseen_wakes_found,
+        d.unseen_scenes,
+        d.window_auc.map_or("-".into(), |a| format!("{a:.3}")),
+    )
+}
+
+const HEADER: [&str; 14] = [
+    "footprint_m",
+    "spacing_m",
+    "training_windows",
+    "threshold",
+    "alarms_per_1000_km2_at_0.5",
+    "alarms_per_1000_km2",
+    "alarms_per_100_km2",
+    "wakes_found_at_0.5",
+    "wakes_found",
+    "scenes",
+    "unseen_alarms_per_1000_km2",
+    "unseen_wakes_found",
+    "unseen_scenes",
+    "window_auc",
+];
+
+fn row(d: &TransferDetector) -> Vec<String> {
+    vec![
+        format!("{:.0}", d.footprint),
+        format!("{:.0}", d.spacing),
+        d.training_windows.to_string(),
+        format!("{:.4}", d.threshold),
+        format!("{:.1}", d.alarms_at_half),
+        format!("{:.2}", d.alarms_at_threshold),
+        format!("{:.3}", d.alarms_at_threshold / 10.0),
+        d.wakes_found_at_half.to_string(),
+        d.wakes_found.to_string(),
+        d.scenes.to_string(),
+        format!("{:.2}", d.unseen_alarms),
+        d.unseen_wakes_found.to_string(),
+        d.unseen_scenes.to_string(),
+        d.window_auc.map_or(String::new(), |a| format!("{a:.3}")),
+    ]
+}
+
+/// The table as CSV.
+pub fn csv(results: &TransferResults) -> String {
+    let mut text = HEADER.join(",") + "\n";
+    for d in &results.detectors {
+        text += &(row(d).join(",") + "\n");
+    }
+    text
+}
+
+/// The Markdown page.
+pub fn markdown(results: &TransferResults) -> String {
+    let p = &results.plan;
+    let mut md = String::from("# Transfer: detectors for real C-band images\n\n");
+    let _ = writeln!(
+        md,
+        "{} training scenes of 5.12 km at 10 m ({} delivered as 8-bit display images), each with its ship and wake and without; winds {}-{} m/s, incidence {}-{} degrees, {}-{} looks, NESZ {} to {} dB, slicks over {}-{} % of the sea; {} epochs of \"{}\".\n",
+        results.training_scenes,
+        results.display_scenes,
+        p.wind_speed[0],
+        p.wind_speed[1],
+        p.incidence[0],
+        p.incidence[1],
+        p.looks[0],
+        p.looks[1],
+        p.nesz[0],
+        p.nesz[1],
+        100.0 * p.slick_coverage[0],
+        100.0 * p.slick_coverage[1],
+        p.epochs,
+        p.architecture,
+    );
+    let _ = writeln!(
+        md,
+        "Each detector's threshold holds {} alarm(s) per 1,000 km^2 on the calibration step's open sea with slicks; \"unseen\" is open sea it was neither trained nor thresholded on. A wake is found when an alarm lies within 500 m of its track.\n",
+        results.alarms_target
+    );
+    md += &format!("| {} |\n", HEADER.join(" | "));
+    md += &format!("|{}\n", " --- |".repeat(HEADER.len()));
+    for d in &results.detectors {
+        md += &format!("| {} |\n", row(d).join(" | "));
+    }
+    md
+}
+
+/// Write `report/transfer.md` and `report/tables/transfer.csv`; the files written.
+pub fn write_report(dir: &Path, results: &TransferResults) -> Result<Vec<PathBuf>> {
+    let tables = dir.join("report").join("tables");
+    std::fs::create_dir_all(&tables).map_err(|e| wakelab_core::WakelabError::io(&tables, e))?;
+    let (md, table) = (dir.join("report").join("transfer.md"), tables.join("transfer.csv"));
+    write_atomically(&md, markdown(results).as_bytes())?;
+    write_atomically(&table, csv(results).as_bytes())?;
+    Ok(vec![md, table])
+}

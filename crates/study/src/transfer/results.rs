@@ -1,0 +1,55 @@
+//! What the transfer study found (`transfer/transfer.json`): per footprint, its training and
+//! what it does on simulated open sea.
+
+use serde::{Deserialize, Serialize};
+use std::path::PathBuf;
+use wakelab_dataset::transfer::TransferPlan;
+
+/// What one detector of a footprint learnt and does on simulated open sea.
+#[derive(Debug, Clone, Serialize, Deserialize)]
+pub struct TransferDetector {
+    /// The window's side on the ground (m), its pixels and their spacing (m).
+    pub footprint: f64,
+    pub window: usize,
+    pub spacing: f64,
+    pub training_windows: usize,
+    pub wake_windows: usize,
+    pub training_seconds: f64,
+    /// The last epoch's loss and accuracy on the training windows.
+    pub final_loss: f64,
+    pub final_accuracy: f64,
+    /// The open sea the threshold was set on: its area, the alarms per 1,000 km^2 at 0.5 and
+    /// at the threshold, and the wakes found in the same seas at either (of `scenes`).
+    pub scenes: usize,
+    pub km2: f64,
+    pub alarms_at_half: f64,
+    pub threshold: f64,
+    pub alarms_at_threshold: f64,
+    pub wakes_found_at_half: usize,
+    pub wakes_found: usize,
+    pub off_wake_alarms: f64,
+    /// ROC AUC of the windows on a wake against the open sea's windows.
+    pub window_auc: Option<f64>,
+    /// Open sea it never saw: area, alarms per 1,000 km^2 at the threshold, wakes found (of
+    /// `unseen_scenes`) and alarms off the wake per 1,000 km^2.
+    pub unseen_scenes: usize,
+    pub unseen_km2: f64,
+    pub unseen_alarms: f64,
+    pub unseen_wakes_found: usize,
+    pub unseen_off_wake_alarms: f64,
+    pub file: PathBuf,
+}
+
+/// `transfer/transfer.json`.
+#[derive(Serialize, Deserialize)]
+pub struct TransferResults {
+    pub(super) key: String,
+    pub seconds: f64,
+    pub plan: TransferPlan,
+    /// Training scenes rendered (with and without the ship), of which delivered as 8-bit.
+    pub training_scenes: usize,
+    pub display_scenes: usize,
+    pub render_seconds: f64,
+    pub alarms_target: f64,
+    pub detectors: Vec<TransferDetector>,
+}

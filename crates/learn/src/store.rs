@@ -420,6 +420,25 @@ pub fn load_detector(
     device: &Device,
 ) -> Result<(Detector, ModelInfo), WakelabError> {
     let bytes = std::fs::read(path).map_err(|e| WakelabError::io(path, e))?;
+    load_detector_bytes(bytes, path, expect, device)
+}
+
+/// What a detector file's metadata says of it (architecture, band, spacing, threshold), without
+/// its weights; `path` names it in errors.
+pub fn detector_info(bytes: &[u8], path: &Path) -> Result<ModelInfo, WakelabError> {
+    let (_, header) =
+        SafeTensors::read_metadata(bytes).map_err(|e| store_error(path, format!("not a safetensors file ({e})")))?;
+    ModelInfo::from_metadata(&metadata_in(&header), path)
+}
+
+/// [`load_detector`] from a detector file's bytes (a shipped detector is held in the binary);
+/// `path` names it in errors.
+pub fn load_detector_bytes(
+    bytes: Vec<u8>,
+    path: &Path,
+    expect: Option<(Architecture, usize)>,
+    device: &Device,
+) -> Result<(Detector, ModelInfo), WakelabError> {
     let (_, header) =
         SafeTensors::read_metadata(&bytes).map_err(|e| store_error(path, format!("not a safetensors file ({e})")))?;
     let meta = metadata_in(&header);

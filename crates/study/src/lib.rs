@@ -40,6 +40,7 @@ pub mod report;
 pub mod scan;
 pub mod scene;
 pub mod sea_findings;
+pub mod shipped;
 pub mod slurm;
 pub mod steps;
 pub mod transfer;
@@ -305,10 +306,18 @@ pub fn run_and_describe(
     study: &wakelab_dataset::study::Study,
     dir: &Path,
     device: &Device,
+    real: Option<&Path>,
     quiet: bool,
 ) -> Result<String> {
     if study.transfer.is_some() {
-        return Ok(transfer::run_transfer(study, dir, device, quiet)?.join("\n"));
+        return Ok(transfer::run_transfer(study, dir, device, real, quiet)?.join("\n"));
+    }
+    if let Some(real) = real {
+        anyhow::bail!(
+            "--real {}: real images score the transfer study's detectors; use it with --study transfer (or a \
+             study file with a [transfer] table)",
+            real.display()
+        );
     }
     let outcome = run_study(study, dir, device, quiet)?;
     report::print_summary(&outcome.run);

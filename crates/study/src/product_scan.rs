@@ -175,10 +175,33 @@ pub struct Scanner<'a> {
     pub force: bool,
 }
 
-/// Read the product at `path` and scan the detector over it.
-pub fn scan_product(path: &Path, read: &ReadOptions, scanner: Scanner, progress: ScanProgress) -> Result<ProductScan> {
-    let (info, device) = (scanner.info, scanner.device);
-    let band = info.single_band()?;
+/// A product opened for a detector of `band`: its source, how it was read, and what the band
+/// check had to say.
+pub struct OpenedProduct {
+    pub source: Source,
+    read: ReadOptions,
+    band_note: Option<String>,
+}
+
+impl OpenedProduct {
+    /// The product's metadata (its pixel spacing, mission, polarisation).
+    pub fn meta(&self) -> &ProductMeta {
+        match &self.source {
+            Source::Rows(rows) => &rows.meta,
+            Source::Whole(product) => &product.meta,
+        }
+    }
+}
+
+/// Open the product at `path` for a detector of `band`: radar images are read as sigma0,
+/// infrared as brightness temperature; an input of another band is refused unless `force`.
+pub fn open_product(
+    path: &Path,
+    read: &ReadOptions,
+    band: Band,
+    force: bool,
+    reading: &mut dyn FnMut(usize, usize),
+) -> Result<OpenedProduct> {
     let read = ReadOptions {
         quantity: if band.is_radar() {
             Quantity::Sigma0
@@ -187,6 +210,27 @@ pub fn scan_product(path: &Path, read: &ReadOptions, scanner: Scanner, progress:
         },
         ..read.clone()
     };
+    // before the pixels are read: an infrared image read as sigma0 fails the scale's checks
+    let band_note = check_band(path, band, force)?;
+    let source = wakelab_products::open_source(path, &read, reading)?;
+    Ok(OpenedProduct {
+        source,
+        read,
+        band_note,
+    })
+}
+
+/// Read the product at `path` and scan the detector over it.
+pub fn scan_product(path: &Path, read: &ReadOptions, scanner: Scanner, progress: ScanProgress) -> Result<ProductScan> {
+    let band = scanner.info.single_band()?;
+    let opened = open_product(path, read, band, scanner.force, progress.reading)?;
+    scan_opened(opened, scanner, progress)
+}
+
+/// Scan the detector over an opened product (of the detector's band).
+pub fn scan_opened(opened: OpenedProduct, scanner: Scanner, progress: ScanProgress) -> Result<ProductScan> {
+    let (info, device) = (scanner.info, scanner.device);
+    let band = info.single_band()?;
     // the product's values are linear sigma0 (or kelvin) whatever the file's scale was
     let scanner = Scanner {
         options: ScanOptions {
@@ -195,9 +239,11 @@ pub fn scan_product(path: &Path, read: &ReadOptions, scanner: Scanner, progress:
         },
         ..scanner
     };
-    // before the pixels are read: an infrared image read as sigma0 fails the scale's checks
-    let band_note = check_band(path, band, scanner.force)?;
-    let source = wakelab_products::open_source(path, &read, progress.reading)?;
+    let OpenedProduct {
+        source,
+        read,
+        band_note,
+    } = opened;
     let meta = match &source {
         Source::Rows(rows) => &rows.meta,
         Source::Whole(product) => &product.meta,

@@ -1,20 +1,22 @@
 //! `wakelab detect` and `wakelab calibrate` on a user's product, from the paths and options the
 //! command line gives to the files written: the binary only draws the progress and prints.
 
-use crate::product_scan::{scan_product, ScanProgress, Scanner};
+use crate::product_scan::{open_product, scan_opened, ScanProgress, Scanner};
 use crate::scan::{default_scan_dir, write_asked_mask, write_scan, ScanFiles, Scanned};
+use crate::shipped::{choose, shipped_note, SHIPPED_BAND};
 use anyhow::Result;
 use std::path::{Path, PathBuf};
 use wakelab_learn::detect::{Detection, ScanOptions};
 use wakelab_learn::device::parse_device;
-use wakelab_learn::store::load_detector;
+use wakelab_learn::store::{load_detector, load_detector_bytes};
 use wakelab_products::cog::{write_sigma0, write_sigma0_rows};
 use wakelab_products::{ProductMeta, Quantity, ReadOptions, ReadReport, Source};
 
 /// What `wakelab detect` scans, with what and where it writes.
 pub struct DetectRequest<'a> {
     pub image: &'a Path,
-    pub model: &'a Path,
+    /// The detector file; None: the shipped detector for the image's spacing ([`crate::shipped`]).
+    pub model: Option<&'a Path>,
     pub read: ReadOptions,
     pub options: ScanOptions,
     /// Backend name (`cpu`, `wgpu`, `cuda`).
@@ -75,18 +77,34 @@ impl Detected {
     }
 }
 
-/// Load the detector, read and scan the product, and write the scan's files.
+/// Load the detector (the user's, or the shipped one for the image's spacing), read and scan the
+/// product, and write the scan's files.
 pub fn detect(request: DetectRequest, progress: ScanProgress) -> Result<Detected> {
     let device = parse_device(request.device)?;
-    let (detector, info) = load_detector(request.model, None, &device)?;
+    let (image, force) = (request.image, request.force);
+    let (detector, info, model, opened, chosen) = match request.model {
+        Some(path) => {
+            let (detector, info) = load_detector(path, None, &device)?;
+            let opened = open_product(image, &request.read, info.single_band()?, force, progress.reading)?;
+            (detector, info, path.to_path_buf(), opened, None)
+        }
+        None => {
+            let opened = open_product(image, &request.read, SHIPPED_BAND, force, progress.reading)?;
+            let shipped = choose(image, opened.meta().pixel_spacing.as_ref())?;
+            let (detector, info) = load_detector_bytes(shipped.bytes.to_vec(), &shipped.path(), None, &device)?;
+            let note = shipped_note(shipped, &info);
+            (detector, info, shipped.path(), opened, Some(note))
+        }
+    };
     let scanner = Scanner {
         detector: &detector,
         info: &info,
         options: request.options,
         device: &device,
-        force: request.force,
+        force,
     };
-    let mut scan = scan_product(request.image, &request.read, scanner, progress)?;
+    let mut scan = scan_opened(opened, scanner, progress)?;
+    scan.notes.splice(0..0, chosen);
     scan.notes.extend(info.calibration_note());
     let dir = request.out.unwrap_or_else(|| default_scan_dir(request.image));
     let scanned = Scanned {
@@ -97,7 +115,7 @@ pub fn detect(request: DetectRequest, progress: ScanProgress) -> Result<Detected
         overlay: &scan.overlay,
         factor: scan.factor,
         band: scan.band,
-        model: request.model,
+        model: &model,
         notes: &scan.notes,
         sea: scan.sea.as_ref(),
     };
@@ -105,7 +123,7 @@ pub fn detect(request: DetectRequest, progress: ScanProgress) -> Result<Detected
     let mut notes = scan.notes;
     if let Some(path) = request.mask {
         let architecture = info.architecture.to_string();
-        notes.extend(write_asked_mask(path, &scan.detection, request.model, &architecture)?);
+        notes.extend(write_asked_mask(path, &scan.detection, &model, &architecture)?);
     }
     Ok(Detected {
         detection: scan.detection,

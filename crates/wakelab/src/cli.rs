@@ -81,9 +81,8 @@ pub struct StudyArgs {
     /// and on a GPU (timed on the `--device` GPU, else an H100's measured rates), and the peak memory; write nothing.
     #[arg(long, conflicts_with_all = ["emit_slurm", "stage"])]
     pub dry_run: bool,
-    /// Write a Slurm script, DIR/wakelab_run.slurm, that runs the study as jobs chained by
-    /// `afterok` (dataset shards, then one job per input of the learning stage and one for the
-    /// held-out environments, then fusion and the report) instead of running it here.
+    /// Write a Slurm script, DIR/wakelab_run.slurm, running the study as jobs chained by `afterok`
+    /// (dataset shards; a job per learning input, one for held-out; fusion and the report).
     #[arg(long, conflicts_with_all = ["stage", "input"])]
     pub emit_slurm: bool,
     /// Array tasks of the Slurm script's dataset step (with --emit-slurm).
@@ -99,6 +98,9 @@ pub struct StudyArgs {
     /// The input of `--stage learning`: a band (S, C, X, MWIR, LWIR) or bands as channels (S+X).
     #[arg(long, value_name = "NAME")]
     pub input: Option<String>,
+    /// Score the transfer study's detectors on real images: DIR holds each with NAME.geojson of its wakes.
+    #[arg(long, value_name = "DIR")]
+    pub real: Option<PathBuf>,
 }
 
 /// A learning stage that `wakelab run --stage` runs on its own.
@@ -280,8 +282,7 @@ pub struct LearnArgs {
     /// Classifier learning rate (spec: 1e-3, SGD).
     #[arg(long, default_value_t = recipe::CLASSIFIER_LEARNING_RATE, allow_negative_numbers = true)]
     pub learning_rate: f64,
-    /// Classifier optimiser: sgd (spec 4.1) or adam (the spec's U-Net optimiser; learns in far
-    /// fewer steps).
+    /// Classifier optimiser: sgd (spec 4.1) or adam (the spec's U-Net optimiser; far fewer steps).
     #[arg(long, default_value = "sgd", value_name = "sgd|adam")]
     pub optimiser: wakelab_schema::recipe::Optimiser,
     /// Classifier L2 weight decay (spec: 0.1).
@@ -293,8 +294,7 @@ pub struct LearnArgs {
     /// Seed of the weights, splits, batch order and augmentation.
     #[arg(long, default_value_t = 0)]
     pub seed: u64,
-    /// How training inputs vary: quarter_turns (spec 4.2) or geometric (rotations by any angle,
-    /// flips and shifts).
+    /// How training inputs vary: quarter_turns (spec 4.2) or geometric (any rotation, flips, shifts).
     #[arg(long, default_value = "quarter_turns", value_name = "quarter_turns|geometric")]
     pub augmentation: wakelab_schema::recipe::Augmentation,
     /// Backend: cpu, or wgpu / cuda in builds with those features.
@@ -418,11 +418,10 @@ pub struct DetectArgs {
     /// TerraSAR-X MGD product (its directory), a COSMO-SkyMed .h5, a GeoTIFF / COG of sigma0 or
     /// brightness temperature, an npy array or a PNG.
     pub image: PathBuf,
-    /// Detector file written by `train`, `eval` or `run` (calibrated: `RUN/detectors/*`).
+    /// Detector file (`train`, `eval`, `run`); default: the shipped C-band one for the image's pixel spacing.
     #[arg(long, value_name = "FILE")]
-    pub model: PathBuf,
-    /// Step between the detector's windows (pixels, at most the window side); default: half
-    /// the window.
+    pub model: Option<PathBuf>,
+    /// Step between the detector's windows (pixels, at most the window side); default: half a window.
     #[arg(long, value_name = "PIXELS")]
     pub stride: Option<usize>,
     /// Decision threshold on a window's wake probability; default: the detector's.

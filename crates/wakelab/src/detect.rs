@@ -14,7 +14,7 @@ pub fn run_detect(args: &DetectArgs, quiet: bool) -> Result<()> {
     let bar = wakelab_study::progress_bar(quiet, 0, template);
     let request = DetectRequest {
         image: &args.image,
-        model: &args.model,
+        model: args.model.as_deref(),
         read: args.read.options(),
         options: ScanOptions {
             stride: args.stride,

@@ -29,6 +29,7 @@ pub fn run_study_command(args: &StudyArgs, quiet: bool) -> Result<()> {
         eprintln!("  {done}");
         return Ok(());
     }
-    eprintln!("{}", wakelab_study::run_and_describe(&study, &dir, &device, quiet)?);
+    let done = wakelab_study::run_and_describe(&study, &dir, &device, args.real.as_deref(), quiet)?;
+    eprintln!("{done}");
     Ok(())
 }

@@ -329,14 +329,9 @@ fn a_sentinel1_product_is_calibrated_and_scanned_on_its_ground() {
     assert!(banded.iter().zip(&read_whole).all(|(a, b)| a.to_bits() == b.to_bits()));
 }
 
-/// A ship and its wake on a UTM GeoTIFF (4-look speckle, a 150 m return 30 dB over the sea, a
-/// trough 3 dB dark and 40 m wide for 2.5 km behind it, course 45 degrees): `detect` finds the
-/// ship where it is and the wake's course, and writes them as a GeoJSON Point and LineString
-/// (the wake's vertices where GDAL places them) and in `detect --json`; a GeoTIFF states no orbit,
-/// so the azimuth offset gives no speed, and the notes say so.
-#[test]
-fn a_ship_and_its_wake_come_out_as_geojson() {
-    let dir = tempfile::tempdir().unwrap();
+/// The ship of [`a_ship_and_its_wake_come_out_as_geojson`] on its 400-row sea: the image and the
+/// ship's (row, column).
+fn ship_image() -> (Array2<f32>, (f64, f64)) {
     let side = 400;
     let looks: Vec<Array2<f32>> = (0..4).map(|k| sea_of(side * (k + 1))).collect();
     let mut image = Array2::from_shape_fn((side, SIDE.max(side)), |(r, c)| {
@@ -364,6 +359,18 @@ fn a_ship_and_its_wake_come_out_as_geojson() {
         let (r, c) = (ship_r - d as f64 * north, ship_c + d as f64 * east);
         image[[r.round() as usize, c.round() as usize]] = 10.0;
     }
+    (image, (ship_r, ship_c))
+}
+
+/// A ship and its wake on a UTM GeoTIFF (4-look speckle, a 150 m return 30 dB over the sea, a
+/// trough 3 dB dark and 40 m wide for 2.5 km behind it, course 45 degrees): `detect` finds the
+/// ship where it is and the wake's course, and writes them as a GeoJSON Point and LineString
+/// (the wake's vertices where GDAL places them) and in `detect --json`; a GeoTIFF states no orbit,
+/// so the azimuth offset gives no speed, and the notes say so.
+#[test]
+fn a_ship_and_its_wake_come_out_as_geojson() {
+    let dir = tempfile::tempdir().unwrap();
+    let (image, (ship_r, ship_c)) = ship_image();
     let tif = dir.path().join("ship.tif");
     write_tif(&tif, &image, &utm(TRANSFORM, image.dim()), "linear");
     let model = detector(dir.path());
@@ -513,4 +520,81 @@ fn a_dual_polarisation_product_shows_its_ships_in_cross_polarisation() {
     let course = wake["course_image_deg"].as_f64().unwrap();
     assert!(course.min(360.0 - course) < 3.0, "{wake}");
     assert!(wake["length_m"].as_f64().unwrap() > 2000.0, "{wake}");
+}
+
+/// Without `--model`, `detect` scans with the shipped C-band detector that fits the image's
+/// pixel spacing (1.28 km windows at 20 m for a 10 m image, 2.56 km at 40 m for a 40 m one) and
+/// says which; its strongest detection on the 10 m ship image lies within 500 m of the wake (the
+/// issue's rule for a wake found). An image that states no spacing, or one coarser than 50 m, is
+/// refused with the flag to pass.
+#[test]
+fn without_a_model_detect_takes_the_shipped_detector_for_the_spacing() {
+    let dir = tempfile::tempdir().unwrap();
+    let (image, (ship_r, ship_c)) = ship_image();
+    let shipped = |image: &Path, out: &Path, more: &[&str]| {
+        let mut args = vec![
+            "detect",
+            image.to_str().unwrap(),
+            "--out",
+            out.to_str().unwrap(),
+            "--quiet",
+        ];
+        args.extend_from_slice(more);
+        wakelab(&args)
+    };
+    let read = |out: &Path| -> serde_json::Value {
+        serde_json::from_str(&std::fs::read_to_string(out.join("detections.json")).unwrap()).unwrap()
+    };
+    let tif = dir.path().join("ship.tif");
+    write_tif(&tif, &image, &utm(TRANSFORM, image.dim()), "linear");
+    let out = dir.path().join("scan");
+    let o = shipped(&tif, &out, &[]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    assert!(
+        stderr(&o).contains("the shipped detector C_transfer_1280m.safetensors"),
+        "{}",
+        stderr(&o)
+    );
+    let report = read(&out);
+    let strongest = &report["detections"][0];
+    let (row, col) = (
+        strongest["product_row"].as_f64().unwrap(),
+        strongest["product_col"].as_f64().unwrap(),
+    );
+    // the trough runs from the ship at course 45 degrees to the image's edge: 10 m pixels
+    let along = ((row - ship_r) + (ship_c - col)) / 2f64.sqrt();
+    let across = ((ship_c - col) - (row - ship_r)) / 2f64.sqrt();
+    let from_wake = if along < 0.0 { along.hypot(across) } else { across.abs() } * 10.0;
+    assert!(
+        from_wake < 500.0,
+        "strongest detection at ({row}, {col}), {from_wake} m from the wake: {report}"
+    );
+    let geojson = std::fs::read_to_string(out.join("detections.geojson")).unwrap();
+    assert!(geojson.contains("shipped:C_transfer_1280m.safetensors"));
+
+    // the same image at 40 m: the 2.56 km detector
+    let coarse = dir.path().join("ship_40m.tif");
+    let transform = [TRANSFORM[0], 40.0, 0.0, TRANSFORM[3], 0.0, -40.0];
+    write_tif(&coarse, &image, &utm(transform, image.dim()), "linear");
+    let o = shipped(&coarse, &dir.path().join("scan_40m"), &[]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    assert!(
+        stderr(&o).contains("the shipped detector C_transfer_2560m.safetensors"),
+        "{}",
+        stderr(&o)
+    );
+
+    // a bare array says no spacing; 60 m is coarser than any shipped detector
+    let npy = dir.path().join("ship.npy");
+    ndarray_npy::write_npy(&npy, &image).unwrap();
+    let o = shipped(&npy, &dir.path().join("scan_npy"), &[]);
+    assert!(!o.status.success());
+    assert!(stderr(&o).contains("--pixel-spacing"), "{}", stderr(&o));
+    let o = shipped(&npy, &dir.path().join("scan_60m"), &["--pixel-spacing", "60"]);
+    assert!(!o.status.success());
+    assert!(
+        stderr(&o).contains("coarser than the shipped detectors'"),
+        "{}",
+        stderr(&o)
+    );
 }

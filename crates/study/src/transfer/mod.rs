@@ -14,6 +14,8 @@
 //! 5. The detectors, their threshold stored, go to `RUN/detectors/C_transfer_<footprint>m`;
 //!    `transfer/transfer.json` and the report's `report/transfer.md` and tables say what they do.
 
+pub mod real;
+mod real_report;
 pub mod report;
 pub mod results;
 pub mod scenes;
@@ -112,8 +114,15 @@ fn per_1000(count: usize, km2: f64) -> f64 {
 }
 
 /// `wakelab run --study transfer`: every step of the study in `dir` (reused when the study and
-/// wakelab are unchanged), then its report. Returns what it did, a line each.
-pub fn run_transfer(study: &Study, dir: &Path, device: &Device, quiet: bool) -> Result<Vec<String>> {
+/// wakelab are unchanged), the images of `real` scored where given ([`real`]), then its report.
+/// Returns what it did, a line each.
+pub fn run_transfer(
+    study: &Study,
+    dir: &Path,
+    device: &Device,
+    real: Option<&Path>,
+    quiet: bool,
+) -> Result<Vec<String>> {
     let plan = study
         .transfer
         .clone()
@@ -142,7 +151,9 @@ pub fn run_transfer(study: &Study, dir: &Path, device: &Device, quiet: bool) -> 
         }
     };
     let mut lines: Vec<String> = results.detectors.iter().map(report::describe).collect();
-    for file in report::write_report(dir, &results)? {
+    let real = real_scores(dir, &results, real, quiet)?;
+    lines.extend(real.iter().flat_map(|r| r.summaries.iter().map(real_report::describe)));
+    for file in report::write_report(dir, &results, real.as_ref())? {
         lines.push(format!("wrote {}", file.display()));
     }
     lines.push(format!(
@@ -152,6 +163,37 @@ pub fn run_transfer(study: &Study, dir: &Path, device: &Device, quiet: bool) -> 
         results.seconds
     ));
     Ok(lines)
+}
+
+/// The images of `real_dir` scored by the study's detectors (written to `transfer/real.json`),
+/// or, without it, the scores an earlier run kept for these detectors.
+fn real_scores(
+    dir: &Path,
+    results: &TransferResults,
+    real_dir: Option<&Path>,
+    quiet: bool,
+) -> Result<Option<real::RealResults>> {
+    let file = real::real_file(dir);
+    let Some(real_dir) = real_dir else {
+        let kept = std::fs::read_to_string(&file).ok();
+        let kept = kept.and_then(|t| serde_json::from_str::<real::RealResults>(&t).ok());
+        return Ok(kept.filter(|r| r.key == results.key));
+    };
+    let detectors: Vec<(f64, PathBuf)> = results
+        .detectors
+        .iter()
+        .map(|d| (d.footprint, d.file.clone()))
+        .collect();
+    let template = "{spinner} real images: [{bar:30}] {pos}/{len} | {elapsed_precise}, {eta} left";
+    let bar = crate::progress_bar(quiet, 0, template);
+    let scored = real::score_real(real_dir, dir, &results.key, &detectors, &mut |done, total| {
+        bar.set_length(total as u64);
+        bar.set_position(done as u64);
+    });
+    bar.finish_and_clear();
+    let scored = scored?;
+    write_results(&file, &scored)?;
+    Ok(Some(scored))
 }
 
 fn compute(
@@ -309,7 +351,7 @@ mod tests {
         plan.swell_fraction = 0.0;
         let dir = tempfile::tempdir().unwrap();
         let device = parse_device("cpu").unwrap();
-        let lines = run_transfer(&study, dir.path(), &device, true).unwrap();
+        let lines = run_transfer(&study, dir.path(), &device, None, true).unwrap();
         assert!(
             lines.iter().any(|l| l.contains("1.28 km window (20 m pixels)")),
             "{lines:?}"
@@ -329,10 +371,56 @@ mod tests {
         let table = std::fs::read_to_string(dir.path().join("report/tables/transfer.csv")).unwrap();
         assert_eq!(table.lines().count(), 2);
         assert!(table.lines().nth(1).unwrap().starts_with("1280,20,"), "{table}");
-        let again = run_transfer(&study, dir.path(), &device, true).unwrap();
+        let again = run_transfer(&study, dir.path(), &device, None, true).unwrap();
         assert!(again
             .last()
             .unwrap()
             .contains(&format!("(computed in {:.1} s)", results.seconds)));
+
+        // --real: two images of 10 m speckle, one with a dark line drawn as its wake
+        let real = dir.path().join("real");
+        std::fs::create_dir_all(&real).unwrap();
+        let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(5);
+        let sea = |rng: &mut rand_chacha::ChaCha8Rng| {
+            ndarray::Array2::from_shape_fn((256, 256), |_| 0.01 * -(1.0 - rand::RngExt::random::<f32>(rng)).ln())
+        };
+        let mut wake = sea(&mut rng);
+        wake.slice_mut(ndarray::s![40..220, 126..130]).mapv_inplace(|v| v * 0.3);
+        ndarray_npy::write_npy(real.join("wake.npy"), &wake).unwrap();
+        ndarray_npy::write_npy(real.join("sea.npy"), &sea(&mut rng)).unwrap();
+        let hints = r#""wakelab": {"coordinates": "pixel", "pixel_spacing_m": 10, "scale": "linear"}"#;
+        let line = r#"{"type": "Feature", "properties": {}, "geometry": {"type": "LineString", "coordinates": [[128, 40], [128, 220]]}}"#;
+        std::fs::write(
+            real.join("wake.geojson"),
+            format!(r#"{{"type": "FeatureCollection", {hints}, "features": [{line}]}}"#),
+        )
+        .unwrap();
+        std::fs::write(
+            real.join("sea.geojson"),
+            format!(r#"{{"type": "FeatureCollection", {hints}, "features": []}}"#),
+        )
+        .unwrap();
+        let lines = run_transfer(&study, dir.path(), &device, Some(&real), true).unwrap();
+        assert!(
+            lines.iter().any(|l| l.contains("real images, 1.28 km window")),
+            "{lines:?}"
+        );
+        let scored: real::RealResults =
+            serde_json::from_str(&std::fs::read_to_string(real::real_file(dir.path())).unwrap()).unwrap();
+        assert_eq!(scored.scores.len(), 2);
+        let s = &scored.summaries[0];
+        assert_eq!((s.wake_images, s.no_wake_images), (1, 1));
+        // 2.56 x 2.56 km (6.55 km^2) each, less any border no full window covers
+        assert!(scored.scores.iter().all(|s| s.km2 > 4.0 && s.km2 < 6.56), "{scored:?}");
+        assert!(dir.path().join("real/1280m/wake/detections.json").exists());
+        let csv = std::fs::read_to_string(dir.path().join("report/tables/transfer_real.csv")).unwrap();
+        assert_eq!(csv.lines().count(), 3, "{csv}");
+        // a later run without --real keeps the section while the detectors are the same
+        run_transfer(&study, dir.path(), &device, None, true).unwrap();
+        let md = std::fs::read_to_string(dir.path().join("report/transfer.md")).unwrap();
+        assert!(
+            md.contains("## Real images") && md.contains("| wake.npy | 1280 | 1 |"),
+            "{md}"
+        );
     }
 }

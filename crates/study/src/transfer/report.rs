@@ -3,6 +3,8 @@
 //! km^2 on simulated open sea with look-alikes (where the threshold was set, and unseen), wake
 //! recall on whole scenes, and the window-level AUC.
 
+use super::real::RealResults;
+use super::real_report;
 use super::results::{TransferDetector, TransferResults};
 use crate::Result;
 use std::fmt::Write;
@@ -106,12 +108,21 @@ pub fn markdown(results: &TransferResults) -> String {
     md
 }
 
-/// Write `report/transfer.md` and `report/tables/transfer.csv`; the files written.
-pub fn write_report(dir: &Path, results: &TransferResults) -> Result<Vec<PathBuf>> {
+/// Write `report/transfer.md` and `report/tables/transfer.csv`, with the real images' section
+/// and `report/tables/transfer_real.csv` where `real` scored them; the files written.
+pub fn write_report(dir: &Path, results: &TransferResults, real: Option<&RealResults>) -> Result<Vec<PathBuf>> {
     let tables = dir.join("report").join("tables");
     std::fs::create_dir_all(&tables).map_err(|e| wakelab_core::WakelabError::io(&tables, e))?;
     let (md, table) = (dir.join("report").join("transfer.md"), tables.join("transfer.csv"));
-    write_atomically(&md, markdown(results).as_bytes())?;
+    let mut text = markdown(results);
+    let mut written = vec![md.clone(), table.clone()];
+    if let Some(real) = real {
+        text += &real_report::markdown(real);
+        let real_table = tables.join("transfer_real.csv");
+        write_atomically(&real_table, real_report::csv(real).as_bytes())?;
+        written.push(real_table);
+    }
+    write_atomically(&md, text.as_bytes())?;
     write_atomically(&table, csv(results).as_bytes())?;
-    Ok(vec![md, table])
+    Ok(written)
 }

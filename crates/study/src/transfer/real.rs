@@ -1,0 +1,519 @@
+//! `wakelab run --study transfer --real DIR` (issue 38, item 8): the study's detectors, frozen
+//! with their thresholds, scanned over a user's real images by `wakelab detect`'s own path
+//! ([`crate::products::detect`]), each image scored against its wakes as the user drew them.
+//!
+//! `DIR` holds images (any input `detect` reads) and, beside each, `NAME.geojson`: a
+//! FeatureCollection whose LineStrings are the image's wakes (none: an image without a wake). A
+//! foreign member `"wakelab"` says how to read the image: `coordinates` (`"lonlat"`, GeoJSON's
+//! own and the default, or `"pixel"`: [column, row] of the image's pixels), `pixel_spacing_m`
+//! and `scale` (as `detect --pixel-spacing`, `--scale`) and `exclude` (a land mask beside it, as
+//! `--exclude`). A wake is found when a detection or the map's peak lies within 500 m of it
+//! (the study's rule on simulated scenes); every other detection is a false alarm.
+
+use crate::product_scan::ScanProgress;
+use crate::products::{detect, DetectRequest};
+use crate::Result;
+use anyhow::{anyhow, Context};
+use serde::{Deserialize, Serialize};
+use serde_json::Value;
+use std::path::{Path, PathBuf};
+use wakelab_learn::detect::ScanOptions;
+use wakelab_products::{InputScale, ReadOptions};
+
+/// A detection this close to a wake (m) finds it.
+pub const FOUND_WITHIN_M: f64 = 500.0;
+
+/// Metres per degree of latitude (WGS 84's mean radius, 6,371 km).
+const M_PER_DEGREE: f64 = 6_371_000.0 * std::f64::consts::PI / 180.0;
+
+/// How an image is read and where its wakes are, from its `NAME.geojson`.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Annotation {
+    pub image: PathBuf,
+    /// Wakes as polylines: (column, row) pixels, or (longitude, latitude) with `lonlat`.
+    pub wakes: Vec<Vec<(f64, f64)>>,
+    pub lonlat: bool,
+    pub pixel_spacing: Option<f64>,
+    pub scale: Option<InputScale>,
+    pub exclude: Option<PathBuf>,
+}
+
+/// How one detector did on one image.
+#[derive(Debug, Clone, Serialize, Deserialize)]
+pub struct RealScore {
+    pub image: String,
+    pub footprint: f64,
+    pub wakes: usize,
+    pub detections: usize,
+    /// Detections more than 500 m from every wake.
+    pub false_alarms: usize,
+    /// Whether the map's peak, and the strongest detection, lie within 500 m of a wake.
+    pub peak_on_wake: bool,
+    pub strongest_on_wake: bool,
+    /// Rank (1: the strongest) of the first detection on a wake.
+    pub first_on_wake: Option<usize>,
+    /// Area scanned (km^2, the cells a window scored).
+    pub km2: f64,
+    pub notes: Vec<String>,
+    /// Why the detector could not scan the image (smaller than its window, unreadable): such an
+    /// image is left out of the summary and listed in the report.
+    #[serde(default)]
+    pub skipped: Option<String>,
+}
+
+impl RealScore {
+    /// The issue's rule: a detection or the map's peak within 500 m of a wake.
+    pub fn found(&self) -> bool {
+        self.wakes > 0 && (self.peak_on_wake || self.first_on_wake.is_some())
+    }
+}
+
+/// Every `NAME.geojson` of `dir` with the image beside it (same name, another extension or a
+/// directory such as a `.SAFE`), sorted by name.
+pub fn annotations(dir: &Path) -> Result<Vec<Annotation>> {
+    let entries =
+        std::fs::read_dir(dir).with_context(|| format!("--real {}: not a readable directory", dir.display()))?;
+    let mut paths: Vec<PathBuf> = entries.filter_map(|e| e.ok().map(|e| e.path())).collect();
+    paths.sort();
+    let mut found = Vec::new();
+    for geojson in paths.iter().filter(|p| p.extension().is_some_and(|e| e == "geojson")) {
+        let stem = geojson.file_stem().unwrap_or_default();
+        let image = paths
+            .iter()
+            .find(|p| *p != geojson && p.file_stem() == Some(stem))
+            .ok_or_else(|| anyhow!("{}: no image of that name beside it", geojson.display()))?;
+        found.push(read_annotation(geojson, image)?);
+    }
+    if found.is_empty() {
+        return Err(anyhow!(
+            "--real {}: no NAME.geojson wake annotations there (each image needs one; an empty FeatureCollection \
+             for an image without a wake)",
+            dir.display()
+        ));
+    }
+    Ok(found)
+}
+
+/// One image's annotation file.
+pub fn read_annotation(geojson: &Path, image: &Path) -> Result<Annotation> {
+    let text = std::fs::read_to_string(geojson).with_context(|| format!("{}: cannot read", geojson.display()))?;
+    let doc: Value = serde_json::from_str(&text).with_context(|| format!("{}: not JSON", geojson.display()))?;
+    let bad = |what: String| anyhow!("{}: {what}", geojson.display());
+    if doc["type"] != "FeatureCollection" {
+        return Err(bad("not a GeoJSON FeatureCollection".into()));
+    }
+    let how = &doc["wakelab"];
+    let lonlat = match how["coordinates"].as_str() {
+        None | Some("lonlat") => true,
+        Some("pixel") => false,
+        Some(other) => {
+            return Err(bad(format!(
+                "wakelab.coordinates \"{other}\": allowed are \"lonlat\" and \"pixel\""
+            )))
+        }
+    };
+    let pixel_spacing = match &how["pixel_spacing_m"] {
+        Value::Null => None,
+        v => Some(v.as_f64().filter(|m| *m > 0.0 && *m <= 1000.0).ok_or_else(|| {
+            bad(format!(
+                "wakelab.pixel_spacing_m {v}: a ground spacing in metres, above 0 and at most 1000"
+            ))
+        })?),
+    };
+    let scale = match how["scale"].as_str() {
+        None => None,
+        Some(s) => Some(
+            s.parse::<InputScale>()
+                .map_err(|e| bad(format!("wakelab.scale: {e}")))?,
+        ),
+    };
+    let exclude = how["exclude"]
+        .as_str()
+        .map(|f| geojson.parent().unwrap_or(Path::new(".")).join(f));
+    let mut wakes = Vec::new();
+    for (i, feature) in doc["features"].as_array().into_iter().flatten().enumerate() {
+        let kind = feature["properties"]["kind"].as_str();
+        if kind.is_some_and(|k| k != "wake") {
+            continue;
+        }
+        let geometry = &feature["geometry"];
+        let lines: Vec<&Value> = match geometry["type"].as_str() {
+            Some("LineString") => vec![&geometry["coordinates"]],
+            Some("MultiLineString") => geometry["coordinates"].as_array().into_iter().flatten().collect(),
+            other => {
+                return Err(bad(format!(
+                    "features[{i}]: a wake is a LineString or MultiLineString, not {}",
+                    other.unwrap_or("a feature without a geometry type")
+                )))
+            }
+        };
+        for line in lines {
+            let points: Option<Vec<(f64, f64)>> = line
+                .as_array()
+                .into_iter()
+                .flatten()
+                .map(|p| Some((p.get(0)?.as_f64()?, p.get(1)?.as_f64()?)))
+                .collect();
+            match points {
+                Some(p) if p.len() >= 2 => wakes.push(p),
+                _ => return Err(bad(format!("features[{i}]: a wake needs two or more [x, y] positions"))),
+            }
+        }
+    }
+    Ok(Annotation {
+        image: image.to_path_buf(),
+        wakes,
+        lonlat,
+        pixel_spacing,
+        scale,
+        exclude,
+    })
+}
+
+/// Distance from `p` to the segment `a`-`b`, all in one plane.
+fn to_segment(p: (f64, f64), a: (f64, f64), b: (f64, f64)) -> f64 {
+    let (dx, dy) = (b.0 - a.0, b.1 - a.1);
+    let length2 = dx * dx + dy * dy;
+    let t = if length2 > 0.0 {
+        (((p.0 - a.0) * dx + (p.1 - a.1) * dy) / length2).clamp(0.0, 1.0)
+    } else {
+        0.0
+    };
+    (p.0 - a.0 - t * dx).hypot(p.1 - a.1 - t * dy)
+}
+
+/// Metres from a point to the nearest wake: in pixels scaled by the spacing (x: columns, y:
+/// rows), or for longitude and latitude on the plane tangent at the point.
+fn to_wakes(point: (f64, f64), annotation: &Annotation, spacing: (f64, f64)) -> f64 {
+    let project = |q: (f64, f64)| {
+        if annotation.lonlat {
+            let cos = point.1.to_radians().cos();
+            ((q.0 - point.0) * cos * M_PER_DEGREE, (q.1 - point.1) * M_PER_DEGREE)
+        } else {
+            ((q.0 - point.0) * spacing.1, (q.1 - point.1) * spacing.0)
+        }
+    };
+    annotation
+        .wakes
+        .iter()
+        .flat_map(|w| {
+            w.windows(2)
+                .map(|s| to_segment((0.0, 0.0), project(s[0]), project(s[1])))
+        })
+        .fold(f64::INFINITY, f64::min)
+}
+
+/// A point of `detections.json` as the annotation places it: (column, row), or (lon, lat).
+fn place(point: &Value, lonlat: bool) -> Option<(f64, f64)> {
+    if lonlat {
+        Some((point["lon"].as_f64()?, point["lat"].as_f64()?))
+    } else {
+        Some((point["product_col"].as_f64()?, point["product_row"].as_f64()?))
+    }
+}
+
+/// Scan `annotation`'s image with the detector `model` (of `footprint` m) on the CPU, as
+/// `detect` does by default, writing `detect`'s files into `out`, and score it.
+pub fn score_image(annotation: &Annotation, model: &Path, footprint: f64, out: &Path) -> Result<RealScore> {
+    let image = &annotation.image;
+    let request = DetectRequest {
+        image,
+        model: Some(model),
+        read: ReadOptions {
+            scale: annotation.scale,
+            exclude: annotation.exclude.clone(),
+            pixel_spacing: annotation.pixel_spacing,
+            ..Default::default()
+        },
+        options: ScanOptions::default(),
+        device: "cpu",
+        out: Some(out.to_path_buf()),
+        mask: None,
+        // the user asked for these images: one of another band is scored, and its note says so
+        force: true,
+    };
+    let progress = ScanProgress {
+        reading: &mut |_, _| {},
+        scanning: &mut |_, _| {},
+    };
+    let found = detect(request, progress).with_context(|| format!("--real: {}", image.display()))?;
+    let text = std::fs::read_to_string(&found.files.detections)?;
+    let written: Value = serde_json::from_str(&text)?;
+    let lonlat = annotation.lonlat;
+    if lonlat && written["georeferenced"] != true {
+        return Err(anyhow!(
+            "{}: its wakes are in longitude and latitude but the image has no georeference: give them as \
+             \"wakelab\": {{\"coordinates\": \"pixel\"}}, [column, row]",
+            image.display()
+        ));
+    }
+    let spacing = written["product"]["pixel_spacing"].clone();
+    let spacing = (
+        spacing["rows"].as_f64().unwrap_or(f64::NAN),
+        spacing["columns"].as_f64().unwrap_or(f64::NAN),
+    );
+    if !(spacing.0.is_finite() && spacing.1.is_finite()) {
+        return Err(anyhow!(
+            "{}: the image states no pixel spacing: give it as \"wakelab\": {{\"pixel_spacing_m\": M}} in its GeoJSON",
+            image.display()
+        ));
+    }
+    let distance = |p: &Value| place(p, lonlat).map_or(f64::INFINITY, |q| to_wakes(q, annotation, spacing));
+    let on_wake: Vec<bool> = written["detections"]
+        .as_array()
+        .into_iter()
+        .flatten()
+        .map(|d| distance(d) <= FOUND_WITHIN_M)
+        .collect();
+    let detection = &found.detection;
+    let pixel_m = model_spacing(&written, spacing);
+    Ok(RealScore {
+        image: image.file_name().unwrap_or_default().to_string_lossy().into(),
+        footprint,
+        wakes: annotation.wakes.len(),
+        detections: on_wake.len(),
+        false_alarms: on_wake.iter().filter(|on| !**on).count(),
+        peak_on_wake: distance(&written["peak"]) <= FOUND_WITHIN_M,
+        strongest_on_wake: on_wake.first() == Some(&true),
+        first_on_wake: on_wake.iter().position(|on| *on).map(|i| i + 1),
+        km2: scored_pixels(detection) as f64 * pixel_m * pixel_m / 1e6,
+        notes: found.notes,
+        skipped: None,
+    })
+}
+
+/// Scanned pixels in the map's scored cells, the last row and column of cells cut at the
+/// windows' extent (the image's edge).
+fn scored_pixels(detection: &wakelab_learn::detect::Detection) -> usize {
+    let (w, s) = (detection.window, detection.stride);
+    let extent = detection
+        .tiles
+        .iter()
+        .fold((0, 0), |(r, c), t| (r.max(t.row + w), c.max(t.col + w)));
+    let span = |i: usize, end: usize| ((i + 1) * s).min(end).saturating_sub(i * s);
+    detection
+        .map
+        .indexed_iter()
+        .filter(|(_, v)| v.is_finite())
+        .map(|((i, j), _)| span(i, extent.0) * span(j, extent.1))
+        .sum()
+}
+
+/// The ground spacing of the scanned grid (m): the product's times the averaging factor.
+fn model_spacing(written: &Value, product: (f64, f64)) -> f64 {
+    let factor = written["resampled"][0].as_f64().unwrap_or(1.0);
+    factor * product.0
+}
+
+/// `transfer/real.json`: the images of `--real DIR` scored by the detectors of the transfer
+/// results whose key this holds.
+#[derive(Debug, Serialize, Deserialize)]
+pub struct RealResults {
+    pub key: String,
+    pub dir: PathBuf,
+    pub scores: Vec<RealScore>,
+    pub summaries: Vec<RealSummary>,
+}
+
+/// Where the real images' scores are kept.
+pub fn real_file(run_dir: &Path) -> PathBuf {
+    run_dir.join("transfer").join("real.json")
+}
+
+/// Score every annotated image of `real_dir` with each of `detectors` (footprint, file) of the
+/// transfer results keyed `key`; `detect`'s files go to `RUN/real/<footprint>m/<image>/`.
+/// Reports progress (images scored, total).
+pub fn score_real(
+    real_dir: &Path,
+    run_dir: &Path,
+    key: &str,
+    detectors: &[(f64, PathBuf)],
+    progress: &mut dyn FnMut(usize, usize),
+) -> Result<RealResults> {
+    let images = annotations(real_dir)?;
+    let total = images.len() * detectors.len();
+    let mut scores = Vec::new();
+    for (footprint, model) in detectors {
+        for annotation in &images {
+            let stem = annotation.image.file_stem().unwrap_or_default();
+            let out = run_dir.join("real").join(format!("{footprint:.0}m")).join(stem);
+            let score = score_image(annotation, model, *footprint, &out).unwrap_or_else(|e| RealScore {
+                image: annotation
+                    .image
+                    .file_name()
+                    .unwrap_or_default()
+                    .to_string_lossy()
+                    .into(),
+                footprint: *footprint,
+                wakes: annotation.wakes.len(),
+                detections: 0,
+                false_alarms: 0,
+                peak_on_wake: false,
+                strongest_on_wake: false,
+                first_on_wake: None,
+                km2: 0.0,
+                notes: vec![],
+                skipped: Some(format!("{e:#}")),
+            });
+            scores.push(score);
+            progress(scores.len(), total);
+        }
+    }
+    let summaries = detectors
+        .iter()
+        .map(|(f, _)| summarise(*f, &scores.iter().filter(|s| s.footprint == *f).collect::<Vec<_>>()))
+        .collect();
+    Ok(RealResults {
+        key: key.into(),
+        dir: real_dir.to_path_buf(),
+        scores,
+        summaries,
+    })
+}
+
+/// What the scores of one detector add up to.
+#[derive(Debug, Clone, Serialize, Deserialize, PartialEq)]
+pub struct RealSummary {
+    pub footprint: f64,
+    pub wake_images: usize,
+    pub found: usize,
+    pub strongest_on_wake: usize,
+    pub false_alarms_per_wake_image: f64,
+    pub no_wake_images: usize,
+    pub no_wake_images_without_alarm: usize,
+    pub false_alarms_per_100_km2: f64,
+    /// Images this detector could not scan.
+    pub skipped: usize,
+}
+
+/// The summary of `scores` (one detector's).
+pub fn summarise(footprint: f64, scores: &[&RealScore]) -> RealSummary {
+    let skipped_count = scores.iter().filter(|s| s.skipped.is_some()).count();
+    let scores: Vec<&RealScore> = scores.iter().filter(|s| s.skipped.is_none()).copied().collect();
+    let with: Vec<&&RealScore> = scores.iter().filter(|s| s.wakes > 0).collect();
+    let without: Vec<&&RealScore> = scores.iter().filter(|s| s.wakes == 0).collect();
+    let alarms: usize = scores.iter().map(|s| s.false_alarms).sum();
+    let km2: f64 = scores.iter().map(|s| s.km2).sum();
+    RealSummary {
+        footprint,
+        wake_images: with.len(),
+        found: with.iter().filter(|s| s.found()).count(),
+        strongest_on_wake: with.iter().filter(|s| s.strongest_on_wake).count(),
+        false_alarms_per_wake_image: with.iter().map(|s| s.false_alarms as f64).sum::<f64>() / with.len().max(1) as f64,
+        no_wake_images: without.len(),
+        no_wake_images_without_alarm: without.iter().filter(|s| s.detections == 0).count(),
+        false_alarms_per_100_km2: if km2 > 0.0 {
+            100.0 * alarms as f64 / km2
+        } else {
+            f64::NAN
+        },
+        skipped: skipped_count,
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn annotation(lonlat: bool, wakes: Vec<Vec<(f64, f64)>>) -> Annotation {
+        Annotation {
+            image: "a.tif".into(),
+            wakes,
+            lonlat,
+            pixel_spacing: None,
+            scale: None,
+            exclude: None,
+        }
+    }
+
+    /// Distances to a wake: in pixels scaled by each axis' spacing, and in longitude and
+    /// latitude by the tangent plane (0.01 degrees of latitude: 1,112 km / 100).
+    #[test]
+    fn distances_to_a_wake_are_in_metres() {
+        let pixels = annotation(false, vec![vec![(0.0, 0.0), (100.0, 0.0)]]);
+        // 30 rows below the wake at 10 m rows: 300 m; past its end by 40 columns of 5 m: 200 m
+        assert!((to_wakes((50.0, 30.0), &pixels, (10.0, 5.0)) - 300.0).abs() < 1e-9);
+        assert!((to_wakes((140.0, 0.0), &pixels, (10.0, 5.0)) - 200.0).abs() < 1e-9);
+        let lonlat = annotation(true, vec![vec![(10.0, 55.0), (10.1, 55.0)]]);
+        let d = to_wakes((10.05, 55.01), &lonlat, (f64::NAN, f64::NAN));
+        assert!((d - 1111.95).abs() < 0.5, "{d}");
+    }
+
+    /// An annotation file: pixel wakes, the reading hints, a no-wake image, and clear errors.
+    #[test]
+    fn annotations_read_their_wakes_and_hints() {
+        let dir = tempfile::tempdir().unwrap();
+        let d = dir.path();
+        std::fs::write(d.join("wake.jpg"), b"").unwrap();
+        std::fs::write(
+            d.join("wake.geojson"),
+            r#"{"type": "FeatureCollection", "wakelab": {"coordinates": "pixel", "pixel_spacing_m": 10, "scale": "display"},
+                "features": [{"type": "Feature", "properties": {}, "geometry": {"type": "LineString", "coordinates": [[1, 2], [30, 40]]}},
+                             {"type": "Feature", "properties": {"kind": "ship"}, "geometry": {"type": "Point", "coordinates": [1, 2]}}]}"#,
+        )
+        .unwrap();
+        std::fs::write(d.join("sea.tif"), b"").unwrap();
+        std::fs::write(
+            d.join("sea.geojson"),
+            r#"{"type": "FeatureCollection", "features": []}"#,
+        )
+        .unwrap();
+        let read = annotations(d).unwrap();
+        assert_eq!(read.len(), 2);
+        assert_eq!(
+            (read[0].image.file_name().unwrap(), read[0].wakes.len(), read[0].lonlat),
+            ("sea.tif".as_ref(), 0, true)
+        );
+        let wake = &read[1];
+        assert_eq!(wake.wakes, vec![vec![(1.0, 2.0), (30.0, 40.0)]]);
+        assert_eq!(
+            (wake.lonlat, wake.pixel_spacing, wake.scale),
+            (false, Some(10.0), Some(InputScale::Display))
+        );
+
+        std::fs::write(
+            d.join("sea.geojson"),
+            r#"{"type": "FeatureCollection", "wakelab": {"pixel_spacing_m": -3}, "features": []}"#,
+        )
+        .unwrap();
+        let e = annotations(d).unwrap_err().to_string();
+        assert!(e.contains("sea.geojson: wakelab.pixel_spacing_m -3"), "{e}");
+        std::fs::remove_file(d.join("sea.tif")).unwrap();
+        let e = annotations(d).unwrap_err().to_string();
+        assert!(e.contains("sea.geojson: no image of that name"), "{e}");
+    }
+
+    /// The summary counts wakes found by either rule and alarms over the area scanned.
+    #[test]
+    fn the_summary_adds_up() {
+        let score = |wakes, detections, false_alarms, peak, first| RealScore {
+            image: "x".into(),
+            footprint: 1280.0,
+            wakes,
+            detections,
+            false_alarms,
+            peak_on_wake: peak,
+            strongest_on_wake: first == Some(1),
+            first_on_wake: first,
+            km2: 10.0,
+            notes: vec![],
+            skipped: None,
+        };
+        let scores = [
+            score(1, 3, 2, false, Some(2)),
+            score(1, 1, 0, true, Some(1)),
+            score(1, 2, 2, false, None),
+            score(0, 0, 0, false, None),
+            score(0, 2, 2, false, None),
+            RealScore {
+                skipped: Some("smaller than the window".into()),
+                ..score(1, 0, 0, false, None)
+            },
+        ];
+        let s = summarise(1280.0, &scores.iter().collect::<Vec<_>>());
+        assert_eq!((s.wake_images, s.found, s.strongest_on_wake, s.skipped), (3, 2, 1, 1));
+        assert!((s.false_alarms_per_wake_image - 4.0 / 3.0).abs() < 1e-12);
+        assert_eq!((s.no_wake_images, s.no_wake_images_without_alarm), (2, 1));
+        assert!((s.false_alarms_per_100_km2 - 12.0).abs() < 1e-9);
+    }
+}

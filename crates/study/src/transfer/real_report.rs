@@ -1,0 +1,99 @@
+//! The real images' part of the transfer report (`wakelab run --study transfer --real DIR`):
+//! per detector, the wakes found and the false alarms; per image, where the detections fell.
+//! Markdown for `report/transfer.md`, CSV for `report/tables/transfer_real.csv`.
+
+use super::real::{RealResults, RealScore, RealSummary};
+use std::fmt::Write;
+
+const HEADER: [&str; 11] = [
+    "image",
+    "footprint_m",
+    "wakes",
+    "detections",
+    "false_alarms",
+    "found",
+    "peak_on_wake",
+    "strongest_on_wake",
+    "first_on_wake",
+    "km2",
+    "skipped",
+];
+
+fn row(s: &RealScore) -> Vec<String> {
+    vec![
+        s.image.replace(',', ";"),
+        format!("{:.0}", s.footprint),
+        s.wakes.to_string(),
+        s.detections.to_string(),
+        s.false_alarms.to_string(),
+        if s.wakes == 0 {
+            "-".into()
+        } else {
+            s.found().to_string()
+        },
+        s.peak_on_wake.to_string(),
+        s.strongest_on_wake.to_string(),
+        s.first_on_wake.map_or("-".into(), |r| r.to_string()),
+        format!("{:.2}", s.km2),
+        s.skipped
+            .as_deref()
+            .map_or(String::new(), |why| why.replace([',', '|', '\n'], ";")),
+    ]
+}
+
+/// The per-image table as CSV.
+pub fn csv(real: &RealResults) -> String {
+    let mut text = HEADER.join(",") + "\n";
+    for s in &real.scores {
+        text += &(row(s).join(",") + "\n");
+    }
+    text
+}
+
+/// One line per detector: what it did on the user's images.
+pub fn describe(s: &RealSummary) -> String {
+    format!(
+        "  real images, {:.2} km window: wakes found {}/{} (strongest detection on the wake in {}), {:.1} false alarms per wake image; no-wake images without an alarm {}/{}; {:.2} false alarms per 100 km^2; {} image(s) skipped",
+        s.footprint / 1000.0,
+        s.found,
+        s.wake_images,
+        s.strongest_on_wake,
+        s.false_alarms_per_wake_image,
+        s.no_wake_images_without_alarm,
+        s.no_wake_images,
+        s.false_alarms_per_100_km2,
+        s.skipped
+    )
+}
+
+/// The Markdown section.
+pub fn markdown(real: &RealResults) -> String {
+    let mut md = String::from("\n## Real images\n\n");
+    let _ = writeln!(
+        md,
+        "The images of `{}` with their wakes as annotated (`--real`), scanned by `wakelab detect` with the detectors above, frozen with their thresholds. A wake is found when a detection or the map's peak lies within 500 m of it; every other detection is a false alarm. An image a detector could not scan (smaller than its window, unreadable) is left out of its figures and says why in the table's last column.\n",
+        real.dir.display()
+    );
+    md += "| detector | wakes found | strongest detection on the wake | false alarms per wake image | no-wake images without an alarm | false alarms per 100 km^2 |\n";
+    md += "| --- | --- | --- | --- | --- | --- |\n";
+    for s in &real.summaries {
+        let _ = writeln!(
+            md,
+            "| {:.2} km | {}/{} | {}/{} | {:.1} | {}/{} | {:.2} |",
+            s.footprint / 1000.0,
+            s.found,
+            s.wake_images,
+            s.strongest_on_wake,
+            s.wake_images,
+            s.false_alarms_per_wake_image,
+            s.no_wake_images_without_alarm,
+            s.no_wake_images,
+            s.false_alarms_per_100_km2
+        );
+    }
+    md += &format!("\n| {} |\n|{}\n", HEADER.join(" | "), " --- |".repeat(HEADER.len()));
+    for s in &real.scores {
+        md += &format!("| {} |\n", row(s).join(" | "));
+    }
+    md
+}

@@ -139,12 +139,16 @@ fn trough_contrast(image: &Normalised, apex: (f64, f64), heading: f64, near: f64
     sides - trough
 }
 
-/// A wake's score along `heading` from `apex`: its trough's contrast less the contrast the
-/// other way (where that is dark too). A wake is a half-line, open sea ahead of its ship; a
-/// swell's trough or a slick's edge through the apex is a whole line, dark both ways.
-fn wake_score(image: &Normalised, apex: (f64, f64), heading: f64, near: f64, o: &WakeOptions, far: f64) -> f64 {
-    let ahead = trough_contrast(image, apex, heading + 180.0, near, o, far);
-    trough_contrast(image, apex, heading, near, o, far) - if ahead.is_finite() { ahead.max(0.0) } else { 0.0 }
+/// What the trough's contrast the other way (`ahead`) takes from a wake's score. A wake's score
+/// along a heading from an apex is its trough's contrast less the contrast the other way where
+/// that is dark too: a wake is a half-line, open sea ahead of its ship; a swell's trough or a
+/// slick's edge through the apex is a whole line, dark both ways.
+fn ahead_penalty(ahead: f64) -> f64 {
+    if ahead.is_finite() {
+        ahead.max(0.0)
+    } else {
+        0.0
+    }
 }
 
 /// Robust z of `best` among `all`: (best - median) / (1.4826 MAD).
@@ -173,13 +177,24 @@ fn best_ray(
     let az = g.step(g.azimuth_deg);
     candidates
         .par_iter()
-        .flat_map_iter(|(h, offsets)| {
-            offsets.iter().map(move |&t| {
+        .map(|(h, offsets)| {
+            let mut best = (f64::NEG_INFINITY, 0.0, 0.0);
+            for &t in offsets {
                 let apex = (origin.0 + az.0 * t, origin.1 + az.1 * t);
-                (wake_score(image, apex, *h, near, o, far), t, *h)
-            })
+                let behind = trough_contrast(image, apex, *h, near, o, far);
+                // the score is at most the trough's contrast (the way ahead only takes from
+                // it): a trough no darker than the best so far cannot beat it, and the way
+                // ahead, half of the work, is not measured (the same best, found faster)
+                if behind.is_nan() || behind <= best.0 {
+                    continue;
+                }
+                let score = behind - ahead_penalty(trough_contrast(image, apex, *h + 180.0, near, o, far));
+                if score > best.0 {
+                    best = (score, t, *h);
+                }
+            }
+            best
         })
-        .filter(|c| c.0.is_finite())
         .reduce(|| (f64::NEG_INFINITY, 0.0, 0.0), |a, b| if b.0 > a.0 { b } else { a })
 }
 
@@ -236,9 +251,13 @@ pub fn ship_wake(image: &SearchImage, ship: &Ship, index: usize, o: &WakeOptions
     let apex = (ship.row + az.0 * offset, ship.col + az.1 * offset);
     let contrast = trough_contrast(fine, apex, axis, near, o, far);
     // significance among every direction from this apex
-    let all: Vec<f64> = span(0.0, 359.0, 1.0)
+    // each direction's trough once: a direction's score takes the opposite one's as its way ahead
+    let troughs: Vec<f64> = span(0.0, 359.0, 1.0)
         .par_iter()
-        .map(|&h| wake_score(fine, apex, h, near, o, far))
+        .map(|&h| trough_contrast(fine, apex, h, near, o, far))
+        .collect();
+    let all: Vec<f64> = (0..360)
+        .map(|h| troughs[h] - ahead_penalty(troughs[(h + 180) % 360]))
         .filter(|c| c.is_finite())
         .collect();
     let z = robust_z(score, &all);

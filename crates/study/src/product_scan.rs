@@ -173,6 +173,8 @@ pub struct Scanner<'a> {
     pub device: &'a Device,
     /// Scan an input whose band is not the detector's.
     pub force: bool,
+    /// Seek ships and their wakes in a radar image (the classic searches beside the CNN).
+    pub search_sea: bool,
 }
 
 /// A product opened for a detector of `band`: its source, how it was read, and what the band
@@ -286,7 +288,7 @@ pub fn scan_opened(opened: OpenedProduct, scanner: Scanner, progress: ScanProgre
     scan.feed(0, image.view(), device, progress.scanning);
     let mut overlay = crate::scan::OverlayMeans::new(image.dim(), band);
     overlay.add(0, image.view());
-    let sea = band.is_radar().then(|| {
+    let sea = (band.is_radar() && scanner.search_sea).then(|| {
         let (geometry, sea_notes) = product_geometry(&product.meta, scanned_spacing(&product.meta, info, factor));
         notes.extend(sea_notes);
         notes.extend(cross.as_ref().map(|c| cross_note(&c.1)));
@@ -353,7 +355,7 @@ fn scan_by_bands(
     let (n, stride) = scan.window_and_stride();
     let height = n + BAND_ROWS.div_ceil(stride * fr) * stride;
     let mut overlay = crate::scan::OverlayMeans::new(scanned, band);
-    let mut sea = band.is_radar().then(|| {
+    let mut sea = (band.is_radar() && scanner.search_sea).then(|| {
         let (geometry, sea_notes) = product_geometry(&source.meta, scanned_spacing(&source.meta, info, factor));
         notes.extend(sea_notes);
         let pol = cross.as_ref().map(|c| c.meta.polarisation.clone().unwrap_or_default());

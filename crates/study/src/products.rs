@@ -27,6 +27,8 @@ pub struct DetectRequest<'a> {
     pub mask: Option<&'a Path>,
     /// Scan an input of another band than the detector's (`--force`).
     pub force: bool,
+    /// Seek ships and their wakes (radar images) beside the detector's scan.
+    pub search_sea: bool,
 }
 
 /// A finished `wakelab detect`: the detection, what the user should know, and the files.
@@ -102,6 +104,7 @@ pub fn detect(request: DetectRequest, progress: ScanProgress) -> Result<Detected
         options: request.options,
         device: &device,
         force,
+        search_sea: request.search_sea,
     };
     let mut scan = scan_opened(opened, scanner, progress)?;
     scan.notes.splice(0..0, chosen);

@@ -25,6 +25,7 @@ pub fn run_detect(args: &DetectArgs, quiet: bool) -> Result<()> {
         out: args.out.clone(),
         mask: args.mask.as_deref(),
         force: args.force,
+        search_sea: true,
     };
     let progress = ScanProgress {
         reading: &mut wakelab_study::follow_on(&bar, "rows read"),

@@ -231,6 +231,9 @@ pub fn score_image(annotation: &Annotation, model: &Path, footprint: f64, out: &
         mask: None,
         // the user asked for these images: one of another band is scored, and its note says so
         force: true,
+        // the CNN is scored here; the classic ship and wake searches (seconds to minutes on a
+        // real image with many bright targets) are `detect`'s, not this table's
+        search_sea: false,
     };
     let progress = ScanProgress {
         reading: &mut |_, _| {},

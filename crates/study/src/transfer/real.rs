@@ -12,6 +12,7 @@
 
 use crate::product_scan::ScanProgress;
 use crate::products::{detect, DetectRequest};
+use crate::steps::open_sea::distance_to_segment;
 use crate::Result;
 use anyhow::{anyhow, Context};
 use serde::{Deserialize, Serialize};
@@ -170,18 +171,6 @@ pub fn read_annotation(geojson: &Path, image: &Path) -> Result<Annotation> {
     })
 }
 
-/// Distance from `p` to the segment `a`-`b`, all in one plane.
-fn to_segment(p: (f64, f64), a: (f64, f64), b: (f64, f64)) -> f64 {
-    let (dx, dy) = (b.0 - a.0, b.1 - a.1);
-    let length2 = dx * dx + dy * dy;
-    let t = if length2 > 0.0 {
-        (((p.0 - a.0) * dx + (p.1 - a.1) * dy) / length2).clamp(0.0, 1.0)
-    } else {
-        0.0
-    };
-    (p.0 - a.0 - t * dx).hypot(p.1 - a.1 - t * dy)
-}
-
 /// Metres from a point to the nearest wake: in pixels scaled by the spacing (x: columns, y:
 /// rows), or for longitude and latitude on the plane tangent at the point.
 fn to_wakes(point: (f64, f64), annotation: &Annotation, spacing: (f64, f64)) -> f64 {
@@ -198,7 +187,7 @@ fn to_wakes(point: (f64, f64), annotation: &Annotation, spacing: (f64, f64)) -> 
         .iter()
         .flat_map(|w| {
             w.windows(2)
-                .map(|s| to_segment((0.0, 0.0), project(s[0]), project(s[1])))
+                .map(|s| distance_to_segment((0.0, 0.0), (project(s[0]), project(s[1]))))
         })
         .fold(f64::INFINITY, f64::min)
 }

@@ -365,7 +365,8 @@ mod tests {
     use wakelab_learn::store::{Detector, ModelInfo};
 
     /// An untrained C-band detector's scans of two open-sea scenes: the threshold it is given
-    /// leaves no alarm on their 52 km^2 (fewer than one allowed), at most as many as 0.5 does;
+    /// leaves no alarm on their 52 km^2 (fewer than one allowed), at most as many as 0.5 does,
+    /// and the wakes found at the two thresholds are in their order;
     /// the file written holds that threshold, the temperature and the area, and reads back.
     #[test]
     fn the_open_sea_sets_the_threshold_stored_with_the_detector() {
@@ -374,12 +375,11 @@ mod tests {
         let run_dir = tempfile::tempdir().unwrap();
         let device = parse_device("cpu").unwrap();
         let input = Input::single(Band::C);
+        // seeded: an unseeded draw made the threshold fall either side of 0.5 from run to run
         let detector = Detector {
-            classifier: wakelab_learn::models::WakeClassifier::new(
-                Architecture::Base.classifier_channels(1),
-                32,
-                &device,
-            ),
+            classifier: wakelab_learn::models::init_seeded(3, &device, |d| {
+                wakelab_learn::models::WakeClassifier::new(Architecture::Base.classifier_channels(1), 32, d)
+            }),
             segmenter: None,
         };
         let info = ModelInfo {
@@ -419,7 +419,13 @@ mod tests {
         assert!((o.km2 - 2.0 * 5.12 * 5.12).abs() < 1e-9, "{}", o.km2);
         assert_eq!(o.alarms_at_threshold, 0.0);
         assert!(o.alarms_at_study_threshold >= o.alarms_at_threshold);
-        assert!(o.wakes_found <= o.wakes_found_at_study_threshold && o.wakes_found_at_study_threshold <= 2);
+        // a lower threshold finds at least as many wakes as a higher one
+        let (higher, lower) = if o.threshold >= 0.5 {
+            (o.wakes_found, o.wakes_found_at_study_threshold)
+        } else {
+            (o.wakes_found_at_study_threshold, o.wakes_found)
+        };
+        assert!(higher <= lower && lower <= 2, "{o:?}");
         assert!(o.threshold >= o.largest_open_sea - 1e-12 && o.largest_open_sea > 0.0);
         let (_, stored) = load_detector(&o.file, None, &device).unwrap();
         assert_eq!(stored.threshold, o.threshold);

@@ -258,7 +258,7 @@ pub fn score_image(annotation: &Annotation, model: &Path, footprint: f64, out: &
         .map(|d| distance(d) <= FOUND_WITHIN_M)
         .collect();
     let detection = &found.detection;
-    let pixel_m = model_spacing(&written, spacing);
+    let pixel_m2 = scanned_pixel_m2(&written, spacing);
     Ok(RealScore {
         image: image.file_name().unwrap_or_default().to_string_lossy().into(),
         footprint,
@@ -268,7 +268,7 @@ pub fn score_image(annotation: &Annotation, model: &Path, footprint: f64, out: &
         peak_on_wake: distance(&written["peak"]) <= FOUND_WITHIN_M,
         strongest_on_wake: on_wake.first() == Some(&true),
         first_on_wake: on_wake.iter().position(|on| *on).map(|i| i + 1),
-        km2: scored_pixels(detection) as f64 * pixel_m * pixel_m / 1e6,
+        km2: scored_pixels(detection) as f64 * pixel_m2 / 1e6,
         notes: found.notes,
         skipped: None,
     })
@@ -291,10 +291,11 @@ fn scored_pixels(detection: &wakelab_learn::detect::Detection) -> usize {
         .sum()
 }
 
-/// The ground spacing of the scanned grid (m): the product's times the averaging factor.
-fn model_spacing(written: &Value, product: (f64, f64)) -> f64 {
-    let factor = written["resampled"][0].as_f64().unwrap_or(1.0);
-    factor * product.0
+/// The ground area of a scanned pixel (m^2): the product's spacings (rows, columns) times the
+/// averaging factors.
+fn scanned_pixel_m2(written: &Value, product: (f64, f64)) -> f64 {
+    let factor = |i: usize| written["resampled"][i].as_f64().unwrap_or(1.0);
+    factor(0) * product.0 * factor(1) * product.1
 }
 
 /// `transfer/real.json`: the images of `--real DIR` scored by the detectors of the transfer

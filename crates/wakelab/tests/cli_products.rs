@@ -87,19 +87,22 @@ fn detector_at(dir: &Path, spacing: f64) -> PathBuf {
     model
 }
 
-/// `detect IMAGE --model MODEL --out DIR more...`: its detections.json.
-fn detect(image: &Path, model: &Path, out: &Path, more: &[&str]) -> serde_json::Value {
+/// `detect IMAGE --out DIR --quiet more...`: how it ended.
+fn detect_output(image: &Path, out: &Path, more: &[&str]) -> std::process::Output {
     let mut args = vec![
         "detect",
         image.to_str().unwrap(),
-        "--model",
-        model.to_str().unwrap(),
         "--out",
         out.to_str().unwrap(),
         "--quiet",
     ];
     args.extend_from_slice(more);
-    let o = wakelab(&args);
+    wakelab(&args)
+}
+
+/// `detect IMAGE --model MODEL --out DIR more...`: its detections.json.
+fn detect(image: &Path, model: &Path, out: &Path, more: &[&str]) -> serde_json::Value {
+    let o = detect_output(image, out, &[&["--model", model.to_str().unwrap()], more].concat());
     assert!(o.status.success(), "{}: {}", image.display(), stderr(&o));
     serde_json::from_str(&std::fs::read_to_string(out.join("detections.json")).unwrap()).unwrap()
 }
@@ -531,17 +534,7 @@ fn a_dual_polarisation_product_shows_its_ships_in_cross_polarisation() {
 fn without_a_model_detect_takes_the_shipped_detector_for_the_spacing() {
     let dir = tempfile::tempdir().unwrap();
     let (image, (ship_r, ship_c)) = ship_image();
-    let shipped = |image: &Path, out: &Path, more: &[&str]| {
-        let mut args = vec![
-            "detect",
-            image.to_str().unwrap(),
-            "--out",
-            out.to_str().unwrap(),
-            "--quiet",
-        ];
-        args.extend_from_slice(more);
-        wakelab(&args)
-    };
+    let shipped = detect_output;
     let read = |out: &Path| -> serde_json::Value {
         serde_json::from_str(&std::fs::read_to_string(out.join("detections.json")).unwrap()).unwrap()
     };

@@ -56,6 +56,17 @@ pub struct TransferPlan {
     pub display_fraction: f64,
     /// Largest brightness trend across a scene (dB per km, any direction).
     pub trend_db_per_km: f64,
+    /// Ships without a visible wake (anchored, or too slow to leave one) in each scene of the
+    /// look-alike test set (and of training, with `look_alike_training`), drawn uniformly
+    /// from this range.
+    pub wakeless_ships: [usize; 2],
+    /// Chance of each of an internal-wave packet, a rain cell and a current front in such a
+    /// scene.
+    pub look_alike_fraction: f64,
+    /// Whether training draws those look-alikes too (windows on them as negatives), keeps only
+    /// the wake windows where the wake shows, and repeats them to balance the classes. Off in
+    /// the embedded study: the Table 4.1 classifier then learns nothing (see docs/results.md).
+    pub look_alike_training: bool,
     pub seed: u64,
 }
 
@@ -84,6 +95,9 @@ impl Default for TransferPlan {
             free_wake_fraction: 0.25,
             display_fraction: 0.3,
             trend_db_per_km: 0.3,
+            wakeless_ships: [0, 6],
+            look_alike_fraction: 0.3,
+            look_alike_training: false,
             seed: 0,
         }
     }
@@ -156,10 +170,19 @@ impl TransferPlan {
             ("swell_fraction", self.swell_fraction),
             ("free_wake_fraction", self.free_wake_fraction),
             ("display_fraction", self.display_fraction),
+            ("look_alike_fraction", self.look_alike_fraction),
         ] {
             if !(0.0..=1.0).contains(&v) {
                 return Err(plan_error(name, v, "in [0, 1]"));
             }
+        }
+        let [few, many] = self.wakeless_ships;
+        if few > many || many > 50 {
+            return Err(plan_error(
+                "wakeless_ships",
+                format!("[{few}, {many}]"),
+                "low <= high, both in [0, 50]",
+            ));
         }
         if !(0.0..=3.0).contains(&self.trend_db_per_km) {
             return Err(plan_error(
@@ -207,5 +230,7 @@ mod tests {
         bad(|p| p.display_fraction = 1.5, "display_fraction");
         bad(|p| p.architecture = Architecture::Unet, "architecture");
         bad(|p| p.scenes = 1, "scenes");
+        bad(|p| p.wakeless_ships = [4, 2], "wakeless_ships");
+        bad(|p| p.look_alike_fraction = -0.1, "look_alike_fraction");
     }
 }

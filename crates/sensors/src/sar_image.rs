@@ -319,13 +319,19 @@ impl SarScene<'_> {
     }
 }
 
-/// Radar cross section (m^2) of the ship in `band`: `kelvin.ship_rcs`, or Skolnik's (1980)
-/// empirical sigma = 52 f^(1/2) D^(3/2) for f in MHz and the displacement D in kilotonnes.
+/// Radar cross section (m^2) of the ship in `band`: `kelvin.ship_rcs`, or
+/// [`skolnik_cross_section`] of its displacement.
 pub fn ship_cross_section(config: &WakelabConfig, ship: &ThinShip, band: RadarBand) -> f64 {
     config.kelvin.ship_rcs.unwrap_or_else(|| {
         let kilotonnes = ship.displacement_volume() * config.environment.reference_density / 1e6;
-        52.0 * (band.frequency() / 1e6).sqrt() * kilotonnes.powf(1.5)
+        skolnik_cross_section(band, kilotonnes)
     })
+}
+
+/// Skolnik's (1980) empirical radar cross section (m^2) of a ship of `kilotonnes`
+/// displacement in `band`: sigma = 52 f^(1/2) D^(3/2) for f in MHz and D in kilotonnes.
+pub fn skolnik_cross_section(band: RadarBand, kilotonnes: f64) -> f64 {
+    52.0 * (band.frequency() / 1e6).sqrt() * kilotonnes.powf(1.5)
 }
 
 /// The long waves' line-of-sight velocity (m/s, away from the radar) on the scene, from its

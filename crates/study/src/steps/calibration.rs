@@ -19,7 +19,7 @@
 //! It writes `calibration/calibration.json`, which the report renders.
 
 use super::context::{fnv_hex, step_time, whole_factor, write_results};
-use super::open_sea::{open_sea_config, scan_scenes, Scanner};
+use super::open_sea::{as_rendered, open_sea_config, scan_scenes, Scanner};
 use super::ships::SPACING;
 use super::study_run::StudyRun;
 use crate::{Result, StepTime};
@@ -270,7 +270,7 @@ fn open_sea(
         .filter_map(|j| open_sea_config(base, FIRST_SCENE, j))
         .collect();
     let (indices, scanners): (Vec<usize>, Vec<Scanner>) = scanners.into_iter().unzip();
-    let (tallies, km2) = scan_scenes(run_dir, &configs, &scanners, &device, &mut |_| {})?;
+    let (tallies, km2) = scan_scenes(run_dir, &configs, &as_rendered, &scanners, &device, &mut |_| {})?;
     std::fs::create_dir_all(detectors_dir(run_dir)).map_err(|e| WakelabError::io(detectors_dir(run_dir), e))?;
     for ((i, scanner), tally) in indices.into_iter().zip(scanners).zip(tallies) {
         let threshold = threshold_for_alarm_rate(&tally.sea, km2, ALARMS_PER_1000_KM2);

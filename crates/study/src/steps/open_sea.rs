@@ -33,6 +33,7 @@ pub(crate) fn open_sea_config(base: &WakelabConfig, first: usize, j: usize) -> O
 
 /// One scene rendered in C-band VV with its ship and wake and without them, and the wake's
 /// track as a segment (pixels): from the stern to well beyond the scene.
+#[derive(Clone)]
 pub(crate) struct SeaPair {
     pub with: Array2<f32>,
     pub without: Array2<f32>,
@@ -147,8 +148,12 @@ impl Scanner {
 /// What one detector's scans of a set of scenes gathered.
 #[derive(Default, Clone)]
 pub(crate) struct Tally {
-    /// The probabilities of the separate alarms on the open sea.
+    /// The probabilities of the separate alarms on the open sea, and each one's distance (m)
+    /// from the nearest ship without a wake drawn there (infinite with none).
     pub sea: Vec<f64>,
+    pub sea_from_ship: Vec<f64>,
+    /// Ships without a wake drawn on the open sea.
+    pub ships: usize,
     /// Per wake scene, its alarms: distance of the centre from the track (m) and probability.
     pub wake_scenes: Vec<Vec<(f64, f64)>>,
     /// Every open-sea window's and every wake window's (centre within half a window of the
@@ -161,6 +166,15 @@ impl Tally {
     /// Open-sea alarms above `threshold`.
     pub fn sea_alarms(&self, threshold: f64) -> usize {
         self.sea.iter().filter(|&&p| p > threshold).count()
+    }
+
+    /// Open-sea alarms above `threshold` within `within` m of a ship without a wake.
+    pub fn ship_alarms(&self, threshold: f64, within: f64) -> usize {
+        self.sea
+            .iter()
+            .zip(&self.sea_from_ship)
+            .filter(|&(&p, &d)| p > threshold && d <= within)
+            .count()
     }
 
     /// Wake scenes with an alarm above `threshold` within `within` m of the track.
@@ -186,11 +200,21 @@ impl Tally {
     }
 }
 
-/// Every scanner's [`Tally`] of the scenes `configs`, and their area (km^2). `on_scene` sees
-/// each scene done.
+/// What is drawn onto each rendered scene before it is scanned (the transfer study's
+/// look-alikes): it returns the ships without a wake it drew (pixels).
+pub(crate) type Prepare<'a> = &'a dyn Fn(&WakelabConfig, &mut SeaPair) -> Vec<(f64, f64)>;
+
+/// Scenes scanned as rendered.
+pub(crate) fn as_rendered(_: &WakelabConfig, _: &mut SeaPair) -> Vec<(f64, f64)> {
+    Vec::new()
+}
+
+/// Every scanner's [`Tally`] of the scenes `configs`, each rendered and then `prepare`d, and
+/// their area (km^2). `on_scene` sees each scene done.
 pub(crate) fn scan_scenes(
     run_dir: &Path,
     configs: &[WakelabConfig],
+    prepare: Prepare,
     scanners: &[Scanner],
     device: &Device,
     on_scene: &mut dyn FnMut(usize),
@@ -198,11 +222,20 @@ pub(crate) fn scan_scenes(
     let mut tallies = vec![Tally::default(); scanners.len()];
     let mut km2 = 0.0;
     for (j, c) in configs.iter().enumerate() {
-        let pair = render(c, run_dir)?;
+        let mut pair = render(c, run_dir)?;
+        let ships = prepare(c, &mut pair);
         km2 += pair.km2;
         for (tally, scanner) in tallies.iter_mut().zip(scanners) {
             let open = scanner.scan(&pair.without, device)?;
             tally.sea.extend(open.alarms.iter().map(|a| a.2));
+            tally.ships += ships.len();
+            tally.sea_from_ship.extend(open.alarms.iter().map(|&(r, c, _)| {
+                let d = ships
+                    .iter()
+                    .map(|s| (s.0 - r).hypot(s.1 - c))
+                    .fold(f64::INFINITY, f64::min);
+                d * pair.spacing
+            }));
             tally.sea_windows.extend(open.windows.iter().map(|w| (w.2, w.3)));
             let with = scanner.scan(&pair.with, device)?;
             let metres = |r: f64, c: f64| distance_to_segment((r, c), pair.track) * pair.spacing;
@@ -238,6 +271,8 @@ mod tests {
     fn a_tally_counts_alarms_above_the_threshold_and_wakes_within_reach() {
         let t = Tally {
             sea: vec![0.2, 0.7, 0.9],
+            sea_from_ship: vec![100.0, 400.0, f64::INFINITY],
+            ships: 2,
             wake_scenes: vec![vec![(100.0, 0.8), (900.0, 0.95)], vec![(600.0, 0.99)], vec![]],
             ..Tally::default()
         };
@@ -246,6 +281,8 @@ mod tests {
         assert_eq!(t.wakes_found(0.5, 500.0), 1);
         assert_eq!(t.wakes_found(0.85, 500.0), 0);
         assert_eq!(t.off_wake_alarms(0.5, 500.0), 2);
+        assert_eq!(t.ship_alarms(0.5, 500.0), 1);
+        assert_eq!(t.ship_alarms(0.1, 200.0), 1);
         assert_eq!(t.largest_open_sea(), 0.9);
     }
 }

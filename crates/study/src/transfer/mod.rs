@@ -4,16 +4,22 @@
 //!    from the plan's ranges (domain randomisation) and how its image reaches a user; every
 //!    scene is rendered with its ship and wake and without them.
 //! 2. **Windows** of each footprint ([`windows::training_windows`]): the wake, its twin without
-//!    it, and the darkest window of the sea without it (the look-alikes as negatives).
+//!    it, and the darkest window of the sea without it (the look-alikes as negatives); with
+//!    `look_alike_training`, also windows on the other look-alikes drawn on the scene
+//!    ([`look_alikes`]: ships without a wake, internal waves, rain cells, fronts), only the
+//!    wake windows where the wake shows, and the classes balanced.
 //! 3. **Training**: one classifier per footprint, the plan's recipe, rotations by any angle.
 //! 4. **Threshold**: each detector scans the calibration step's 40 open-sea scenes with slicks
 //!    (the same seas the chip detectors' thresholds were set on, so the two compare) and takes
 //!    the least threshold that holds the plan's alarm rate there; it then scans as many open-sea
 //!    scenes it never saw ([`scenes::FIRST_UNSEEN_SCENE`]), where that rate is counted again,
-//!    and the same seas with their wakes (recall: an alarm within 500 m of the track).
+//!    and the same seas with their wakes (recall: an alarm within 500 m of the track); then the
+//!    look-alike test set: the same unseen seas with [`look_alikes`] drawn on them, its alarms
+//!    reported apart, and those on ships without a wake apart again.
 //! 5. The detectors, their threshold stored, go to `RUN/detectors/C_transfer_<footprint>m`;
 //!    `transfer/transfer.json` and the report's `report/transfer.md` and tables say what they do.
 
+pub mod look_alikes;
 pub mod real;
 mod real_report;
 pub mod report;
@@ -21,11 +27,11 @@ pub mod results;
 pub mod scenes;
 mod windows;
 
-pub use results::{TransferDetector, TransferResults};
+pub use results::{LookAlikeScore, TransferDetector, TransferResults};
 
 use crate::steps::calibration::{detectors_dir, FOUND_WITHIN_M};
 use crate::steps::context::{fnv_hex, write_results};
-use crate::steps::open_sea::{open_sea_config, render, scan_scenes, Scanner, Tally};
+use crate::steps::open_sea::{as_rendered, open_sea_config, render, scan_scenes, Scanner, SeaPair, Tally};
 use crate::steps::ships::SPACING;
 use crate::{Display, Result};
 use rand::SeedableRng;
@@ -44,11 +50,11 @@ use wakelab_schema::metrics::roc_auc;
 use wakelab_schema::recipe::{Augmentation, Optimiser};
 
 /// The layout of `transfer.json` and what the study computes.
-const RESULTS_FORMAT: &str = "transfer-2";
+const RESULTS_FORMAT: &str = "transfer-3";
 /// The calibration step's open-sea scenes start here (its `FIRST_SCENE`).
 const THRESHOLD_SCENES: usize = 1000;
 /// Steps the transfer study's progress display counts.
-const STEPS: usize = 4;
+const STEPS: usize = 5;
 
 fn results_file(run_dir: &Path) -> PathBuf {
     run_dir.join("transfer").join("transfer.json")
@@ -81,16 +87,33 @@ fn training_windows(
     for j in 0..plan.scenes {
         if let Some((c, delivery)) = scenes::training_scene(&base, plan, j) {
             let mut pair = render(&c, run_dir)?;
+            let side = pair.with.nrows().min(pair.with.ncols());
+            let (anchors, calibrated) = if plan.look_alike_training {
+                let anchors = scenes::add_look_alikes(&mut pair, &c, plan).anchors(side, pair.spacing);
+                (anchors, Some(pair.clone()))
+            } else {
+                (Vec::new(), None)
+            };
             pair.with = delivery.apply(&pair.with, pair.spacing);
             pair.without = delivery.apply(&pair.without, pair.spacing);
             shown += usize::from(delivery.display.is_some());
             rendered += 1;
             for (windows, &footprint) in examples.iter_mut().zip(&plan.footprints) {
                 let factor = (plan.spacing(footprint) / SPACING).round() as usize;
-                windows.extend(windows::training_windows(&pair, factor, plan.window, &mut rng));
+                windows.extend(windows::training_windows(
+                    &pair,
+                    calibrated.as_ref(),
+                    factor,
+                    plan.window,
+                    &anchors,
+                    &mut rng,
+                ));
             }
         }
         display.advance(1, format!("{rendered} rendered"));
+    }
+    if plan.look_alike_training {
+        examples = examples.into_iter().map(windows::balanced).collect();
     }
     Ok((examples, rendered, shown))
 }
@@ -248,21 +271,30 @@ fn compute(
     };
     let (scanners, trained): (Vec<Scanner>, Vec<_>) = trained.into_iter().unzip();
     let (threshold_configs, unseen_configs) = (configs(THRESHOLD_SCENES), configs(scenes::FIRST_UNSEEN_SCENE));
+    let look_alikes = |c: &wakelab_core::WakelabConfig, pair: &mut SeaPair| {
+        let drawn = scenes::add_look_alikes(pair, c, plan);
+        drawn.ships.iter().map(|s| s.centre).collect()
+    };
     display.step(3, "open sea (threshold)", threshold_configs.len() as u64, "scenes");
-    let (tallies, km2) = scan_scenes(dir, &threshold_configs, &scanners, device, &mut |_| {
+    let (tallies, km2) = scan_scenes(dir, &threshold_configs, &as_rendered, &scanners, device, &mut |_| {
         display.advance(1, String::new())
     })?;
     display.step(4, "open sea (unseen)", unseen_configs.len() as u64, "scenes");
-    let (unseen, unseen_km2) = scan_scenes(dir, &unseen_configs, &scanners, device, &mut |_| {
+    let (unseen, unseen_km2) = scan_scenes(dir, &unseen_configs, &as_rendered, &scanners, device, &mut |_| {
+        display.advance(1, String::new())
+    })?;
+    display.step(5, "look-alike test set", unseen_configs.len() as u64, "scenes");
+    let (alike, alike_km2) = scan_scenes(dir, &unseen_configs, &look_alikes, &scanners, device, &mut |_| {
         display.advance(1, String::new())
     })?;
     std::fs::create_dir_all(detectors_dir(dir)).map_err(|e| WakelabError::io(detectors_dir(dir), e))?;
     let mut detectors = Vec::new();
-    for ((((scanner, (windows, wake_windows, seconds, last)), tally), unseen), &footprint) in scanners
+    for (((((scanner, (windows, wake_windows, seconds, last)), tally), unseen), alike), &footprint) in scanners
         .into_iter()
         .zip(trained)
         .zip(tallies)
         .zip(unseen)
+        .zip(alike)
         .zip(&plan.footprints)
     {
         let threshold = threshold_for_alarm_rate(&tally.sea, km2, plan.alarms_per_1000_km2);
@@ -298,6 +330,14 @@ fn compute(
             unseen_alarms: per_1000(unseen.sea_alarms(threshold), unseen_km2),
             unseen_wakes_found: unseen.wakes_found(threshold, FOUND_WITHIN_M),
             unseen_off_wake_alarms: per_1000(unseen.off_wake_alarms(threshold, FOUND_WITHIN_M), unseen_km2),
+            look_alikes: LookAlikeScore {
+                km2: alike_km2,
+                alarms: per_1000(alike.sea_alarms(threshold), alike_km2),
+                ships: alike.ships,
+                ship_alarms: alike.ship_alarms(threshold, FOUND_WITHIN_M),
+                wakes_found: alike.wakes_found(threshold, FOUND_WITHIN_M),
+                off_wake_alarms: per_1000(alike.off_wake_alarms(threshold, FOUND_WITHIN_M), alike_km2),
+            },
             file,
         });
     }
@@ -368,6 +408,9 @@ mod tests {
             (d.threshold, Some(20.0), 64)
         );
         assert_eq!(info.calibration.unwrap().open_sea_km2, Some(d.km2));
+        // the look-alike test set is the unseen sea again, its ships counted (0-6 per scene)
+        assert!((d.look_alikes.km2 - d.unseen_km2).abs() < 1e-9);
+        assert!(d.look_alikes.ships <= 6, "{:?}", d.look_alikes);
         let table = std::fs::read_to_string(dir.path().join("report/tables/transfer.csv")).unwrap();
         assert_eq!(table.lines().count(), 2);
         assert!(table.lines().nth(1).unwrap().starts_with("1280,20,"), "{table}");

@@ -14,7 +14,7 @@ use wakelab_core::io::write_atomically;
 /// One line: what the detector of a footprint does.
 pub fn describe(d: &TransferDetector) -> String {
     format!(
-        "  {:.2} km window ({:.0} m pixels): threshold {:.4} for {:.1} alarms per 1,000 km^2; unseen open sea {:.1} per 1,000 km^2; wakes found {}/{} (unseen seas {}/{}); window AUC {}",
+        "  {:.2} km window ({:.0} m pixels): threshold {:.4} for {:.1} alarms per 1,000 km^2; unseen open sea {:.1} per 1,000 km^2; wakes found {}/{} (unseen seas {}/{}); look-alike test set {:.1} per 1,000 km^2, {} alarm(s) on its {} ships without a wake, wakes found {}/{}; window AUC {}",
         d.footprint / 1000.0,
         d.spacing,
         d.threshold,
@@ -24,11 +24,16 @@ pub fn describe(d: &TransferDetector) -> String {
         d.scenes,
         d.unseen_wakes_found,
         d.unseen_scenes,
+        d.look_alikes.alarms,
+        d.look_alikes.ship_alarms,
+        d.look_alikes.ships,
+        d.look_alikes.wakes_found,
+        d.unseen_scenes,
         d.window_auc.map_or("-".into(), |a| format!("{a:.3}")),
     )
 }
 
-const HEADER: [&str; 14] = [
+const HEADER: [&str; 18] = [
     "footprint_m",
     "spacing_m",
     "training_windows",
@@ -42,6 +47,10 @@ const HEADER: [&str; 14] = [
     "unseen_alarms_per_1000_km2",
     "unseen_wakes_found",
     "unseen_scenes",
+    "look_alike_alarms_per_1000_km2",
+    "look_alike_ships",
+    "look_alike_alarms_on_ships",
+    "look_alike_wakes_found",
     "window_auc",
 ];
 
@@ -60,6 +69,10 @@ fn row(d: &TransferDetector) -> Vec<String> {
         format!("{:.2}", d.unseen_alarms),
         d.unseen_wakes_found.to_string(),
         d.unseen_scenes.to_string(),
+        format!("{:.2}", d.look_alikes.alarms),
+        d.look_alikes.ships.to_string(),
+        d.look_alikes.ship_alarms.to_string(),
+        d.look_alikes.wakes_found.to_string(),
         d.window_auc.map_or(String::new(), |a| format!("{a:.3}")),
     ]
 }
@@ -79,7 +92,7 @@ pub fn markdown(results: &TransferResults) -> String {
     let mut md = String::from("# Transfer: detectors for real C-band images\n\n");
     let _ = writeln!(
         md,
-        "{} training scenes of 5.12 km at 10 m ({} delivered as 8-bit display images), each with its ship and wake and without; winds {}-{} m/s, incidence {}-{} degrees, {}-{} looks, NESZ {} to {} dB, slicks over {}-{} % of the sea; {} epochs of \"{}\".\n",
+        "{} training scenes of 5.12 km at 10 m ({} delivered as 8-bit display images), each with its ship and wake and without; winds {}-{} m/s, incidence {}-{} degrees, {}-{} looks, NESZ {} to {} dB, slicks over {}-{} % of the sea{}; {} epochs of \"{}\".\n",
         results.training_scenes,
         results.display_scenes,
         p.wind_speed[0],
@@ -92,13 +105,21 @@ pub fn markdown(results: &TransferResults) -> String {
         p.nesz[1],
         100.0 * p.slick_coverage[0],
         100.0 * p.slick_coverage[1],
+        if p.look_alike_training {
+            ", and the look-alike test set's look-alikes (windows on them as negatives, the wake windows where the wake shows, the classes balanced)"
+        } else {
+            ""
+        },
         p.epochs,
         p.architecture,
     );
     let _ = writeln!(
         md,
-        "Each detector's threshold holds {} alarm(s) per 1,000 km^2 on the calibration step's open sea with slicks; \"unseen\" is open sea it was neither trained nor thresholded on. A wake is found when an alarm lies within 500 m of its track.\n",
-        results.alarms_target
+        "Each detector's threshold holds {} alarm(s) per 1,000 km^2 on the calibration step's open sea with slicks; \"unseen\" is open sea it was neither trained nor thresholded on. The look-alike test set is that unseen sea again with {}-{} ships without a wake per scene and an internal-wave packet, a rain cell and a current front each in {:.0} % of the scenes; its alarms within 500 m of a ship without a wake are counted apart as well. A wake is found when an alarm lies within 500 m of its track.\n",
+        results.alarms_target,
+        p.wakeless_ships[0],
+        p.wakeless_ships[1],
+        100.0 * p.look_alike_fraction,
     );
     md += &format!("| {} |\n", HEADER.join(" | "));
     md += &format!("|{}\n", " --- |".repeat(HEADER.len()));

@@ -37,7 +37,25 @@ pub struct TransferDetector {
     pub unseen_alarms: f64,
     pub unseen_wakes_found: usize,
     pub unseen_off_wake_alarms: f64,
+    /// The look-alike test set: the unseen seas with ships without a wake, internal waves,
+    /// rain cells and fronts drawn on them.
+    pub look_alikes: LookAlikeScore,
     pub file: PathBuf,
+}
+
+/// What a detector does on the look-alike test set (issue 38, item 3).
+#[derive(Debug, Clone, Serialize, Deserialize)]
+pub struct LookAlikeScore {
+    pub km2: f64,
+    /// Alarms per 1,000 km^2 at the threshold on the sea without a ship and its wake.
+    pub alarms: f64,
+    /// Ships without a wake drawn there, and the alarms within 500 m of one.
+    pub ships: usize,
+    pub ship_alarms: usize,
+    /// The same seas with a ship and its wake: wakes found, and alarms off the wake per 1,000
+    /// km^2.
+    pub wakes_found: usize,
+    pub off_wake_alarms: f64,
 }
 
 /// `transfer/transfer.json`.

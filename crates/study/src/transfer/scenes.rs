@@ -2,6 +2,8 @@
 //! scenes, each drawing its acquisition and sea from the plan's ranges, and the way its image
 //! reaches a user (calibrated sigma0, or an 8-bit display stretch).
 
+use super::look_alikes::LookAlikes;
+use crate::steps::open_sea::SeaPair;
 use crate::steps::ships::{scene_config, SPEEDS};
 use ndarray::Array2;
 use rand::{RngExt, SeedableRng};
@@ -144,6 +146,21 @@ pub fn training_scene(base: &WakelabConfig, plan: &TransferPlan, j: usize) -> Op
     };
     c.validate().ok()?;
     Some((c, delivery))
+}
+
+/// The look-alikes of scene `c` (drawn from its seed and the plan's ranges) drawn onto both
+/// twins of `pair` alike, so that they still differ by the ship and its wake alone.
+pub(crate) fn add_look_alikes(pair: &mut SeaPair, c: &WakelabConfig, plan: &TransferPlan) -> LookAlikes {
+    let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(c.seed ^ 0x100C_A11E);
+    let [few, many] = plan.wakeless_ships;
+    let ships = rng.random_range(few..=many);
+    let side = pair.with.nrows().min(pair.with.ncols());
+    let look_alikes = LookAlikes::draw(&mut rng, side, pair.spacing, ships, plan.look_alike_fraction);
+    for image in [&mut pair.with, &mut pair.without] {
+        let mut speckle = rng.clone();
+        look_alikes.apply(image, pair.spacing, c.sar.looks, &mut speckle);
+    }
+    look_alikes
 }
 
 #[cfg(test)]

@@ -1,8 +1,9 @@
 //! Training windows of a footprint cut from a rendered scene pair (issue 38, items 2-3): where
 //! the wake's track crosses the scene, windows that hold it (label 1); the same windows of the
 //! sea without the ship (label 0: the twin, so that only the wake tells them apart); and the
-//! window of that sea with the most dark structure (label 0: its slicks and low-wind patches,
-//! the look-alikes). Each is made an input exactly as `wakelab detect` makes one: the image
+//! window of that sea with the most dark structure (label 0: its slicks and low-wind patches),
+//! and windows of that sea on its other look-alikes (label 0: ships without a wake, internal
+//! waves, rain cells, fronts; [`super::look_alikes`]). Each is made an input exactly as `wakelab detect` makes one: the image
 //! averaged by whole pixels to the detector's spacing, then [`detector_input`].
 
 use crate::steps::context::at_factor;
@@ -15,6 +16,8 @@ use wakelab_schema::band::Band;
 
 /// Windows along the track per scene.
 pub const ON_TRACK: usize = 2;
+/// Windows on look-alikes per scene, at most.
+pub const ON_LOOK_ALIKES: usize = 3;
 
 /// Top-left corners (averaged pixels) of windows of side `n` on an image of `side` whose centre
 /// lies within a quarter window of the track (given in averaged pixels), spread along it.
@@ -71,6 +74,34 @@ fn darkest_corner(image: &Array2<f32>, n: usize) -> (usize, usize) {
     best.0
 }
 
+/// Pixels of the window at `corner` (side `n`) of `with` that the wake changes by more than
+/// [`WAKE_DB`] against `without` (both calibrated, averaged alike, and speckled alike, so that
+/// their ratio is the wake's own modulation, the ship's return included).
+pub(crate) fn wake_pixels(with: &Array2<f32>, without: &Array2<f32>, (r, c): (usize, usize), n: usize) -> usize {
+    let (w, o) = (s![r..r + n, c..c + n], s![r..r + n, c..c + n]);
+    with.slice(w)
+        .iter()
+        .zip(without.slice(o).iter())
+        .filter(|(&a, &b)| (10.0 * (a.max(1e-12) / b.max(1e-12)).log10()).abs() > WAKE_DB)
+        .count()
+}
+
+/// `examples` with each wake window repeated so that the wakes are about as many as the
+/// windows without one (the classifier's loss weighs the two classes alike).
+pub(crate) fn balanced(examples: Vec<Example>) -> Vec<Example> {
+    let wakes = examples.iter().filter(|e| e.label == 1).count();
+    let repeat = ((examples.len() - wakes) as f64 / wakes.max(1) as f64).round().max(1.0) as usize;
+    let mut out = Vec::with_capacity(examples.len() + wakes * (repeat - 1));
+    for e in examples {
+        let copies = if e.label == 1 { repeat } else { 1 };
+        out.extend(std::iter::repeat_n(e, copies));
+    }
+    out
+}
+
+/// The change (dB) that marks a pixel as the wake's.
+pub const WAKE_DB: f32 = 1.0;
+
 fn example(image: &Array2<f32>, (r, c): (usize, usize), n: usize, label: u8) -> Example {
     let window = image.slice(s![r..r + n, c..c + n]).to_owned();
     Example {
@@ -80,24 +111,57 @@ fn example(image: &Array2<f32>, (r, c): (usize, usize), n: usize, label: u8) -> 
     }
 }
 
+/// The corner of the window of side `n` on an image of `side` whose centre lies near `point`
+/// (within a quarter window), moved inside the image.
+fn corner_near(point: (f64, f64), side: usize, n: usize, rng: &mut impl rand::Rng) -> (usize, usize) {
+    let jitter = 0.25 * n as f64;
+    let max = (side - n) as f64;
+    let at = |x: f64, rng: &mut dyn rand::Rng| {
+        (x - 0.5 * n as f64 + rng.random_range(-jitter..jitter))
+            .clamp(0.0, max)
+            .round() as usize
+    };
+    (at(point.0, rng), at(point.1, rng))
+}
+
 /// The windows of side `n` at `factor` scene pixels per pixel cut from `pair` (whose images
-/// are already as delivered): those on the track and their twins, and the darkest window of
-/// the sea without the ship.
-pub(crate) fn training_windows(pair: &SeaPair, factor: usize, n: usize, rng: &mut impl rand::Rng) -> Vec<Example> {
+/// are as delivered): those on the track and their twins (where `calibrated`, the same pair
+/// before delivery, is given: only those where the wake shows, at least `n` pixels changed by
+/// [`WAKE_DB`], a line across the window), the darkest window of the sea without the ship,
+/// and windows of that sea on up to [`ON_LOOK_ALIKES`] of the look-alikes' `anchors` (scene
+/// pixels), drawn at random.
+pub(crate) fn training_windows(
+    pair: &SeaPair,
+    calibrated: Option<&SeaPair>,
+    factor: usize,
+    n: usize,
+    anchors: &[(f64, f64)],
+    rng: &mut impl rand::Rng,
+) -> Vec<Example> {
     let (with, without) = (at_factor(&pair.with, factor), at_factor(&pair.without, factor));
     let side = with.nrows().min(with.ncols());
     if side < n {
         return Vec::new();
     }
+    let truth = calibrated.map(|p| (at_factor(&p.with, factor), at_factor(&p.without, factor)));
     let f = factor as f64;
     let ((r0, c0), (r1, c1)) = pair.track;
     let track = ((r0 / f, c0 / f), (r1 / f, c1 / f));
     let mut examples = Vec::new();
     for corner in on_track_corners(side, n, track, rng) {
-        examples.push(example(&with, corner, n, 1));
-        examples.push(example(&without, corner, n, 0));
+        if truth.as_ref().is_none_or(|(w, o)| wake_pixels(w, o, corner, n) >= n) {
+            examples.push(example(&with, corner, n, 1));
+            examples.push(example(&without, corner, n, 0));
+        }
     }
     examples.push(example(&without, darkest_corner(&without, n), n, 0));
+    let mut anchors = anchors.to_vec();
+    for k in 0..anchors.len().min(ON_LOOK_ALIKES) {
+        let pick = rng.random_range(k..anchors.len());
+        anchors.swap(k, pick);
+        let (r, c) = anchors[k];
+        examples.push(example(&without, corner_near((r / f, c / f), side, n, rng), n, 0));
+    }
     examples
 }
 
@@ -126,10 +190,10 @@ mod tests {
             spacing: 10.0,
             km2: 6.5536,
         };
-        let examples = training_windows(&pair, 2, 64, &mut rng);
-        assert_eq!(examples.len(), 2 * ON_TRACK + 1);
+        let examples = training_windows(&pair, Some(&pair), 2, 64, &[(25.0, 215.0)], &mut rng);
+        assert_eq!(examples.len(), 2 * ON_TRACK + 2);
         let labels: Vec<u8> = examples.iter().map(|e| e.label).collect();
-        assert_eq!(labels, vec![1, 0, 1, 0, 0]);
+        assert_eq!(labels, vec![1, 0, 1, 0, 0, 0]);
         let darkest_row = |e: &Example| {
             let rows = e.image.index_axis(Axis(0), 0).mean_axis(Axis(1)).unwrap();
             rows.iter().copied().fold(f32::INFINITY, f32::min)
@@ -138,7 +202,31 @@ mod tests {
             assert!(darkest_row(&twins[0]) < -2.0, "{}", darkest_row(&twins[0]));
             assert!(darkest_row(&twins[1]) > -1.0, "{}", darkest_row(&twins[1]));
         }
+        // the look-alike's window holds the dark patch it was anchored in (scene pixels
+        // 10-40 by 180-250), anchored at its centre
+        assert!(darkest_row(&examples[5]) < -2.0, "{}", darkest_row(&examples[5]));
         let corner = darkest_corner(&at_factor(&pair.without, 2), 64);
         assert!(corner.0 <= 5 && (61..=90).contains(&corner.1), "{corner:?}");
+        // with the twins equal no window on the track shows a wake: none is taken
+        let same = SeaPair {
+            with: pair.without.clone(),
+            ..pair.clone()
+        };
+        let shown = training_windows(&pair, Some(&same), 2, 64, &[], &mut rng);
+        assert_eq!(shown.iter().map(|e| e.label).collect::<Vec<_>>(), vec![0]);
+    }
+
+    /// Two wake windows among eight are repeated three times: six of twelve.
+    #[test]
+    fn balancing_repeats_the_wake_windows() {
+        let window = |label| Example {
+            image: ndarray::Array3::zeros((1, 4, 4)),
+            label,
+            mask: None,
+        };
+        let examples: Vec<Example> = [1, 0, 0, 0, 1, 0, 0, 0].into_iter().map(window).collect();
+        let out = balanced(examples);
+        assert_eq!(out.len(), 12);
+        assert_eq!(out.iter().filter(|e| e.label == 1).count(), 6);
     }
 }

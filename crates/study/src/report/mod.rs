@@ -13,7 +13,7 @@ mod pictures;
 mod radar;
 mod ships;
 mod stability;
-mod svg;
+pub(crate) mod svg;
 pub mod table;
 mod test_scenes;
 mod visibility;

@@ -40,7 +40,7 @@ use std::time::Instant;
 use wakelab_core::WakelabError;
 use wakelab_dataset::study::Study;
 use wakelab_dataset::transfer::TransferPlan;
-use wakelab_learn::calibration::threshold_for_alarm_rate;
+use wakelab_learn::calibration::{expected_calibration_error, reliability, threshold_for_alarm_rate};
 use wakelab_learn::device::Device;
 use wakelab_learn::models::WakeClassifier;
 use wakelab_learn::store::{save_detector, Calibration, Detector, ModelInfo};
@@ -50,7 +50,7 @@ use wakelab_schema::metrics::roc_auc;
 use wakelab_schema::recipe::{Augmentation, Optimiser};
 
 /// The layout of `transfer.json` and what the study computes.
-const RESULTS_FORMAT: &str = "transfer-3";
+const RESULTS_FORMAT: &str = "transfer-4";
 /// The calibration step's open-sea scenes start here (its `FIRST_SCENE`).
 const THRESHOLD_SCENES: usize = 1000;
 /// Steps the transfer study's progress display counts.
@@ -298,6 +298,8 @@ fn compute(
         .zip(&plan.footprints)
     {
         let threshold = threshold_for_alarm_rate(&tally.sea, km2, plan.alarms_per_1000_km2);
+        let (scores, labels) = window_scores(&unseen);
+        let reliability_bins = reliability(&scores, &labels, RELIABILITY_BINS);
         let Scanner { detector, mut info, .. } = scanner;
         info.threshold = threshold;
         info.calibration = Some(Calibration {
@@ -330,6 +332,8 @@ fn compute(
             unseen_alarms: per_1000(unseen.sea_alarms(threshold), unseen_km2),
             unseen_wakes_found: unseen.wakes_found(threshold, FOUND_WITHIN_M),
             unseen_off_wake_alarms: per_1000(unseen.off_wake_alarms(threshold, FOUND_WITHIN_M), unseen_km2),
+            reliability: reliability_bins.clone(),
+            calibration_error: expected_calibration_error(&reliability_bins),
             look_alikes: LookAlikeScore {
                 km2: alike_km2,
                 alarms: per_1000(alike.sea_alarms(threshold), alike_km2),
@@ -353,22 +357,31 @@ fn compute(
     })
 }
 
-/// ROC AUC of the windows on a wake against the open sea's, by probability.
-fn window_auc(tally: &Tally) -> Option<f64> {
-    let scores: Vec<f64> = tally
+/// The probabilities of the open sea's windows (label 0) and of the windows on a wake (1).
+fn window_scores(tally: &Tally) -> (Vec<f64>, Vec<u8>) {
+    let scores = tally
         .sea_windows
         .iter()
         .chain(&tally.wake_windows)
         .map(|w| w.1)
         .collect();
-    let labels: Vec<u8> = tally
+    let labels = tally
         .sea_windows
         .iter()
         .map(|_| 0)
         .chain(tally.wake_windows.iter().map(|_| 1))
         .collect();
+    (scores, labels)
+}
+
+/// ROC AUC of the windows on a wake against the open sea's, by probability.
+fn window_auc(tally: &Tally) -> Option<f64> {
+    let (scores, labels) = window_scores(tally);
     roc_auc(&scores, &labels)
 }
+
+/// Bins of a reliability diagram.
+const RELIABILITY_BINS: usize = 10;
 
 #[cfg(test)]
 mod tests {
@@ -411,6 +424,11 @@ mod tests {
         // the look-alike test set is the unseen sea again, its ships counted (0-6 per scene)
         assert!((d.look_alikes.km2 - d.unseen_km2).abs() < 1e-9);
         assert!(d.look_alikes.ships <= 6, "{:?}", d.look_alikes);
+        // every window of the unseen scene's two scans falls in one reliability bin
+        let binned: usize = d.reliability.iter().map(|b| b.count).sum();
+        assert!(binned > 100 && d.reliability.len() == 10, "{binned}");
+        assert!(d.calibration_error.is_finite());
+        assert!(dir.path().join("report/transfer_reliability.svg").exists());
         let table = std::fs::read_to_string(dir.path().join("report/tables/transfer.csv")).unwrap();
         assert_eq!(table.lines().count(), 2);
         assert!(table.lines().nth(1).unwrap().starts_with("1280,20,"), "{table}");

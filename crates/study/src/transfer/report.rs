@@ -1,11 +1,13 @@
 //! The transfer study's report (issue 38, item 8): `report/transfer.md` and
 //! `report/tables/transfer.csv`, one row per footprint: false alarms per 100 km^2 and per 1,000
 //! km^2 on simulated open sea with look-alikes (where the threshold was set, and unseen), wake
-//! recall on whole scenes, and the window-level AUC.
+//! recall on whole scenes, the window-level AUC, and the reliability diagram of the
+//! probabilities.
 
 use super::real::RealResults;
 use super::real_report;
 use super::results::{TransferDetector, TransferResults};
+use crate::report::svg::{LinePlot, Series};
 use crate::Result;
 use std::fmt::Write;
 use std::path::{Path, PathBuf};
@@ -129,14 +131,74 @@ pub fn markdown(results: &TransferResults) -> String {
     md
 }
 
-/// Write `report/transfer.md` and `report/tables/transfer.csv`, with the real images' section
-/// and `report/tables/transfer_real.csv` where `real` scored them; the files written.
+/// The reliability diagram of every footprint's detector on the unseen seas' windows.
+pub fn reliability_plot(results: &TransferResults) -> LinePlot {
+    LinePlot {
+        title: "Reliability, transfer detectors (unseen seas' windows)".into(),
+        x_label: "mean wake probability in the bin".into(),
+        y_label: "share of windows on a wake".into(),
+        x_range: Some((0.0, 1.0)),
+        y_range: Some((0.0, 1.0)),
+        series: results
+            .detectors
+            .iter()
+            .map(|d| Series {
+                name: format!("{:.2} km", d.footprint / 1000.0),
+                points: d
+                    .reliability
+                    .iter()
+                    .filter_map(|b| Some((b.mean_score?, b.observed?)))
+                    .collect(),
+            })
+            .collect(),
+        diagonal: true,
+        paired: false,
+    }
+}
+
+/// The reliability section of the page: per detector, the bins and the expected calibration
+/// error.
+fn reliability_markdown(results: &TransferResults) -> String {
+    let mut md = String::from(
+        "\n## Calibration\n\nReliability of the probabilities on the unseen seas' windows: every window within half a window of a wake's track against every window of the open sea (as a scan of a scene with one wake meets them), in 10 bins; the probabilities are not temperature-scaled (temperature 1). ![reliability](transfer_reliability.svg)\n\n| detector | bin | windows | mean probability | share on a wake |\n| --- | --- | --- | --- | --- |\n",
+    );
+    for d in &results.detectors {
+        for b in d.reliability.iter().filter(|b| b.count > 0) {
+            let _ = writeln!(
+                md,
+                "| {:.2} km | {:.1}-{:.1} | {} | {:.3} | {:.3} |",
+                d.footprint / 1000.0,
+                b.lo,
+                b.hi,
+                b.count,
+                b.mean_score.unwrap_or(f64::NAN),
+                b.observed.unwrap_or(f64::NAN)
+            );
+        }
+    }
+    md += "\n";
+    for d in &results.detectors {
+        let _ = writeln!(
+            md,
+            "- {:.2} km: expected calibration error {:.3}.",
+            d.footprint / 1000.0,
+            d.calibration_error
+        );
+    }
+    md
+}
+
+/// Write `report/transfer.md`, `report/transfer_reliability.svg` and
+/// `report/tables/transfer.csv`, with the real images' section and
+/// `report/tables/transfer_real.csv` where `real` scored them; the files written.
 pub fn write_report(dir: &Path, results: &TransferResults, real: Option<&RealResults>) -> Result<Vec<PathBuf>> {
     let tables = dir.join("report").join("tables");
     std::fs::create_dir_all(&tables).map_err(|e| wakelab_core::WakelabError::io(&tables, e))?;
     let (md, table) = (dir.join("report").join("transfer.md"), tables.join("transfer.csv"));
-    let mut text = markdown(results);
-    let mut written = vec![md.clone(), table.clone()];
+    let plot = dir.join("report").join("transfer_reliability.svg");
+    write_atomically(&plot, reliability_plot(results).to_svg().as_bytes())?;
+    let mut text = markdown(results) + &reliability_markdown(results);
+    let mut written = vec![md.clone(), plot, table.clone()];
     if let Some(real) = real {
         text += &real_report::markdown(real);
         let real_table = tables.join("transfer_real.csv");

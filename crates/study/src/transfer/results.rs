@@ -4,6 +4,7 @@
 use serde::{Deserialize, Serialize};
 use std::path::PathBuf;
 use wakelab_dataset::transfer::TransferPlan;
+use wakelab_learn::calibration::ReliabilityBin;
 
 /// What one detector of a footprint learnt and does on simulated open sea.
 #[derive(Debug, Clone, Serialize, Deserialize)]
@@ -40,6 +41,11 @@ pub struct TransferDetector {
     /// The look-alike test set: the unseen seas with ships without a wake, internal waves,
     /// rain cells and fronts drawn on them.
     pub look_alikes: LookAlikeScore,
+    /// Reliability of the probabilities on the unseen seas' windows (those within half a
+    /// window of a wake's track against every open-sea window), 10 bins, and its expected
+    /// calibration error.
+    pub reliability: Vec<ReliabilityBin>,
+    pub calibration_error: f64,
     pub file: PathBuf,
 }
 

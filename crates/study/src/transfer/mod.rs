@@ -424,9 +424,10 @@ mod tests {
         // the look-alike test set is the unseen sea again, its ships counted (0-6 per scene)
         assert!((d.look_alikes.km2 - d.unseen_km2).abs() < 1e-9);
         assert!(d.look_alikes.ships <= 6, "{:?}", d.look_alikes);
-        // every window of the unseen scene's two scans falls in one reliability bin
+        // every window of the unseen scene's open sea (7 x 7 of 64 pixels at a stride of 32 on
+        // 256) and those on its wake fall in the reliability bins
         let binned: usize = d.reliability.iter().map(|b| b.count).sum();
-        assert!(binned > 100 && d.reliability.len() == 10, "{binned}");
+        assert!((50..=98).contains(&binned) && d.reliability.len() == 10, "{binned}");
         assert!(d.calibration_error.is_finite());
         assert!(dir.path().join("report/transfer_reliability.svg").exists());
         let table = std::fs::read_to_string(dir.path().join("report/tables/transfer.csv")).unwrap();

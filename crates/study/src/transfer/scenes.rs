@@ -220,6 +220,42 @@ mod tests {
         assert!((db(out[[1, 50]]) + 20.0 + 0.005).abs() < 1e-4, "{}", db(out[[1, 50]]));
     }
 
+    /// The look-alikes go onto both twins alike: a pair whose twins differ by a dark line keeps
+    /// exactly that ratio everywhere (the ships' own speckle drawn the same in both), the ships
+    /// brighten the sea by their cross section, and their count is the plan's.
+    #[test]
+    fn look_alikes_leave_the_twins_differing_by_the_wake_alone() {
+        let (base, mut plan) = (WakelabConfig::default(), TransferPlan::default());
+        plan.wakeless_ships = [3, 3];
+        plan.look_alike_fraction = 1.0;
+        let side = 256;
+        let without = Array2::from_elem((side, side), 0.01f32);
+        let mut with = without.clone();
+        with.row_mut(100).fill(0.005);
+        let mut pair = SeaPair {
+            with,
+            without,
+            track: ((100.0, 0.0), (100.0, 255.0)),
+            spacing: 10.0,
+            km2: 6.5536,
+        };
+        let before = (pair.with.sum() as f64, pair.without.sum() as f64);
+        let drawn = add_look_alikes(&mut pair, &base, &plan);
+        assert_eq!(drawn.ships.len(), 3);
+        for ((r, c), &w) in pair.with.indexed_iter() {
+            let o = pair.without[[r, c]];
+            if r != 100 {
+                assert_eq!(w, o, "({r}, {c})");
+            }
+        }
+        // the two twins gain the same cross section (m^2 over 100 m^2 pixels) beyond the factors
+        let gained = (pair.with.sum() as f64 - before.0, pair.without.sum() as f64 - before.1);
+        assert!(
+            gained.1 > 0.0 && (gained.0 - gained.1).abs() < 0.05 * gained.1.abs() + 1.0,
+            "{gained:?}"
+        );
+    }
+
     #[test]
     fn the_training_scenes_span_the_plan_and_are_valid() {
         let study =

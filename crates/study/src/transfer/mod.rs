@@ -44,13 +44,13 @@ use wakelab_learn::calibration::{expected_calibration_error, reliability, thresh
 use wakelab_learn::device::Device;
 use wakelab_learn::models::WakeClassifier;
 use wakelab_learn::store::{save_detector, Calibration, Detector, ModelInfo};
-use wakelab_learn::train::{train_classifier, Example, Recipe};
+use wakelab_learn::train::{train_classifier, Recipe};
 use wakelab_schema::band::{Band, Input};
 use wakelab_schema::metrics::roc_auc;
 use wakelab_schema::recipe::{Augmentation, Optimiser};
 
 /// The layout of `transfer.json` and what the study computes.
-const RESULTS_FORMAT: &str = "transfer-4";
+const RESULTS_FORMAT: &str = "transfer-5";
 /// The calibration step's open-sea scenes start here (its `FIRST_SCENE`).
 const THRESHOLD_SCENES: usize = 1000;
 /// Steps the transfer study's progress display counts.
@@ -72,15 +72,17 @@ pub fn detector_file(run_dir: &Path, footprint: f64) -> PathBuf {
     detectors_dir(run_dir).join(format!("C_transfer_{footprint:.0}m.safetensors"))
 }
 
-/// The training windows of every footprint, the scenes rendered and those delivered as 8-bit.
+/// The training windows of every footprint, with the windows cut on wakes' tracks and those of
+/// them in which the wake shows ([`windows::wake_shows`]), and the scenes rendered and those
+/// delivered as 8-bit.
 fn training_windows(
     run_dir: &Path,
     study: &Study,
     plan: &TransferPlan,
     display: &Display,
-) -> Result<(Vec<Vec<Example>>, usize, usize)> {
+) -> Result<(Vec<windows::TrackedWindows>, usize, usize)> {
     let base = study.base_config()?;
-    let mut examples = vec![Vec::new(); plan.footprints.len()];
+    let mut per_footprint: Vec<windows::TrackedWindows> = plan.footprints.iter().map(|_| Default::default()).collect();
     let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(plan.seed ^ 0x3E1D_0005);
     let (mut rendered, mut shown) = (0, 0);
     display.step(1, "training scenes", plan.scenes as u64, "scenes");
@@ -88,34 +90,40 @@ fn training_windows(
         if let Some((c, delivery)) = scenes::training_scene(&base, plan, j) {
             let mut pair = render(&c, run_dir)?;
             let side = pair.with.nrows().min(pair.with.ncols());
-            let (anchors, calibrated) = if plan.look_alike_training {
-                let anchors = scenes::add_look_alikes(&mut pair, &c, plan).anchors(side, pair.spacing);
-                (anchors, Some(pair.clone()))
+            let anchors = if plan.look_alike_training {
+                scenes::add_look_alikes(&mut pair, &c, plan).anchors(side, pair.spacing)
             } else {
-                (Vec::new(), None)
+                Vec::new()
             };
+            let calibrated = pair.clone();
             pair.with = delivery.apply(&pair.with, pair.spacing);
             pair.without = delivery.apply(&pair.without, pair.spacing);
             shown += usize::from(delivery.display.is_some());
             rendered += 1;
-            for (windows, &footprint) in examples.iter_mut().zip(&plan.footprints) {
+            for (windows, &footprint) in per_footprint.iter_mut().zip(&plan.footprints) {
                 let factor = (plan.spacing(footprint) / SPACING).round() as usize;
-                windows.extend(windows::training_windows(
+                let scene = windows::training_windows(
                     &pair,
-                    calibrated.as_ref(),
+                    &calibrated,
+                    plan.look_alike_training,
                     factor,
                     plan.window,
                     &anchors,
                     &mut rng,
-                ));
+                );
+                windows.examples.extend(scene.examples);
+                windows.on_track += scene.on_track;
+                windows.shown += scene.shown;
             }
         }
         display.advance(1, format!("{rendered} rendered"));
     }
     if plan.look_alike_training {
-        examples = examples.into_iter().map(windows::balanced).collect();
+        for windows in &mut per_footprint {
+            windows.examples = windows::balanced(std::mem::take(&mut windows.examples));
+        }
     }
-    Ok((examples, rendered, shown))
+    Ok((per_footprint, rendered, shown))
 }
 
 /// The plan's recipe: Adam, rotations by any angle, mirror flips and shifts.
@@ -232,7 +240,8 @@ fn compute(
     let render_seconds = render_start.elapsed().as_secs_f64();
     display.step(2, "training", (plan.footprints.len() * plan.epochs) as u64, "epochs");
     let mut trained = Vec::new();
-    for (windows, &footprint) in examples.iter().zip(&plan.footprints) {
+    for (footprint_windows, &footprint) in examples.iter().zip(&plan.footprints) {
+        let windows = &footprint_windows.examples;
         let start = Instant::now();
         let mut last = (f64::NAN, f64::NAN);
         let classifier: WakeClassifier = train_classifier(windows, &recipe(plan), plan.seed, device, &mut |e| {
@@ -260,7 +269,13 @@ fn compute(
         let seconds = start.elapsed().as_secs_f64();
         trained.push((
             Scanner { detector, info, factor },
-            (windows.len(), wake_windows, seconds, last),
+            (
+                windows.len(),
+                wake_windows,
+                seconds,
+                last,
+                (footprint_windows.on_track, footprint_windows.shown),
+            ),
         ));
     }
     let base = study.base_config()?;
@@ -289,7 +304,10 @@ fn compute(
     })?;
     std::fs::create_dir_all(detectors_dir(dir)).map_err(|e| WakelabError::io(detectors_dir(dir), e))?;
     let mut detectors = Vec::new();
-    for (((((scanner, (windows, wake_windows, seconds, last)), tally), unseen), alike), &footprint) in scanners
+    for (
+        ((((scanner, (windows, wake_windows, seconds, last, (on_track, on_track_shown))), tally), unseen), alike),
+        &footprint,
+    ) in scanners
         .into_iter()
         .zip(trained)
         .zip(tallies)
@@ -315,6 +333,8 @@ fn compute(
             spacing: plan.spacing(footprint),
             training_windows: windows,
             wake_windows,
+            track_windows: on_track,
+            track_windows_shown: on_track_shown,
             training_seconds: seconds,
             final_loss: last.0,
             final_accuracy: last.1,
@@ -413,6 +433,10 @@ mod tests {
         let d = &results.detectors[0];
         assert_eq!((d.scenes, d.unseen_scenes), (1, 1));
         assert!(d.training_windows >= 3 && d.wake_windows >= 1, "{d:?}");
+        // every wake window is on the track (none dropped: look_alike_training is off), and
+        // the wake shows in at most those
+        assert_eq!(d.track_windows, d.wake_windows, "{d:?}");
+        assert!(d.track_windows_shown <= d.track_windows, "{d:?}");
         assert_eq!(d.alarms_at_threshold, 0.0);
         assert!((d.km2 - 5.12 * 5.12).abs() < 1e-9);
         let (_, info) = load_detector(&d.file, None, &device).unwrap();

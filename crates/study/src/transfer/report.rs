@@ -35,10 +35,12 @@ pub fn describe(d: &TransferDetector) -> String {
     )
 }
 
-const HEADER: [&str; 18] = [
+const HEADER: [&str; 20] = [
     "footprint_m",
     "spacing_m",
     "training_windows",
+    "track_windows",
+    "track_windows_wake_shows",
     "threshold",
     "alarms_per_1000_km2_at_0.5",
     "alarms_per_1000_km2",
@@ -61,6 +63,8 @@ fn row(d: &TransferDetector) -> Vec<String> {
         format!("{:.0}", d.footprint),
         format!("{:.0}", d.spacing),
         d.training_windows.to_string(),
+        d.track_windows.to_string(),
+        d.track_windows_shown.to_string(),
         format!("{:.4}", d.threshold),
         format!("{:.1}", d.alarms_at_half),
         format!("{:.2}", d.alarms_at_threshold),
@@ -123,6 +127,7 @@ pub fn markdown(results: &TransferResults) -> String {
         p.wakeless_ships[1],
         100.0 * p.look_alike_fraction,
     );
+    md += "Of the training windows cut on a wake's track (`track_windows`), `track_windows_wake_shows` are those in which the wake shows against the sea at the detector's spacing: a strip along the track, averaged over the window, whose change from the same sea without the ship exceeds 3 times the sea profile's strip-to-strip deviation (speckle after averaging, the sea's texture, its slicks). In the others only the ship at the wake's apex, if in view, sets the window apart.\n\n";
     md += &format!("| {} |\n", HEADER.join(" | "));
     md += &format!("|{}\n", " --- |".repeat(HEADER.len()));
     for d in &results.detectors {

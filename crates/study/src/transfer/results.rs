@@ -15,6 +15,12 @@ pub struct TransferDetector {
     pub spacing: f64,
     pub training_windows: usize,
     pub wake_windows: usize,
+    /// The windows cut on wakes' tracks, and those in which the wake shows against the sea at
+    /// this spacing (`windows::wake_shows`: a strip along the track whose change exceeds 3
+    /// times the sea profile's deviation): how much of the training can be learnt from the
+    /// wake rather than from the ship at its apex.
+    pub track_windows: usize,
+    pub track_windows_shown: usize,
     pub training_seconds: f64,
     /// The last epoch's loss and accuracy on the training windows.
     pub final_loss: f64,

@@ -74,16 +74,76 @@ fn darkest_corner(image: &Array2<f32>, n: usize) -> (usize, usize) {
     best.0
 }
 
-/// Pixels of the window at `corner` (side `n`) of `with` that the wake changes by more than
-/// [`WAKE_DB`] against `without` (both calibrated, averaged alike, and speckled alike, so that
-/// their ratio is the wake's own modulation, the ship's return included).
-pub(crate) fn wake_pixels(with: &Array2<f32>, without: &Array2<f32>, (r, c): (usize, usize), n: usize) -> usize {
-    let (w, o) = (s![r..r + n, c..c + n], s![r..r + n, c..c + n]);
-    with.slice(w)
-        .iter()
-        .zip(without.slice(o).iter())
-        .filter(|(&a, &b)| (10.0 * (a.max(1e-12) / b.max(1e-12)).log10()).abs() > WAKE_DB)
-        .count()
+/// Width (averaged pixels) of the strips parallel to the track over which a wake's profile is
+/// taken.
+pub const STRIP: f64 = 2.0;
+/// How many of the sea profile's strip-to-strip deviations a strip's change must exceed.
+pub const SHOWS_AT: f32 = 3.0;
+
+/// The profile across `track` of the window at `(r, c)` of side `n`: per strip of [`STRIP`]
+/// pixels parallel to the track, the mean dB of `with` minus `without`, and of `without`,
+/// for the strips that cross the window (at least `n` pixels).
+fn profiles(
+    with: &Array2<f32>,
+    without: &Array2<f32>,
+    (r, c): (usize, usize),
+    n: usize,
+    ((r0, c0), (r1, c1)): ((f64, f64), (f64, f64)),
+) -> (Vec<f32>, Vec<f32>) {
+    let length = (r1 - r0).hypot(c1 - c0).max(1e-9);
+    let normal = (-(c1 - c0) / length, (r1 - r0) / length);
+    let offset = |i: usize, j: usize| {
+        let (y, x) = ((r + i) as f64 + 0.5 - r0, (c + j) as f64 + 0.5 - c0);
+        y * normal.0 + x * normal.1
+    };
+    let reach = n as f64 * std::f64::consts::SQRT_2;
+    let strips = (2.0 * reach / STRIP).ceil() as usize + 1;
+    let lowest = offset(0, 0).min(offset(n, 0)).min(offset(0, n)).min(offset(n, n)) - reach;
+    let mut sums = vec![(0f64, 0f64, 0usize); strips];
+    for i in 0..n {
+        for j in 0..n {
+            let k = (((offset(i, j) - lowest) / STRIP) as usize).min(strips - 1);
+            let (a, b) = (
+                RadarScale::Linear.decibels(with[[r + i, c + j]]),
+                RadarScale::Linear.decibels(without[[r + i, c + j]]),
+            );
+            sums[k].0 += f64::from(a - b);
+            sums[k].1 += f64::from(b);
+            sums[k].2 += 1;
+        }
+    }
+    sums.into_iter()
+        .filter(|&(_, _, count)| count >= n)
+        .map(|(change, sea, count)| ((change / count as f64) as f32, (sea / count as f64) as f32))
+        .unzip()
+}
+
+/// Whether the wake shows in the window at `corner` (side `n`) of `with` against the sea of
+/// `without`, as an observer who looks along the wake's `track` sees it: a strip parallel to
+/// the track whose mean change exceeds [`SHOWS_AT`] times the sea profile's
+/// strip-to-strip deviation (the standard deviation of its differences over the square root
+/// of two, so that a trend across the window does not count as noise). The images are
+/// calibrated, averaged alike and speckled alike, so that their ratio is the wake's own
+/// change, the ship's return included. The sea's deviation holds what hides a wake from a
+/// detector at this spacing: the speckle left after averaging (its looks, its correlation),
+/// the sea's own texture and its slicks. A count of pixels changed by 1 dB, a change of
+/// sigma0 alone, labelled windows of windy, few-look seas as wakes that no observer sees.
+pub(crate) fn wake_shows(
+    with: &Array2<f32>,
+    without: &Array2<f32>,
+    corner: (usize, usize),
+    n: usize,
+    track: ((f64, f64), (f64, f64)),
+) -> bool {
+    let (change, sea) = profiles(with, without, corner, n, track);
+    if sea.len() < 3 {
+        return false;
+    }
+    let steps: Vec<f32> = sea.windows(2).map(|w| w[1] - w[0]).collect();
+    let mean = steps.iter().sum::<f32>() / steps.len() as f32;
+    let variance = steps.iter().map(|d| (d - mean).powi(2)).sum::<f32>() / steps.len() as f32;
+    let deviation = (0.5 * variance).sqrt();
+    change.iter().any(|d| d.abs() > SHOWS_AT * deviation)
 }
 
 /// `examples` with each wake window repeated so that the wakes are about as many as the
@@ -98,9 +158,6 @@ pub(crate) fn balanced(examples: Vec<Example>) -> Vec<Example> {
     }
     out
 }
-
-/// The change (dB) that marks a pixel as the wake's.
-pub const WAKE_DB: f32 = 1.0;
 
 fn example(image: &Array2<f32>, (r, c): (usize, usize), n: usize, label: u8) -> Example {
     let window = image.slice(s![r..r + n, c..c + n]).to_owned();
@@ -124,32 +181,48 @@ fn corner_near(point: (f64, f64), side: usize, n: usize, rng: &mut impl rand::Rn
     (at(point.0, rng), at(point.1, rng))
 }
 
+/// Training windows of one footprint (of a scene, or of all), and how many windows on wakes'
+/// tracks were cut and how many of them show the wake ([`wake_shows`]).
+#[derive(Debug, Default)]
+pub(crate) struct TrackedWindows {
+    pub examples: Vec<Example>,
+    pub on_track: usize,
+    pub shown: usize,
+}
+
 /// The windows of side `n` at `factor` scene pixels per pixel cut from `pair` (whose images
-/// are as delivered): those on the track and their twins (where `calibrated`, the same pair
-/// before delivery, is given: only those where the wake shows, at least `n` pixels changed by
-/// [`WAKE_DB`], a line across the window), the darkest window of the sea without the ship,
-/// and windows of that sea on up to [`ON_LOOK_ALIKES`] of the look-alikes' `anchors` (scene
-/// pixels), drawn at random.
+/// are as delivered): those on the track and their twins (where `shown_only`, only those where
+/// the wake shows in `calibrated`, the same pair before delivery: [`wake_shows`]), the darkest
+/// window of the sea without the ship, and windows of that sea on up to [`ON_LOOK_ALIKES`] of
+/// the look-alikes' `anchors` (scene pixels), drawn at random.
 pub(crate) fn training_windows(
     pair: &SeaPair,
-    calibrated: Option<&SeaPair>,
+    calibrated: &SeaPair,
+    shown_only: bool,
     factor: usize,
     n: usize,
     anchors: &[(f64, f64)],
     rng: &mut impl rand::Rng,
-) -> Vec<Example> {
+) -> TrackedWindows {
     let (with, without) = (at_factor(&pair.with, factor), at_factor(&pair.without, factor));
     let side = with.nrows().min(with.ncols());
     if side < n {
-        return Vec::new();
+        return TrackedWindows::default();
     }
-    let truth = calibrated.map(|p| (at_factor(&p.with, factor), at_factor(&p.without, factor)));
+    let truth = (
+        at_factor(&calibrated.with, factor),
+        at_factor(&calibrated.without, factor),
+    );
     let f = factor as f64;
     let ((r0, c0), (r1, c1)) = pair.track;
     let track = ((r0 / f, c0 / f), (r1 / f, c1 / f));
-    let mut examples = Vec::new();
+    let mut out = TrackedWindows::default();
+    let examples = &mut out.examples;
     for corner in on_track_corners(side, n, track, rng) {
-        if truth.as_ref().is_none_or(|(w, o)| wake_pixels(w, o, corner, n) >= n) {
+        let shows = wake_shows(&truth.0, &truth.1, corner, n, track);
+        out.on_track += 1;
+        out.shown += usize::from(shows);
+        if shows || !shown_only {
             examples.push(example(&with, corner, n, 1));
             examples.push(example(&without, corner, n, 0));
         }
@@ -162,7 +235,7 @@ pub(crate) fn training_windows(
         let (r, c) = anchors[k];
         examples.push(example(&without, corner_near((r / f, c / f), side, n, rng), n, 0));
     }
-    examples
+    out
 }
 
 #[cfg(test)]
@@ -190,7 +263,9 @@ mod tests {
             spacing: 10.0,
             km2: 6.5536,
         };
-        let examples = training_windows(&pair, Some(&pair), 2, 64, &[(25.0, 215.0)], &mut rng);
+        let windows = training_windows(&pair, &pair, true, 2, 64, &[(25.0, 215.0)], &mut rng);
+        assert_eq!((windows.on_track, windows.shown), (ON_TRACK, ON_TRACK));
+        let examples = windows.examples;
         assert_eq!(examples.len(), 2 * ON_TRACK + 2);
         let labels: Vec<u8> = examples.iter().map(|e| e.label).collect();
         assert_eq!(labels, vec![1, 0, 1, 0, 0, 0]);
@@ -212,8 +287,30 @@ mod tests {
             with: pair.without.clone(),
             ..pair.clone()
         };
-        let shown = training_windows(&pair, Some(&same), 2, 64, &[], &mut rng);
-        assert_eq!(shown.iter().map(|e| e.label).collect::<Vec<_>>(), vec![0]);
+        let shown = training_windows(&pair, &same, true, 2, 64, &[], &mut rng);
+        assert_eq!((shown.on_track, shown.shown), (ON_TRACK, 0));
+        assert_eq!(shown.examples.iter().map(|e| e.label).collect::<Vec<_>>(), vec![0]);
+    }
+
+    /// A wake that darkens a band of 8 rows by 1 dB shows in a sea speckled with 100 looks
+    /// (its block means deviate by about 0.1 dB) and not in a single-look sea (about 1.4 dB:
+    /// a single look's 5.6 dB over 16 pixels).
+    #[test]
+    fn a_wake_shows_against_the_speckle_of_many_looks_and_not_of_one() {
+        let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(11);
+        let n = 64;
+        for (looks, shows) in [(100, true), (1, false)] {
+            let sea = Array2::from_shape_fn((n, n), |_| {
+                (0..looks).map(|_| -rng.random_range(1e-9f32..1.0).ln()).sum::<f32>() / looks as f32
+            });
+            let mut wake = sea.clone();
+            wake.slice_mut(s![28..36, ..]).mapv_inplace(|v| v * 10f32.powf(-0.1));
+            assert_eq!(
+                wake_shows(&wake, &sea, (0, 0), n, ((32.0, -10.0), (32.0, 80.0))),
+                shows,
+                "{looks} looks"
+            );
+        }
     }
 
     /// Two wake windows among eight are repeated three times: six of twelve.

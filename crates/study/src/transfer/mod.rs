@@ -25,6 +25,7 @@ mod real_report;
 pub mod report;
 pub mod results;
 pub mod scenes;
+pub mod visibility;
 mod windows;
 
 pub use results::{LookAlikeScore, TransferDetector, TransferResults};
@@ -50,7 +51,7 @@ use wakelab_schema::metrics::roc_auc;
 use wakelab_schema::recipe::{Augmentation, Optimiser};
 
 /// The layout of `transfer.json` and what the study computes.
-const RESULTS_FORMAT: &str = "transfer-5";
+const RESULTS_FORMAT: &str = "transfer-6";
 /// The calibration step's open-sea scenes start here (its `FIRST_SCENE`).
 const THRESHOLD_SCENES: usize = 1000;
 /// Steps the transfer study's progress display counts.
@@ -114,6 +115,8 @@ fn training_windows(
                 windows.examples.extend(scene.examples);
                 windows.on_track += scene.on_track;
                 windows.shown += scene.shown;
+                windows.visibility.extend(scene.visibility);
+                windows.sea_visibility.extend(scene.sea_visibility);
             }
         }
         display.advance(1, format!("{rendered} rendered"));
@@ -274,7 +277,12 @@ fn compute(
                 wake_windows,
                 seconds,
                 last,
-                (footprint_windows.on_track, footprint_windows.shown),
+                (
+                    footprint_windows.on_track,
+                    footprint_windows.shown,
+                    visibility::Spread::of(&footprint_windows.visibility),
+                    visibility::Spread::of(&footprint_windows.sea_visibility),
+                ),
             ),
         ));
     }
@@ -305,7 +313,25 @@ fn compute(
     std::fs::create_dir_all(detectors_dir(dir)).map_err(|e| WakelabError::io(detectors_dir(dir), e))?;
     let mut detectors = Vec::new();
     for (
-        ((((scanner, (windows, wake_windows, seconds, last, (on_track, on_track_shown))), tally), unseen), alike),
+        (
+            (
+                (
+                    (
+                        scanner,
+                        (
+                            windows,
+                            wake_windows,
+                            seconds,
+                            last,
+                            (on_track, on_track_shown, track_visibility, sea_visibility),
+                        ),
+                    ),
+                    tally,
+                ),
+                unseen,
+            ),
+            alike,
+        ),
         &footprint,
     ) in scanners
         .into_iter()
@@ -335,6 +361,8 @@ fn compute(
             wake_windows,
             track_windows: on_track,
             track_windows_shown: on_track_shown,
+            track_visibility,
+            sea_visibility,
             training_seconds: seconds,
             final_loss: last.0,
             final_accuracy: last.1,
@@ -437,6 +465,10 @@ mod tests {
         // the wake shows in at most those
         assert_eq!(d.track_windows, d.wake_windows, "{d:?}");
         assert!(d.track_windows_shown <= d.track_windows, "{d:?}");
+        // every window on the track is measured, with and without its wake
+        let measured = |v: Option<visibility::Spread>| v.map_or(0, |v| v.count);
+        assert_eq!(measured(d.track_visibility), d.track_windows, "{d:?}");
+        assert_eq!(measured(d.sea_visibility), d.track_windows, "{d:?}");
         assert_eq!(d.alarms_at_threshold, 0.0);
         assert!((d.km2 - 5.12 * 5.12).abs() < 1e-9);
         let (_, info) = load_detector(&d.file, None, &device).unwrap();
@@ -509,6 +541,11 @@ mod tests {
         // 2.56 x 2.56 km (6.55 km^2) each, less any border no full window covers
         assert!(scored.scores.iter().all(|s| s.km2 > 4.0 && s.km2 < 6.56), "{scored:?}");
         assert!(dir.path().join("real/1280m/wake/detections.json").exists());
+        // the line darkens 2 of the 20 m pixels by 5.2 dB; a strip of 128 four-look pixels
+        // deviates by 2.3 dB over the square root of 128, 0.2 dB: some 13-26 deviations
+        let wake_score = scored.scores.iter().find(|s| s.image == "wake.npy").unwrap();
+        let visibility = wake_score.wake_visibility[0].unwrap();
+        assert!((10.0..40.0).contains(&visibility), "{visibility}");
         let csv = std::fs::read_to_string(dir.path().join("report/tables/transfer_real.csv")).unwrap();
         assert_eq!(csv.lines().count(), 3, "{csv}");
         // a later run without --real keeps the section while the detectors are the same

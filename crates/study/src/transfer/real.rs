@@ -10,7 +10,8 @@
 //! `--exclude`). A wake is found when a detection or the map's peak lies within 500 m of it
 //! (the study's rule on simulated scenes); every other detection is a false alarm.
 
-use crate::product_scan::ScanProgress;
+use super::visibility::{self, Spread};
+use crate::product_scan::{open_product, ScanProgress};
 use crate::products::{detect, DetectRequest};
 use crate::steps::open_sea::distance_to_segment;
 use crate::Result;
@@ -19,7 +20,8 @@ use serde::{Deserialize, Serialize};
 use serde_json::Value;
 use std::path::{Path, PathBuf};
 use wakelab_learn::detect::ScanOptions;
-use wakelab_products::{InputScale, ReadOptions};
+use wakelab_products::{InputScale, ReadOptions, Source};
+use wakelab_schema::band::Band;
 
 /// A detection this close to a wake (m) finds it.
 pub const FOUND_WITHIN_M: f64 = 500.0;
@@ -55,6 +57,10 @@ pub struct RealScore {
     pub first_on_wake: Option<usize>,
     /// Area scanned (km^2, the cells a window scored).
     pub km2: f64,
+    /// Each wake's visibility in the image as the detector sees it ([`visibility::along`];
+    /// none for wakes drawn in longitude and latitude).
+    #[serde(default)]
+    pub wake_visibility: Vec<Option<f64>>,
     pub notes: Vec<String>,
     /// Why the detector could not scan the image (smaller than its window, unreadable): such an
     /// image is left out of the summary and listed in the report.
@@ -205,15 +211,16 @@ fn place(point: &Value, lonlat: bool) -> Option<(f64, f64)> {
 /// `detect` does by default, writing `detect`'s files into `out`, and score it.
 pub fn score_image(annotation: &Annotation, model: &Path, footprint: f64, out: &Path) -> Result<RealScore> {
     let image = &annotation.image;
+    let read = ReadOptions {
+        scale: annotation.scale,
+        exclude: annotation.exclude.clone(),
+        pixel_spacing: annotation.pixel_spacing,
+        ..Default::default()
+    };
     let request = DetectRequest {
         image,
         model: Some(model),
-        read: ReadOptions {
-            scale: annotation.scale,
-            exclude: annotation.exclude.clone(),
-            pixel_spacing: annotation.pixel_spacing,
-            ..Default::default()
-        },
+        read: read.clone(),
         options: ScanOptions::default(),
         device: "cpu",
         out: Some(out.to_path_buf()),
@@ -259,6 +266,15 @@ pub fn score_image(annotation: &Annotation, model: &Path, footprint: f64, out: &
         .collect();
     let detection = &found.detection;
     let pixel_m2 = scanned_pixel_m2(&written, spacing);
+    let factor = (
+        written["resampled"][0].as_f64().unwrap_or(1.0),
+        written["resampled"][1].as_f64().unwrap_or(1.0),
+    );
+    let wake_visibility = if lonlat {
+        Vec::new()
+    } else {
+        wake_visibilities(annotation, &read, factor, detection.window, spacing.0 * factor.0)?
+    };
     Ok(RealScore {
         image: image.file_name().unwrap_or_default().to_string_lossy().into(),
         footprint,
@@ -269,9 +285,42 @@ pub fn score_image(annotation: &Annotation, model: &Path, footprint: f64, out: &
         strongest_on_wake: on_wake.first() == Some(&true),
         first_on_wake: on_wake.iter().position(|on| *on).map(|i| i + 1),
         km2: scored_pixels(detection) as f64 * pixel_m2 / 1e6,
+        wake_visibility,
         notes: found.notes,
         skipped: None,
     })
+}
+
+/// The visibility ([`visibility::along`]) of each of `annotation`'s wakes (drawn in pixels) in
+/// its image as the detector sees it: read as `detect` reads it (`read`), averaged by `factor`
+/// (rows, columns) to pixels of `spacing` m, in windows of `n` of them; a wake drawn as a
+/// polyline is taken along its first and last points.
+fn wake_visibilities(
+    annotation: &Annotation,
+    read: &ReadOptions,
+    factor: (f64, f64),
+    n: usize,
+    spacing: f64,
+) -> Result<Vec<Option<f64>>> {
+    let opened = open_product(&annotation.image, read, Band::C, true, &mut |_, _| {})?;
+    let product = match opened.source {
+        Source::Whole(product) => *product,
+        Source::Rows(rows) => rows.read_all(&mut |_, _| {})?,
+    };
+    let image = if factor == (1.0, 1.0) {
+        product.image
+    } else {
+        wakelab_products::resample::area_average(&product.image, factor.0, factor.1)
+    };
+    let at = |(x, y): (f64, f64)| (y / factor.0, x / factor.1);
+    Ok(annotation
+        .wakes
+        .iter()
+        .map(|wake| match (wake.first(), wake.last()) {
+            (Some(&a), Some(&b)) => visibility::along(&image, n, (at(a), at(b)), spacing),
+            _ => None,
+        })
+        .collect())
 }
 
 /// Scanned pixels in the map's scored cells, the last row and column of cells cut at the
@@ -345,6 +394,7 @@ pub fn score_real(
                 strongest_on_wake: false,
                 first_on_wake: None,
                 km2: 0.0,
+                wake_visibility: Vec::new(),
                 notes: vec![],
                 skipped: Some(format!("{e:#}")),
             });
@@ -375,6 +425,9 @@ pub struct RealSummary {
     pub no_wake_images: usize,
     pub no_wake_images_without_alarm: usize,
     pub false_alarms_per_100_km2: f64,
+    /// The visibility of the wakes of the images scanned.
+    #[serde(default)]
+    pub wake_visibility: Option<Spread>,
     /// Images this detector could not scan.
     pub skipped: usize,
 }
@@ -400,6 +453,12 @@ pub fn summarise(footprint: f64, scores: &[&RealScore]) -> RealSummary {
         } else {
             f64::NAN
         },
+        wake_visibility: Spread::of(
+            &scores
+                .iter()
+                .flat_map(|s| s.wake_visibility.iter().flatten().copied())
+                .collect::<Vec<_>>(),
+        ),
         skipped: skipped_count,
     }
 }
@@ -489,6 +548,7 @@ mod tests {
             strongest_on_wake: first == Some(1),
             first_on_wake: first,
             km2: 10.0,
+            wake_visibility: vec![Some(wakes as f64), None],
             notes: vec![],
             skipped: None,
         };
@@ -508,5 +568,8 @@ mod tests {
         assert!((s.false_alarms_per_wake_image - 4.0 / 3.0).abs() < 1e-12);
         assert_eq!((s.no_wake_images, s.no_wake_images_without_alarm), (2, 1));
         assert!((s.false_alarms_per_100_km2 - 12.0).abs() < 1e-9);
+        // the visibilities of the scanned images' wakes: three 1s and two 0s
+        let v = s.wake_visibility.unwrap();
+        assert_eq!((v.count, v.quartiles), (5, [0.0, 1.0, 1.0]));
     }
 }

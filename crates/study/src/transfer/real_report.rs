@@ -5,7 +5,7 @@
 use super::real::{RealResults, RealScore, RealSummary};
 use std::fmt::Write;
 
-const HEADER: [&str; 11] = [
+const HEADER: [&str; 12] = [
     "image",
     "footprint_m",
     "wakes",
@@ -16,6 +16,7 @@ const HEADER: [&str; 11] = [
     "strongest_on_wake",
     "first_on_wake",
     "km2",
+    "wake_visibility",
     "skipped",
 ];
 
@@ -35,6 +36,11 @@ fn row(s: &RealScore) -> Vec<String> {
         s.strongest_on_wake.to_string(),
         s.first_on_wake.map_or("-".into(), |r| r.to_string()),
         format!("{:.2}", s.km2),
+        s.wake_visibility
+            .iter()
+            .map(|v| v.map_or("-".into(), |v| format!("{v:.1}")))
+            .collect::<Vec<_>>()
+            .join(" "),
         s.skipped
             .as_deref()
             .map_or(String::new(), |why| why.replace([',', '|', '\n'], ";")),
@@ -53,7 +59,7 @@ pub fn csv(real: &RealResults) -> String {
 /// One line per detector: what it did on the user's images.
 pub fn describe(s: &RealSummary) -> String {
     format!(
-        "  real images, {:.2} km window: wakes found {}/{} (strongest detection on the wake in {}), {:.1} false alarms per wake image; no-wake images without an alarm {}/{}; {:.2} false alarms per 100 km^2; {} image(s) skipped",
+        "  real images, {:.2} km window: wakes found {}/{} (strongest detection on the wake in {}), {:.1} false alarms per wake image; no-wake images without an alarm {}/{}; {:.2} false alarms per 100 km^2; {} image(s) skipped; wake visibility {}",
         s.footprint / 1000.0,
         s.found,
         s.wake_images,
@@ -62,7 +68,8 @@ pub fn describe(s: &RealSummary) -> String {
         s.no_wake_images_without_alarm,
         s.no_wake_images,
         s.false_alarms_per_100_km2,
-        s.skipped
+        s.skipped,
+        s.wake_visibility.map_or("-".into(), |v| format!("{} (quartiles)", v.describe()))
     )
 }
 
@@ -74,12 +81,16 @@ pub fn markdown(real: &RealResults) -> String {
         "The images of `{}` with their wakes as annotated (`--real`), scanned by `wakelab detect` with the detectors above, frozen with their thresholds. A wake is found when a detection or the map's peak lies within 500 m of it; every other detection is a false alarm. An image a detector could not scan (smaller than its window, unreadable) is left out of its figures and says why in the table's last column.\n",
         real.dir.display()
     );
-    md += "| detector | wakes found | strongest detection on the wake | false alarms per wake image | no-wake images without an alarm | false alarms per 100 km^2 |\n";
-    md += "| --- | --- | --- | --- | --- | --- |\n";
+    md += "The wakes' visibility is measured as in the training windows above, on each wake's image as the detector sees it (read and averaged as `detect` does), in windows of the detector's side a quarter, half and three quarters along it (the median of the three; a wake drawn in longitude and latitude is not measured).\n\n";
+    md += "| detector | wakes found | strongest detection on the wake | false alarms per wake image | no-wake images without an alarm | false alarms per 100 km^2 | wake visibility: quartiles, share above 3 |\n";
+    md += "| --- | --- | --- | --- | --- | --- | --- |\n";
     for s in &real.summaries {
+        let visibility = s
+            .wake_visibility
+            .map_or("-".into(), |v| format!("{}, {:.2}", v.describe(), v.above_3));
         let _ = writeln!(
             md,
-            "| {:.2} km | {}/{} | {}/{} | {:.1} | {}/{} | {:.2} |",
+            "| {:.2} km | {}/{} | {}/{} | {:.1} | {}/{} | {:.2} | {visibility} |",
             s.footprint / 1000.0,
             s.found,
             s.wake_images,

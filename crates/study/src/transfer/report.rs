@@ -35,12 +35,16 @@ pub fn describe(d: &TransferDetector) -> String {
     )
 }
 
-const HEADER: [&str; 20] = [
+const HEADER: [&str; 24] = [
     "footprint_m",
     "spacing_m",
     "training_windows",
     "track_windows",
     "track_windows_wake_shows",
+    "track_visibility_quartiles",
+    "track_visibility_above_3",
+    "sea_visibility_quartiles",
+    "sea_visibility_above_3",
     "threshold",
     "alarms_per_1000_km2_at_0.5",
     "alarms_per_1000_km2",
@@ -65,6 +69,11 @@ fn row(d: &TransferDetector) -> Vec<String> {
         d.training_windows.to_string(),
         d.track_windows.to_string(),
         d.track_windows_shown.to_string(),
+        d.track_visibility.map_or(String::new(), |v| v.describe()),
+        d.track_visibility
+            .map_or(String::new(), |v| format!("{:.2}", v.above_3)),
+        d.sea_visibility.map_or(String::new(), |v| v.describe()),
+        d.sea_visibility.map_or(String::new(), |v| format!("{:.2}", v.above_3)),
         format!("{:.4}", d.threshold),
         format!("{:.1}", d.alarms_at_half),
         format!("{:.2}", d.alarms_at_threshold),
@@ -127,7 +136,7 @@ pub fn markdown(results: &TransferResults) -> String {
         p.wakeless_ships[1],
         100.0 * p.look_alike_fraction,
     );
-    md += "Of the training windows cut on a wake's track (`track_windows`), `track_windows_wake_shows` are those in which the wake shows against the sea at the detector's spacing: a strip along the track, averaged over the window, whose change from the same sea without the ship exceeds 3 times the sea profile's strip-to-strip deviation (speckle after averaging, the sea's texture, its slicks). In the others only the ship at the wake's apex, if in view, sets the window apart.\n\n";
+    md += "Of the training windows cut on a wake's track (`track_windows`), `track_windows_wake_shows` are those in which the wake shows against the sea at the detector's spacing: a strip along the track, averaged over the window, whose change from the same sea without the ship exceeds 3 times the sea profile's strip-to-strip deviation (speckle after averaging, the sea's texture, its slicks). In the others only the ship at the wake's apex, if in view, sets the window apart. `track_visibility` is the wake's visibility in those windows as delivered, measured as on real images (below): its strongest strip within 150 m of the track against the strips beyond 250 m, in the sea profile's strip-to-strip deviations; quartiles, and the share above 3. `sea_visibility` is the same measure on the same windows of the sea without the ship: the measure's floor (the largest of a dozen strips of speckle and sea).\n\n";
     md += &format!("| {} |\n", HEADER.join(" | "));
     md += &format!("|{}\n", " --- |".repeat(HEADER.len()));
     for d in &results.detectors {

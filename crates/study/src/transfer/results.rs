@@ -21,6 +21,11 @@ pub struct TransferDetector {
     /// wake rather than from the ship at its apex.
     pub track_windows: usize,
     pub track_windows_shown: usize,
+    /// The wake's visibility in those windows as delivered (`visibility::visibility`: its
+    /// strongest strip along the track against the sea's strip-to-strip deviation).
+    pub track_visibility: Option<super::visibility::Spread>,
+    /// The same measure on the same windows of the sea without the ship: its floor.
+    pub sea_visibility: Option<super::visibility::Spread>,
     pub training_seconds: f64,
     /// The last epoch's loss and accuracy on the training windows.
     pub final_loss: f64,

@@ -6,6 +6,7 @@
 //! waves, rain cells, fronts; [`super::look_alikes`]). Each is made an input exactly as `wakelab detect` makes one: the image
 //! averaged by whole pixels to the detector's spacing, then [`detector_input`].
 
+use super::visibility::{self, Line};
 use crate::steps::context::at_factor;
 use crate::steps::open_sea::{distance_to_segment, SeaPair};
 use ndarray::{s, Array2, Axis};
@@ -74,55 +75,13 @@ fn darkest_corner(image: &Array2<f32>, n: usize) -> (usize, usize) {
     best.0
 }
 
-/// Width (averaged pixels) of the strips parallel to the track over which a wake's profile is
-/// taken.
-pub const STRIP: f64 = 2.0;
 /// How many of the sea profile's strip-to-strip deviations a strip's change must exceed.
 pub const SHOWS_AT: f32 = 3.0;
 
-/// The profile across `track` of the window at `(r, c)` of side `n`: per strip of [`STRIP`]
-/// pixels parallel to the track, the mean dB of `with` minus `without`, and of `without`,
-/// for the strips that cross the window (at least `n` pixels).
-fn profiles(
-    with: &Array2<f32>,
-    without: &Array2<f32>,
-    (r, c): (usize, usize),
-    n: usize,
-    ((r0, c0), (r1, c1)): ((f64, f64), (f64, f64)),
-) -> (Vec<f32>, Vec<f32>) {
-    let length = (r1 - r0).hypot(c1 - c0).max(1e-9);
-    let normal = (-(c1 - c0) / length, (r1 - r0) / length);
-    let offset = |i: usize, j: usize| {
-        let (y, x) = ((r + i) as f64 + 0.5 - r0, (c + j) as f64 + 0.5 - c0);
-        y * normal.0 + x * normal.1
-    };
-    let reach = n as f64 * std::f64::consts::SQRT_2;
-    let strips = (2.0 * reach / STRIP).ceil() as usize + 1;
-    let lowest = offset(0, 0).min(offset(n, 0)).min(offset(0, n)).min(offset(n, n)) - reach;
-    let mut sums = vec![(0f64, 0f64, 0usize); strips];
-    for i in 0..n {
-        for j in 0..n {
-            let k = (((offset(i, j) - lowest) / STRIP) as usize).min(strips - 1);
-            let (a, b) = (
-                RadarScale::Linear.decibels(with[[r + i, c + j]]),
-                RadarScale::Linear.decibels(without[[r + i, c + j]]),
-            );
-            sums[k].0 += f64::from(a - b);
-            sums[k].1 += f64::from(b);
-            sums[k].2 += 1;
-        }
-    }
-    sums.into_iter()
-        .filter(|&(_, _, count)| count >= n)
-        .map(|(change, sea, count)| ((change / count as f64) as f32, (sea / count as f64) as f32))
-        .unzip()
-}
-
 /// Whether the wake shows in the window at `corner` (side `n`) of `with` against the sea of
 /// `without`, as an observer who looks along the wake's `track` sees it: a strip parallel to
-/// the track whose mean change exceeds [`SHOWS_AT`] times the sea profile's
-/// strip-to-strip deviation (the standard deviation of its differences over the square root
-/// of two, so that a trend across the window does not count as noise). The images are
+/// the track ([`visibility::profile`]) whose mean change exceeds [`SHOWS_AT`] times the sea
+/// profile's strip-to-strip deviation ([`visibility::strip_deviation`]). The images are
 /// calibrated, averaged alike and speckled alike, so that their ratio is the wake's own
 /// change, the ship's return included. The sea's deviation holds what hides a wake from a
 /// detector at this spacing: the speckle left after averaging (its looks, its correlation),
@@ -133,17 +92,19 @@ pub(crate) fn wake_shows(
     without: &Array2<f32>,
     corner: (usize, usize),
     n: usize,
-    track: ((f64, f64), (f64, f64)),
+    track: Line,
 ) -> bool {
-    let (change, sea) = profiles(with, without, corner, n, track);
-    if sea.len() < 3 {
+    let sea: Vec<f32> = visibility::profile(without, corner, n, track)
+        .iter()
+        .map(|s| s.1)
+        .collect();
+    let Some(deviation) = visibility::strip_deviation(&sea) else {
         return false;
-    }
-    let steps: Vec<f32> = sea.windows(2).map(|w| w[1] - w[0]).collect();
-    let mean = steps.iter().sum::<f32>() / steps.len() as f32;
-    let variance = steps.iter().map(|d| (d - mean).powi(2)).sum::<f32>() / steps.len() as f32;
-    let deviation = (0.5 * variance).sqrt();
-    change.iter().any(|d| d.abs() > SHOWS_AT * deviation)
+    };
+    visibility::profile(with, corner, n, track)
+        .iter()
+        .zip(&sea)
+        .any(|(w, o)| (w.1 - o).abs() > SHOWS_AT * deviation)
 }
 
 /// `examples` with each wake window repeated so that the wakes are about as many as the
@@ -181,13 +142,17 @@ fn corner_near(point: (f64, f64), side: usize, n: usize, rng: &mut impl rand::Rn
     (at(point.0, rng), at(point.1, rng))
 }
 
-/// Training windows of one footprint (of a scene, or of all), and how many windows on wakes'
-/// tracks were cut and how many of them show the wake ([`wake_shows`]).
+/// Training windows of one footprint (of a scene, or of all), how many windows on wakes'
+/// tracks were cut and how many of them show the wake ([`wake_shows`]), and the wake's
+/// visibility in each as delivered ([`visibility::visibility`]) and that of the same window of
+/// the sea without the ship (the measure's floor: the largest of a dozen strips of speckle).
 #[derive(Debug, Default)]
 pub(crate) struct TrackedWindows {
     pub examples: Vec<Example>,
     pub on_track: usize,
     pub shown: usize,
+    pub visibility: Vec<f64>,
+    pub sea_visibility: Vec<f64>,
 }
 
 /// The windows of side `n` at `factor` scene pixels per pixel cut from `pair` (whose images
@@ -222,6 +187,11 @@ pub(crate) fn training_windows(
         let shows = wake_shows(&truth.0, &truth.1, corner, n, track);
         out.on_track += 1;
         out.shown += usize::from(shows);
+        let spacing = pair.spacing * f;
+        out.visibility
+            .extend(visibility::visibility(&with, corner, n, track, spacing));
+        out.sea_visibility
+            .extend(visibility::visibility(&without, corner, n, track, spacing));
         if shows || !shown_only {
             examples.push(example(&with, corner, n, 1));
             examples.push(example(&without, corner, n, 0));

@@ -270,10 +270,16 @@ pub fn score_image(annotation: &Annotation, model: &Path, footprint: f64, out: &
         written["resampled"][0].as_f64().unwrap_or(1.0),
         written["resampled"][1].as_f64().unwrap_or(1.0),
     );
+    let mut notes = found.notes;
+    // the scan is scored whatever becomes of this measure: a second read that fails leaves the
+    // wakes unmeasured and says why
     let wake_visibility = if lonlat {
         Vec::new()
     } else {
-        wake_visibilities(annotation, &read, factor, detection.window, spacing.0 * factor.0)?
+        wake_visibilities(annotation, &read, factor, detection.window, spacing.0 * factor.0).unwrap_or_else(|e| {
+            notes.push(format!("wake visibility not measured: {e:#}"));
+            vec![None; annotation.wakes.len()]
+        })
     };
     Ok(RealScore {
         image: image.file_name().unwrap_or_default().to_string_lossy().into(),
@@ -286,7 +292,7 @@ pub fn score_image(annotation: &Annotation, model: &Path, footprint: f64, out: &
         first_on_wake: on_wake.iter().position(|on| *on).map(|i| i + 1),
         km2: scored_pixels(detection) as f64 * pixel_m2 / 1e6,
         wake_visibility,
-        notes: found.notes,
+        notes,
         skipped: None,
     })
 }

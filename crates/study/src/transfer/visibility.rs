@@ -77,9 +77,7 @@ pub fn visibility(image: &Array2<f32>, corner: (usize, usize), n: usize, line: L
     let (near, far) = (WAKE_WITHIN_M / spacing, SEA_BEYOND_M / spacing);
     let sea: Vec<f32> = strips.iter().filter(|s| s.0.abs() > far).map(|s| s.1).collect();
     let deviation = f64::from(strip_deviation(&sea)?).max(1e-6);
-    let mut sorted = sea.clone();
-    sorted.sort_by(f32::total_cmp);
-    let median = f64::from(sorted[sorted.len() / 2]);
+    let median = wakelab_core::io::geotiff::quantile(&sea, 0.5);
     strips
         .iter()
         .filter(|s| s.0.abs() <= near)

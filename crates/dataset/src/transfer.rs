@@ -8,10 +8,12 @@
 //! footprints = [1280.0, 2560.0]    # window sides on the ground (m), each a detector
 //! window = 64                      # window side (pixels): spacing = footprint / window
 //! wind_speed = [2.0, 15.0]         # m/s
+//! input = "line_sums"              # what the classifier reads: pixels (default) or line_sums
 //! ```
 
 use serde::{Deserialize, Serialize};
 use wakelab_core::{ConfigError, WakelabError};
+use wakelab_schema::architecture::InputForm;
 use wakelab_schema::results::{Architecture, MIN_CLASSIFIER_SIZE};
 
 /// What a transfer study trains and on what scenes.
@@ -25,6 +27,9 @@ pub struct TransferPlan {
     /// Window side (pixels).
     pub window: usize,
     pub architecture: Architecture,
+    /// What the classifier reads of a window: `pixels` (the spec's input) or `line_sums` (the
+    /// window's Radon transform; a wake's line becomes a point).
+    pub input: InputForm,
     pub epochs: usize,
     pub batch_size: usize,
     pub learning_rate: f64,
@@ -77,6 +82,7 @@ impl Default for TransferPlan {
             footprints: vec![1280.0, 2560.0],
             window: 64,
             architecture: Architecture::Base,
+            input: InputForm::Pixels,
             epochs: 40,
             batch_size: 16,
             learning_rate: 1e-3,
@@ -232,5 +238,17 @@ mod tests {
         bad(|p| p.scenes = 1, "scenes");
         bad(|p| p.wakeless_ships = [4, 2], "wakeless_ships");
         bad(|p| p.look_alike_fraction = -0.1, "look_alike_fraction");
+    }
+
+    /// `input` reads by name; a wrong name lists the allowed ones.
+    #[test]
+    fn the_input_form_reads_by_name() {
+        let plan: TransferPlan = toml::from_str("input = \"line_sums\"").unwrap();
+        assert_eq!(plan.input, InputForm::LineSums);
+        assert_eq!(toml::from_str::<TransferPlan>("").unwrap().input, InputForm::Pixels);
+        let e = toml::from_str::<TransferPlan>("input = \"radon\"")
+            .unwrap_err()
+            .to_string();
+        assert!(e.contains("pixels") && e.contains("line_sums"), "{e}");
     }
 }

@@ -296,8 +296,13 @@ impl<'a> Scan<'a> {
         // batches scored side by side, PARALLEL_BATCHES at a time (burn's small convolutions
         // keep about one core busy each), their results gathered in order
         let batch_size = self.options.batch.max(1);
-        let (detector, architecture, kind, scale) =
-            (self.detector, self.info.architecture, self.band, self.options.scale);
+        let (detector, architecture, form, kind, scale) = (
+            self.detector,
+            self.info.architecture,
+            self.info.input_form,
+            self.band,
+            self.options.scale,
+        );
         let (before, mut done) = (self.considered, 0);
         for group in origins.chunks(batch_size * PARALLEL_BATCHES) {
             let scored: Vec<_> = group
@@ -316,7 +321,7 @@ impl<'a> Scan<'a> {
                             mask: None,
                         })
                         .collect();
-                    detect_with_masks(detector, architecture, &examples, batch_size, device)
+                    detect_with_masks(detector, architecture, form, &examples, batch_size, device)
                 })
                 .collect();
             for (batch, (p, masks)) in group.chunks(batch_size).zip(scored) {

@@ -46,6 +46,7 @@ impl EvalOptions {
             looks,
             input_scale: Some("linear".into()),
             calibration: None,
+            input_form: self.classifier.input,
         }
     }
 

@@ -14,6 +14,7 @@ use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
 use std::sync::Mutex;
 use wakelab_core::{ConfigError, WakelabError};
+use wakelab_schema::architecture::InputForm;
 use wakelab_schema::band::Input;
 use wakelab_schema::results::Architecture;
 pub use wakelab_schema::results::{summarise, summarise_split, Output, Summary};
@@ -150,27 +151,28 @@ const TEST_BATCH: usize = 8;
 /// Wake probabilities of a detector on examples (the image channels only; the "cls" copy and the
 /// "unet" mask are made here).
 pub fn detect(detector: &Detector, architecture: Architecture, examples: &[Example], device: &Device) -> Vec<f64> {
-    detect_with_masks(detector, architecture, examples, TEST_BATCH, device).0
+    detect_with_masks(detector, architecture, InputForm::Pixels, examples, TEST_BATCH, device).0
 }
 
-/// [`detect`], and the U-Net's wake masks where the detector has one; the classifier scores
-/// `batch` examples at a time (the U-Net at most 4).
+/// [`detect`] for a classifier reading its inputs in `form`, and the U-Net's wake masks where
+/// the detector has one; the classifier scores `batch` examples at a time (the U-Net at most 4).
 pub fn detect_with_masks(
     detector: &Detector,
     architecture: Architecture,
+    form: InputForm,
     examples: &[Example],
     batch: usize,
     device: &Device,
 ) -> (Vec<f64>, Option<Vec<Array2<f32>>>) {
     match (architecture, &detector.segmenter) {
-        (Architecture::Base, _) => (classify(&detector.classifier, examples, batch, device), None),
+        (Architecture::Base, _) => (classify(&detector.classifier, examples, form, batch, device), None),
         (Architecture::Cls, _) => (
-            classify(&detector.classifier, &duplicated(examples), batch, device),
+            classify(&detector.classifier, &duplicated(examples), form, batch, device),
             None,
         ),
         (Architecture::Unet, Some(unet)) => {
             let masks = segment(unet, examples, batch.min(4), device);
-            let p = classify(&detector.classifier, &with_masks(examples, &masks), batch, device);
+            let p = classify(&detector.classifier, &with_masks(examples, &masks), form, batch, device);
             (p, Some(masks))
         }
         (Architecture::Unet, None) => panic!("a \"unet\" detector without its U-Net"),
@@ -269,7 +271,14 @@ pub fn evaluate(
                 let mut mask_scores = Vec::new();
                 for (split, examples) in &sets {
                     let idx = if *split == Split::Train { train_idx } else { test_idx };
-                    let (o, masks) = detect_with_masks(&detector, architecture, examples, TEST_BATCH, device);
+                    let (o, masks) = detect_with_masks(
+                        &detector,
+                        architecture,
+                        options.classifier.input,
+                        examples,
+                        TEST_BATCH,
+                        device,
+                    );
                     if *split == Split::Test {
                         for ((&i, e), mask) in idx.iter().zip(examples).zip(masks.iter().flatten()) {
                             let iou = e.mask.as_ref().filter(|_| e.label == 1).and_then(|t| mask_iou(mask, t));

@@ -17,6 +17,7 @@ pub mod evaluate;
 pub mod held_out;
 pub mod image_file;
 pub mod kernels;
+pub mod line_sums;
 pub mod loss;
 pub mod masks;
 pub mod models;

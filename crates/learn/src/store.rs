@@ -15,6 +15,7 @@ use std::collections::BTreeMap;
 use std::path::Path;
 use wakelab_core::io::write_atomically;
 use wakelab_core::WakelabError;
+use wakelab_schema::architecture::InputForm;
 use wakelab_schema::band::Input;
 
 /// A trained detector: the classifier and, for the "unet" architecture, the U-Net whose mask it
@@ -62,6 +63,10 @@ pub struct ModelInfo {
     /// study's threshold).
     #[serde(default)]
     pub calibration: Option<Calibration>,
+    /// What the classifier reads of each window; recorded as `wakelab.input_form` when it is
+    /// not the pixels (files without it read pixels, as every detector did before).
+    #[serde(default)]
+    pub input_form: InputForm,
 }
 
 /// A detector's calibration ([`crate::calibration`]): the temperature its logit is divided by,
@@ -97,6 +102,10 @@ impl ModelInfo {
             ("wakelab.pixel_spacing", self.pixel_spacing.map(|v| v.to_string())),
             ("wakelab.looks", self.looks.map(|v| v.to_string())),
             ("wakelab.input_scale", self.input_scale.clone()),
+            (
+                "wakelab.input_form",
+                (self.input_form != InputForm::Pixels).then(|| self.input_form.name().to_string()),
+            ),
             (
                 "wakelab.temperature",
                 self.calibration.as_ref().map(|c| c.temperature.to_string()),
@@ -180,6 +189,10 @@ impl ModelInfo {
                 Some(t) => return Err(err(format!("temperature {t}: must be a positive number"))),
                 None => None,
             },
+            input_form: match meta.get("wakelab.input_form") {
+                Some(f) => f.parse().map_err(|e| err(format!("input_form: {e}")))?,
+                None => InputForm::Pixels,
+            },
         })
     }
 
@@ -196,6 +209,12 @@ impl ModelInfo {
             );
         }
         Some(note)
+    }
+
+    /// What a scan's user should know of the detector's input: None for one reading pixels.
+    pub fn input_note(&self) -> Option<String> {
+        (self.input_form == InputForm::LineSums)
+            .then(|| "the detector reads each window's line sums (its Radon transform), not its pixels".to_string())
     }
 
     /// A window's wake probability as the detector reports it: its network's output scaled by
@@ -499,7 +518,36 @@ mod tests {
             looks: Some(4.0),
             input_scale: Some("linear".into()),
             calibration,
+            input_form: InputForm::Pixels,
         }
+    }
+
+    /// A detector reading line sums says so in its file; one reading pixels writes no key, so
+    /// its bytes are those of a file written before the key existed, and reads back as pixels.
+    #[test]
+    fn the_input_form_reads_back_from_the_metadata() {
+        let path = Path::new("m.safetensors");
+        let lines = ModelInfo {
+            input_form: InputForm::LineSums,
+            ..info(None)
+        };
+        let meta = lines.to_metadata();
+        assert_eq!(meta["wakelab.input_form"], "line_sums");
+        assert_eq!(ModelInfo::from_metadata(&meta, path).unwrap(), lines);
+        let pixels = info(None).to_metadata();
+        assert!(!pixels.contains_key("wakelab.input_form"));
+        assert!(lines.input_note().is_some_and(|n| n.contains("line sums")) && info(None).input_note().is_none());
+        assert_eq!(
+            ModelInfo::from_metadata(&pixels, path).unwrap().input_form,
+            InputForm::Pixels
+        );
+        let mut wrong = meta;
+        wrong.insert("wakelab.input_form".into(), "radon".into());
+        let message = ModelInfo::from_metadata(&wrong, path).unwrap_err().to_string();
+        assert!(
+            message.contains("input_form") && message.contains("pixels or line_sums"),
+            "{message}"
+        );
     }
 
     /// A calibration survives the file's metadata, and a file without one reads as raw scores.

@@ -5,6 +5,7 @@
 //! by the spec's Adam, since plain SGD barely moves in a few hundred steps.
 
 use crate::augment::Pose;
+use crate::line_sums::network_input;
 use crate::models::{init_seeded, UNet, WakeClassifier};
 use burn::module::Module;
 use burn::optim::decay::WeightDecayConfig;
@@ -13,9 +14,11 @@ use burn::tensor::{Device, Int, Tensor, TensorData};
 use ndarray::{Array2, Array3, Axis};
 use rand::{RngExt, SeedableRng};
 use rand_chacha::ChaCha8Rng;
+use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
 use std::time::Instant;
 use wakelab_core::WakelabError;
+use wakelab_schema::architecture::InputForm;
 use wakelab_schema::recipe;
 use wakelab_schema::recipe::{Augmentation, Optimiser};
 
@@ -55,6 +58,9 @@ pub struct Recipe {
     pub augmentation: Augmentation,
     /// First-level channels of the U-Net (Table 4.2: 64); the classifiers ignore it.
     pub width: usize,
+    /// What the classifier reads of each input (the U-Net always reads the pixels).
+    #[serde(default)]
+    pub input: InputForm,
 }
 
 impl Recipe {
@@ -69,6 +75,7 @@ impl Recipe {
             weight_decay: recipe::CLASSIFIER_WEIGHT_DECAY,
             augmentation: Augmentation::QuarterTurns,
             width: recipe::UNET_WIDTH,
+            input: InputForm::Pixels,
         }
     }
 
@@ -82,6 +89,7 @@ impl Recipe {
             weight_decay: recipe::UNET_WEIGHT_DECAY,
             augmentation: Augmentation::QuarterTurns,
             width: recipe::UNET_WIDTH,
+            input: InputForm::Pixels,
         }
     }
 }
@@ -106,20 +114,28 @@ impl EpochRecord {
     }
 }
 
-/// A stack of examples as one [batch, channels, h, w] tensor, each in its pose.
-pub fn batch_images(examples: &[&Example], poses: &[Pose], device: &Device) -> Tensor<4> {
+/// A stack of examples as one [batch, channels, h, w] tensor, each in its pose, then read in
+/// `form` (the line sums of the turned window: a turn must move the wake's line, so it comes
+/// first). The examples are made ready side by side.
+pub fn batch_images(examples: &[&Example], poses: &[Pose], form: InputForm, device: &Device) -> Tensor<4> {
     let (c, n) = (examples[0].channels(), examples[0].size());
-    let mut data = Vec::with_capacity(examples.len() * c * n * n);
-    for (e, pose) in examples.iter().zip(poses) {
-        for channel in e.image.outer_iter() {
-            if *pose == Pose::IDENTITY {
-                data.extend(channel.iter().copied());
-            } else {
-                data.extend(pose.apply(&channel.to_owned()).iter().copied());
+    let ready: Vec<Vec<f32>> = examples
+        .par_iter()
+        .zip(poses)
+        .map(|(e, pose)| {
+            let mut data = Vec::with_capacity(c * n * n);
+            for channel in e.image.outer_iter() {
+                let posed = if *pose == Pose::IDENTITY {
+                    channel.to_owned()
+                } else {
+                    pose.apply(&channel.to_owned())
+                };
+                data.extend(network_input(form, posed).iter().copied());
             }
-        }
-    }
-    Tensor::from_data(TensorData::new(data, [examples.len(), c, n, n]), device)
+            data
+        })
+        .collect();
+    Tensor::from_data(TensorData::new(ready.concat(), [examples.len(), c, n, n]), device)
 }
 
 pub fn batch_masks(examples: &[&Example], poses: &[Pose], device: &Device) -> Tensor<4, Int> {
@@ -344,7 +360,7 @@ pub fn train_classifier(
         on_epoch,
         |t, batch, poses| {
             let labels: Vec<i64> = batch.iter().map(|e| e.label as i64).collect();
-            let images = batch_images(batch, poses, t.device());
+            let images = batch_images(batch, poses, recipe.input, t.device());
             t.step(images, &labels)
         },
     )?;
@@ -369,7 +385,7 @@ pub fn train_unet(
         (size * size) as f64,
         on_epoch,
         |t, batch, poses| {
-            let images = batch_images(batch, poses, t.device());
+            let images = batch_images(batch, poses, InputForm::Pixels, t.device());
             let masks = batch_masks(batch, poses, t.device());
             t.step(images, masks)
         },
@@ -377,12 +393,19 @@ pub fn train_unet(
     Ok(trainer.finish())
 }
 
-/// Wake probabilities o_i of a trained classifier, in the examples' order.
-pub fn classify(model: &WakeClassifier, examples: &[Example], batch_size: usize, device: &Device) -> Vec<f64> {
+/// Wake probabilities o_i of a trained classifier reading its inputs in `form`, in the
+/// examples' order.
+pub fn classify(
+    model: &WakeClassifier,
+    examples: &[Example],
+    form: InputForm,
+    batch_size: usize,
+    device: &Device,
+) -> Vec<f64> {
     let all: Vec<&Example> = examples.iter().collect();
     let mut out = Vec::with_capacity(examples.len());
     for chunk in all.chunks(batch_size.max(1)) {
-        let images = batch_images(chunk, &vec![Pose::IDENTITY; chunk.len()], device);
+        let images = batch_images(chunk, &vec![Pose::IDENTITY; chunk.len()], form, device);
         let p = model
             .probability(images)
             .into_data()
@@ -399,7 +422,7 @@ pub fn segment(model: &UNet, examples: &[Example], batch_size: usize, device: &D
     let mut out = Vec::with_capacity(examples.len());
     for chunk in all.chunks(batch_size.max(1)) {
         let n = chunk[0].size();
-        let images = batch_images(chunk, &vec![Pose::IDENTITY; chunk.len()], device);
+        let images = batch_images(chunk, &vec![Pose::IDENTITY; chunk.len()], InputForm::Pixels, device);
         let p = model.mask(images).into_data().try_to_vec::<f32>().expect("f32 outputs");
         for image in p.chunks(n * n) {
             out.push(Array2::from_shape_vec((n, n), image.to_vec()).expect("n x n"));

@@ -352,6 +352,7 @@ fn a_scan_gives_the_same_map_on_wgpu_and_cpu() {
         looks: None,
         input_scale: None,
         calibration: None,
+        input_form: Default::default(),
     };
     let scan = |d: &Device, detector: &Detector| {
         let options = ScanOptions {

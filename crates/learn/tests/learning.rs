@@ -156,6 +156,100 @@ fn mcc_of(outputs: &[f64], labels: &[u8]) -> f64 {
     Confusion::from_outputs(outputs, labels, 0.5).mcc()
 }
 
+/// A line of one noise deviation, about one pixel wide, is faint in every pixel, but a line sum
+/// holds about one of its pixels per pixel of its length, each at 0.6-0.85 of its peak (as the
+/// line falls in the sum's offset bin), so over its 32-45 pixels it sums to 3.4-5.7 deviations,
+/// against the noise's largest line sum of about 3.5: the images' largest line sum tells lines
+/// from noise, their largest pixel hardly does. And a scan of a detector reading line sums
+/// reads its windows as its training and testing did.
+#[test]
+fn line_sums_show_a_faint_line_and_the_scan_reads_them_alike() {
+    use wakelab_learn::detect::{detect_image, ScanOptions};
+    use wakelab_learn::evaluate::detect_with_masks;
+    use wakelab_learn::line_sums::line_sums;
+    use wakelab_schema::architecture::InputForm;
+    let test = line_versus_noise(200, 32, 1.0, 12);
+    let labels: Vec<u8> = test.iter().map(|s| s.label).collect();
+    let largest = |a: &ndarray::Array2<f32>| a.iter().fold(f32::MIN, |m, &v| m.max(v)) as f64;
+    let by_sums: Vec<f64> = test.iter().map(|s| largest(&line_sums(&s.image))).collect();
+    let by_pixels: Vec<f64> = test.iter().map(|s| largest(&s.image)).collect();
+    let (sums_auc, pixels_auc) = (auc(&by_sums, &labels), auc(&by_pixels, &labels));
+    eprintln!("largest line sum: AUC {sums_auc:.3}; largest pixel: AUC {pixels_auc:.3}");
+    assert!(sums_auc > 0.9, "line sums: AUC {sums_auc}");
+    assert!(pixels_auc < 0.75, "pixels: AUC {pixels_auc}");
+
+    let device = Device::flex();
+    let train = examples(&line_versus_noise(64, 32, 1.0, 11));
+    let mut options = quick_options();
+    options.classifier.epochs = 2;
+    options.classifier.input = InputForm::LineSums;
+    let detector = train_detector(Architecture::Base, &train, &options, 7, &device, &mut |_, _| {}).unwrap();
+    let info = ModelInfo {
+        architecture: Architecture::Base,
+        bands: "S".parse().unwrap(),
+        input_size: 32,
+        threshold: 0.5,
+        unet_width: wakelab_learn::models::UNET_WIDTH,
+        pixel_spacing: None,
+        looks: None,
+        input_scale: None,
+        calibration: None,
+        input_form: InputForm::LineSums,
+    };
+    // a window of sigma0 whose dB is a test image (the scan reads radar pixels in dB)
+    let image = test[0].image.mapv(|v| 10f32.powf(v / 10.0));
+    let scan = detect_image(
+        &detector,
+        &info,
+        &image,
+        ScanOptions::default(),
+        &device,
+        &mut |_, _| {},
+    )
+    .unwrap();
+    let window = wakelab_learn::train::Example {
+        image: wakelab_learn::data::detector_input(
+            image,
+            wakelab_schema::band::Band::S,
+            wakelab_learn::data::RadarScale::Linear,
+        )
+        .insert_axis(ndarray::Axis(0)),
+        label: 1,
+        mask: None,
+    };
+    let alone = |form| {
+        detect_with_masks(
+            &detector,
+            Architecture::Base,
+            form,
+            std::slice::from_ref(&window),
+            1,
+            &device,
+        )
+        .0[0]
+    };
+    assert!((scan.tiles[0].probability - alone(InputForm::LineSums)).abs() < 1e-4);
+    assert!((scan.tiles[0].probability - alone(InputForm::Pixels)).abs() > 1e-4);
+}
+
+/// The area under the ROC curve: the chance that a positive scores above a negative (ties half).
+fn auc(scores: &[f64], labels: &[u8]) -> f64 {
+    let (mut wins, mut pairs) = (0.0, 0.0);
+    for (s, _) in scores.iter().zip(labels).filter(|(_, &l)| l == 1) {
+        for (t, _) in scores.iter().zip(labels).filter(|(_, &l)| l == 0) {
+            wins += if s > t {
+                1.0
+            } else if s == t {
+                0.5
+            } else {
+                0.0
+            };
+            pairs += 1.0;
+        }
+    }
+    wins / pairs
+}
+
 #[test]
 fn every_architecture_learns_a_line_on_noise_and_not_shuffled_labels() {
     let device = Device::flex();
@@ -211,6 +305,7 @@ fn same_seed_gives_the_same_weights_and_outputs_bit_for_bit() {
             looks: Some(4.0),
             input_scale: Some("linear".into()),
             calibration: None,
+            input_form: Default::default(),
         };
         let (path, _) = save_detector(&d, &info, &dir.path().join("m.safetensors")).unwrap();
         let (loaded, loaded_info) = load_detector(&path, Some((Architecture::Unet, 24)), &device).unwrap();
@@ -250,6 +345,7 @@ fn saved_detector_reloads_with_the_same_outputs_and_refuses_the_wrong_architectu
         looks: None,
         input_scale: None,
         calibration: None,
+        input_form: Default::default(),
     };
     let (_, export) = save_detector(&detector, &info, &path).unwrap();
     assert!(export.exists());
@@ -318,6 +414,7 @@ fn a_scan_of_a_large_scene_peaks_on_its_line() {
         looks: None,
         input_scale: None,
         calibration: None,
+        input_form: Default::default(),
     };
     let options = ScanOptions {
         stride: Some(16),

@@ -78,3 +78,59 @@ impl std::fmt::Display for Architecture {
         f.pad(self.name())
     }
 }
+
+/// What a classifier reads from its window: the window's normalised pixels (the spec's input,
+/// 4.2), or its line sums, the window's Radon transform (a line across the window, such as a
+/// wake's trough or arm, becomes one bright or dark point; see `wakelab_learn::line_sums`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum InputForm {
+    #[default]
+    Pixels,
+    LineSums,
+}
+
+impl InputForm {
+    pub const ALL: [InputForm; 2] = [InputForm::Pixels, InputForm::LineSums];
+
+    pub fn name(self) -> &'static str {
+        match self {
+            InputForm::Pixels => "pixels",
+            InputForm::LineSums => "line_sums",
+        }
+    }
+
+    pub fn parse(text: &str) -> Option<Self> {
+        Self::ALL.into_iter().find(|f| f.name() == text)
+    }
+}
+
+/// A name: `pixels` or `line_sums`.
+impl std::str::FromStr for InputForm {
+    type Err = String;
+    fn from_str(s: &str) -> Result<Self, Self::Err> {
+        Self::parse(s.trim()).ok_or_else(|| format!("{s}: must be pixels or line_sums"))
+    }
+}
+
+impl std::fmt::Display for InputForm {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.pad(self.name())
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn input_forms_read_by_name_and_a_wrong_one_lists_the_allowed() {
+        for f in InputForm::ALL {
+            assert_eq!(f.name().parse::<InputForm>(), Ok(f));
+            assert_eq!(f.to_string(), f.name());
+        }
+        assert_eq!(InputForm::default(), InputForm::Pixels);
+        let e = "radon".parse::<InputForm>().unwrap_err();
+        assert!(e.contains("pixels or line_sums"), "{e}");
+    }
+}

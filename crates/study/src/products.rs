@@ -109,6 +109,7 @@ pub fn detect(request: DetectRequest, progress: ScanProgress) -> Result<Detected
     let mut scan = scan_opened(opened, scanner, progress)?;
     scan.notes.splice(0..0, chosen);
     scan.notes.extend(info.calibration_note());
+    scan.notes.extend(info.input_note());
     let dir = request.out.unwrap_or_else(|| default_scan_dir(request.image));
     let scanned = Scanned {
         path: &scan.path,

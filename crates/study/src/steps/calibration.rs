@@ -392,6 +392,7 @@ mod tests {
             looks: Some(4.0),
             input_scale: Some("linear".into()),
             calibration: None,
+            input_form: Default::default(),
         };
         let path = crate::output::detector_path(&run_dir.path().join("learn").join("C"), &input, Architecture::Base);
         std::fs::create_dir_all(path.parent().unwrap()).unwrap();

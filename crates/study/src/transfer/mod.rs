@@ -139,6 +139,7 @@ fn recipe(plan: &TransferPlan) -> Recipe {
         weight_decay: plan.weight_decay,
         augmentation: Augmentation::Geometric,
         width: 16,
+        input: plan.input,
     }
 }
 
@@ -262,6 +263,7 @@ fn compute(
             looks: None,
             input_scale: Some("linear".into()),
             calibration: None,
+            input_form: plan.input,
         };
         let factor = (spacing / SPACING).round() as usize;
         let detector = Detector {

@@ -545,7 +545,7 @@ mod tests {
         wrong.insert("wakelab.input_form".into(), "radon".into());
         let message = ModelInfo::from_metadata(&wrong, path).unwrap_err().to_string();
         assert!(
-            message.contains("input_form") && message.contains("pixels or line_sums"),
+            message.contains("input_form") && message.contains("pixels, line_sums"),
             "{message}"
         );
     }

@@ -184,18 +184,7 @@ fn line_sums_show_a_faint_line_and_the_scan_reads_them_alike() {
     options.classifier.epochs = 2;
     options.classifier.input = InputForm::LineSums;
     let detector = train_detector(Architecture::Base, &train, &options, 7, &device, &mut |_, _| {}).unwrap();
-    let info = ModelInfo {
-        architecture: Architecture::Base,
-        bands: "S".parse().unwrap(),
-        input_size: 32,
-        threshold: 0.5,
-        unet_width: wakelab_learn::models::UNET_WIDTH,
-        pixel_spacing: None,
-        looks: None,
-        input_scale: None,
-        calibration: None,
-        input_form: InputForm::LineSums,
-    };
+    let info = scan_info("S", InputForm::LineSums);
     // a window of sigma0 whose dB is a test image (the scan reads radar pixels in dB)
     let image = test[0].image.mapv(|v| 10f32.powf(v / 10.0));
     let scan = detect_image(
@@ -230,6 +219,22 @@ fn line_sums_show_a_faint_line_and_the_scan_reads_them_alike() {
     };
     assert!((scan.tiles[0].probability - alone(InputForm::LineSums)).abs() < 1e-4);
     assert!((scan.tiles[0].probability - alone(InputForm::Pixels)).abs() > 1e-4);
+}
+
+/// A "base" detector of 32-pixel windows of `bands` at threshold 0.5, reading `input_form`.
+fn scan_info(bands: &str, input_form: wakelab_schema::architecture::InputForm) -> ModelInfo {
+    ModelInfo {
+        architecture: Architecture::Base,
+        bands: bands.parse().unwrap(),
+        input_size: 32,
+        threshold: 0.5,
+        unet_width: wakelab_learn::models::UNET_WIDTH,
+        pixel_spacing: None,
+        looks: None,
+        input_scale: None,
+        calibration: None,
+        input_form,
+    }
 }
 
 /// The area under the ROC curve: the chance that a positive scores above a negative (ties half).
@@ -404,18 +409,7 @@ fn a_scan_of_a_large_scene_peaks_on_its_line() {
             *v += (3.0 * (-d * d / 0.5).exp()) as f32;
         }
     }
-    let info = ModelInfo {
-        architecture: Architecture::Base,
-        bands: "LWIR".parse().unwrap(),
-        input_size: 32,
-        threshold: 0.5,
-        unet_width: wakelab_learn::models::UNET_WIDTH,
-        pixel_spacing: None,
-        looks: None,
-        input_scale: None,
-        calibration: None,
-        input_form: Default::default(),
-    };
+    let info = scan_info("LWIR", wakelab_schema::architecture::InputForm::Pixels);
     let options = ScanOptions {
         stride: Some(16),
         batch: 10,

@@ -99,17 +99,13 @@ impl InputForm {
             InputForm::LineSums => "line_sums",
         }
     }
-
-    pub fn parse(text: &str) -> Option<Self> {
-        Self::ALL.into_iter().find(|f| f.name() == text)
-    }
 }
 
 /// A name: `pixels` or `line_sums`.
 impl std::str::FromStr for InputForm {
     type Err = String;
     fn from_str(s: &str) -> Result<Self, Self::Err> {
-        Self::parse(s.trim()).ok_or_else(|| format!("{s}: must be pixels or line_sums"))
+        crate::recipe::parse_named(s.trim(), &Self::ALL, Self::name, "an input form")
     }
 }
 
@@ -131,6 +127,6 @@ mod tests {
         }
         assert_eq!(InputForm::default(), InputForm::Pixels);
         let e = "radon".parse::<InputForm>().unwrap_err();
-        assert!(e.contains("pixels or line_sums"), "{e}");
+        assert!(e.contains("pixels, line_sums"), "{e}");
     }
 }

@@ -30,6 +30,11 @@ pub struct Detector {
 /// normalisation; format 1 files are refused with a message to retrain.
 pub const FORMAT: &str = "wakelab-detector-2";
 
+/// The format of a detector that reads line sums ([`InputForm::LineSums`]): format 2 with
+/// `wakelab.input_form`, numbered apart so that a wakelab reading only format 2, which knows no
+/// input form, refuses it instead of scoring its windows' pixels.
+pub const LINE_SUMS_FORMAT: &str = "wakelab-detector-3";
+
 /// How this wakelab makes a detector's input from an image ([`crate::data::detector_input`]),
 /// recorded in every detector file: a detector only scores inputs made the same way. Change it
 /// whenever `detector_input` changes.
@@ -89,7 +94,14 @@ fn default_unet_width() -> usize {
 impl ModelInfo {
     fn to_metadata(&self) -> BTreeMap<String, String> {
         let mut meta = BTreeMap::from([
-            ("wakelab.format".to_string(), FORMAT.to_string()),
+            (
+                "wakelab.format".to_string(),
+                match self.input_form {
+                    InputForm::Pixels => FORMAT,
+                    InputForm::LineSums => LINE_SUMS_FORMAT,
+                }
+                .to_string(),
+            ),
             ("wakelab.normalisation".to_string(), INPUT_NORMALISATION.to_string()),
             ("wakelab.architecture".to_string(), self.architecture.name().to_string()),
             ("wakelab.bands".to_string(), band_list(&self.bands)),
@@ -143,13 +155,13 @@ impl ModelInfo {
                 .ok_or_else(|| err(format!("no `{key}` in the metadata: not a wakelab detector file")))
         };
         match get("wakelab.format")?.as_str() {
-            FORMAT => {}
+            FORMAT | LINE_SUMS_FORMAT => {}
             "wakelab-detector-1" => {
                 return Err(err(
                     "written by an earlier wakelab (format wakelab-detector-1), which does not record how its inputs were normalised; its scores on today's inputs would be wrong without warning: retrain it (wakelab train)".into(),
                 ))
             }
-            other => return Err(err(format!("unknown format \"{other}\" (this wakelab reads {FORMAT})"))),
+            other => return Err(err(format!("unknown format \"{other}\" (this wakelab reads {FORMAT} and {LINE_SUMS_FORMAT})"))),
         }
         let normalisation = get("wakelab.normalisation")?;
         if normalisation != INPUT_NORMALISATION {
@@ -533,9 +545,11 @@ mod tests {
         };
         let meta = lines.to_metadata();
         assert_eq!(meta["wakelab.input_form"], "line_sums");
+        assert_eq!(meta["wakelab.format"], LINE_SUMS_FORMAT);
         assert_eq!(ModelInfo::from_metadata(&meta, path).unwrap(), lines);
         let pixels = info(None).to_metadata();
         assert!(!pixels.contains_key("wakelab.input_form"));
+        assert_eq!(pixels["wakelab.format"], FORMAT);
         assert!(lines.input_note().is_some_and(|n| n.contains("line sums")) && info(None).input_note().is_none());
         assert_eq!(
             ModelInfo::from_metadata(&pixels, path).unwrap().input_form,

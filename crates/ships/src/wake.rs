@@ -51,6 +51,15 @@ pub struct WakeOptions {
     /// The free-wake search: its significance among all lines, and the least visible length (m).
     pub free_min_z: f64,
     pub free_min_length_m: f64,
+    /// The least visible length of a ship's wake (m) that fades inside the image: a moving
+    /// ship's turbulent wake persists for minutes, kilometres behind it (the spec's persistent
+    /// wake, Fig. 2.1; the free search's own least length), while the dark patch beside a
+    /// bright target (a slick's edge, a shadow, a display's clipped halo) ends within a few
+    /// hundred metres. A wake that leaves the image before it fades is kept when it is seen
+    /// for `min_seen_m` in it: a ship at the image's edge whose "wake" leaves the image within a
+    /// few pixels shows nothing of it.
+    pub min_length_m: f64,
+    pub min_seen_m: f64,
 }
 
 impl Default for WakeOptions {
@@ -66,6 +75,8 @@ impl Default for WakeOptions {
             max_speed: 15.0,
             free_min_z: 8.0,
             free_min_length_m: 1000.0,
+            min_length_m: 1000.0,
+            min_seen_m: 500.0,
         }
     }
 }
@@ -264,7 +275,11 @@ pub fn ship_wake(image: &SearchImage, ship: &Ship, index: usize, o: &WakeOptions
     if z < o.min_z || contrast < o.min_contrast {
         return None;
     }
-    let length = visible_length(fine, apex, axis, near, o);
+    let seen = visible_length(fine, apex, axis, near, o);
+    if seen.in_image < o.min_seen_m || (seen.faded && seen.in_image < o.min_length_m) {
+        return None;
+    }
+    let length = seen.length;
     let (ur, uc) = g.step(axis);
     let end = (apex.0 + ur * length, apex.1 + uc * length);
     let course = (axis + 180.0).rem_euclid(360.0);
@@ -354,28 +369,52 @@ pub fn offset_speed(g: &Geometry, t: f64, course: f64, resolution: f64) -> Resul
     })
 }
 
+/// How far a wake's trough is seen from its apex.
+#[derive(Debug, Clone, Copy, PartialEq)]
+struct Seen {
+    /// From the apex to where it fades or leaves the image (m).
+    length: f64,
+    /// The stretch of it inside the image (m).
+    in_image: f64,
+    /// Whether it faded (else it left the image).
+    faded: bool,
+}
+
 /// How far along `axis` from `apex` the trough stays darker than its sides: segments of 250 m,
-/// until two in a row fall under half the search's least contrast.
-fn visible_length(image: &Normalised, apex: (f64, f64), axis: f64, near: f64, o: &WakeOptions) -> f64 {
+/// until two in a row fall under half the search's least contrast, or the ray leaves the
+/// image. An apex off the image (a return near the edge, displaced in azimuth from its ship)
+/// starts the count where the ray enters it.
+fn visible_length(image: &Normalised, apex: (f64, f64), axis: f64, near: f64, o: &WakeOptions) -> Seen {
     let segment = 250.0;
-    let (mut end, mut misses, mut d) = (near, 0, near);
+    let (mut end, mut misses, mut d, mut entered) = (near, 0, near, None);
+    let seen = |end: f64, entered: Option<f64>, faded| Seen {
+        length: end,
+        in_image: entered.map_or(0.0, |e| (end - e).max(0.0)),
+        faded,
+    };
     while d < 30_000.0 {
         let c = trough_contrast(image, apex, axis, d, o, d + segment);
         if !c.is_finite() {
-            break;
+            if entered.is_some() {
+                break;
+            }
+            d += segment;
+            end = d;
+            continue;
         }
+        entered.get_or_insert(d);
         if c >= 0.5 * o.min_contrast {
             end = d + segment;
             misses = 0;
         } else {
             misses += 1;
             if misses >= 2 {
-                break;
+                return seen(end, entered, true);
             }
         }
         d += segment;
     }
-    end
+    seen(end, entered, false)
 }
 
 /// Bright arms symmetric about the trough: the half-angle (1-25 degrees) where the weaker of the
@@ -519,7 +558,8 @@ pub fn free_wakes(search: &SearchImage, known: &[Wake], o: &WakeOptions) -> Vec<
 /// headings every degree over [0, 180) and offsets every cell: the Radon transform by
 /// projection (each pixel binned by its distance across the heading, its bin's mean the line's
 /// mean), the trough one bin wide, the sides the bins `side_offset_m` +- `side_half_width_m`
-/// away, the darker side counted (a trough is darker than both). Lines shorter than a third of the diagonal are left out.
+/// away, the darker side counted (a trough is darker than both; a line without sea on both
+/// sides is left out). Lines shorter than a third of the diagonal are left out.
 fn radon_lines(image: &Normalised, o: &WakeOptions, diagonal: f64) -> Vec<(f64, f64, f64)> {
     let g = image.geometry;
     let (h, w) = image.values.dim();
@@ -562,12 +602,12 @@ fn radon_lines(image: &Normalised, o: &WakeOptions, diagonal: f64) -> Vec<(f64, 
                     };
                     let left = side_mean((side.0..=side.1).filter_map(|k| b.checked_sub(k)).collect());
                     let right = side_mean((side.0..=side.1).map(|k| b + k).filter(|&k| k < bins).collect());
-                    // darker than both sides: a trough, not an edge
-                    let sides = match (left, right) {
-                        (Some(l), Some(r)) => l.min(r),
-                        (Some(s), None) | (None, Some(s)) => s,
-                        (None, None) => return None,
+                    // darker than both sides: a trough, not an edge; a line without sea on
+                    // one side (the image's edge, a display's frame) is not one
+                    let (Some(l), Some(r)) = (left, right) else {
+                        return None;
                     };
+                    let sides = l.min(r);
                     let offset = (b as f64 + 0.5 - half) * cell;
                     Some((sides - trough, hd, offset))
                 })
@@ -665,6 +705,16 @@ mod tests {
     /// the rows. Returns the image, the geometry and the return's true displacement (m along
     /// the flight direction).
     fn scene(course: f64, speed: f64, seed: u64) -> (Array2<f32>, Geometry, (f64, f64), f64) {
+        scene_with_trough(course, speed, seed, (-3.0, 3000.0))
+    }
+
+    /// [`scene`] with the trough `trough.0` dB dark for `trough.1` m behind the ship.
+    fn scene_with_trough(
+        course: f64,
+        speed: f64,
+        seed: u64,
+        trough: (f64, f64),
+    ) -> (Array2<f32>, Geometry, (f64, f64), f64) {
         let g = Geometry::along_rows(5.0, 35.0, Some(110.0));
         let n = 1200;
         let ship = (600.0, 600.0);
@@ -680,8 +730,8 @@ mod tests {
             let across = east * ca - north * sa;
             let mut db = 0.0;
             if along > 0.0 && along < 3000.0 {
-                if across.abs() < 30.0 {
-                    db -= 3.0;
+                if across.abs() < 30.0 && along < trough.1 {
+                    db += trough.0;
                 }
                 let arm = (across.abs() - along * 4f64.to_radians().tan()).abs();
                 if arm < 7.0 {
@@ -771,6 +821,62 @@ mod tests {
     }
 
     /// Speckle alone holds no free wake; a dark line 4 km long through an empty scene is one.
+    /// A dark patch 5 dB deep and 600 m long behind a ship (a shadow, a slick's end) is a
+    /// trough the search would take for a wake; it fades inside the image well short of the
+    /// kilometre a wake persists, so it is not one. Without that least length it is taken.
+    #[test]
+    fn a_short_dark_patch_behind_a_ship_is_no_wake() {
+        let (image, g, _, _) = scene_with_trough(120.0, 9.0, 21, (-5.0, 600.0));
+        let ships = find_ships(image.view(), &g, &CfarOptions::default());
+        assert_eq!(ships.ships.len(), 1, "{:?}", ships.ships);
+        let normalised = SearchImage::new(image.view(), &g, 2000.0);
+        let o = WakeOptions::default();
+        assert_eq!(ship_wake(&normalised, &ships.ships[0], 0, &o), None);
+        let any_length = WakeOptions { min_length_m: 0.0, ..o };
+        let taken = ship_wake(&normalised, &ships.ships[0], 0, &any_length).expect("the patch as a wake");
+        assert!(taken.length_m < 1000.0, "{taken:?}");
+    }
+
+    /// A trough 2 dB dark and 60 m wide down a column from the image's top edge for 2 km, in
+    /// 4-look speckle at 10 m: seen from an apex 500 m above the image (off it), its visible
+    /// length runs to the trough's end, 2.5 km from the apex, within a segment of 250 m.
+    #[test]
+    fn a_wake_from_an_apex_off_the_image_is_measured_where_it_shows() {
+        let g = Geometry::along_rows(10.0, 35.0, None);
+        let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(7);
+        let image = Array2::from_shape_fn((400, 300), |(r, c)| {
+            let speckle: f64 = (0..4).map(|_| -> f64 { Exp1.sample(&mut rng) }).sum::<f64>() / 4.0;
+            let dark = r < 200 && (c as f64 - 150.0).abs() < 3.0;
+            (0.01 * speckle * if dark { 10f64.powf(-0.2) } else { 1.0 }) as f32
+        });
+        let normalised = crate::radon::normalise(image.view(), &g, 1000.0);
+        let o = WakeOptions::default();
+        // straight down the rows (heading 180) from row -50, column 150
+        let seen = visible_length(&normalised, (-50.0, 150.0), 180.0, 60.0, &o);
+        assert!((2250.0..=2810.0).contains(&seen.length) && seen.faded, "{seen:?}");
+        // of which the first 500 m are off the image (to within a segment)
+        assert!((seen.length - seen.in_image - 500.0).abs() <= 250.0, "{seen:?}");
+        // from an apex in the image, heading up: the ray leaves it at the top, unfaded
+        let seen = visible_length(&normalised, (150.0, 150.0), 0.0, 60.0, &o);
+        assert!((1250.0..=1810.0).contains(&seen.length) && !seen.faded, "{seen:?}");
+        assert_eq!(seen.length, seen.in_image + 60.0, "{seen:?}");
+    }
+
+    /// A display's dark frame (the top 40 m of a 3 km image 3 dB dark) has sea on one side
+    /// only: it is an edge, not a wake, and the free search reports nothing.
+    #[test]
+    fn an_images_dark_edge_is_no_free_wake() {
+        let g = Geometry::along_rows(10.0, 35.0, None);
+        let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(11);
+        let image = Array2::from_shape_fn((300, 300), |(r, _)| {
+            let speckle: f64 = (0..4).map(|_| -> f64 { Exp1.sample(&mut rng) }).sum::<f64>() / 4.0;
+            (0.01 * speckle * if r < 4 { 0.5 } else { 1.0 }) as f32
+        });
+        let search = SearchImage::new(image.view(), &g, crate::BACKGROUND_M);
+        let found = free_wakes(&search, &[], &WakeOptions::default());
+        assert!(found.is_empty(), "{found:?}");
+    }
+
     #[test]
     fn free_wakes_are_long_dark_lines() {
         let g = Geometry::along_rows(10.0, 35.0, None);

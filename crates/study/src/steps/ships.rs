@@ -275,10 +275,13 @@ pub fn ships_step(run_dir: &Path, study: &Study) -> Result<StepTime> {
     let start = Instant::now();
     let base = study.base_config()?;
     let cnn = ShipWindows::load(run_dir, SPACING)?;
+    // the searches' settings too: results of other settings are not these
     let key = fnv_hex(&format!(
-        "{base:?} {} detector {:?} {RESULTS_FORMAT}",
+        "{base:?} {} detector {:?} {RESULTS_FORMAT} {:?} {:?}",
         env!("CARGO_PKG_VERSION"),
-        cnn.as_ref().map(|c| c.hash)
+        cnn.as_ref().map(|c| c.hash),
+        CfarOptions::default(),
+        WakeOptions::default()
     ));
     if let Ok(found) = load_ships(run_dir) {
         if found.key == key {

@@ -235,8 +235,11 @@ pub fn write_scan(dir: &Path, scanned: &Scanned, detection: &Detection) -> Resul
     }
     let sea_entries = match scanned.sea {
         Some(sea) => {
-            let (ships, wakes, found) =
-                sea.entries(&in_product[sea_first..], lonlat.as_deref().map(|l| &l[sea_first..]));
+            let (ships, wakes, found) = sea.entries(
+                &in_product[sea_first..],
+                lonlat.as_deref().map(|l| &l[sea_first..]),
+                meta.calibrated,
+            );
             (ships, wakes, found)
         }
         None => (Value::Null, Value::Null, Vec::new()),

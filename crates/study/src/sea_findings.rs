@@ -57,6 +57,12 @@ pub fn product_geometry(meta: &ProductMeta, spacing: (f64, f64)) -> (Geometry, V
         );
         (0.0, 90.0)
     };
+    if !meta.calibrated {
+        notes.push(
+            "ships: no sigma0 or contrast in dB given (null): the input is not calibrated, its grey levels are not dB"
+                .into(),
+        );
+    }
     let incidence_deg = match &meta.incidence {
         Some(i) => i.mid_deg,
         None => {
@@ -192,8 +198,16 @@ impl SeaFindings {
     }
 
     /// The findings as JSON entries for `detections.json` and as GeoJSON findings, given where
-    /// each of [`Self::points`] lies in the product's pixels and on the ground (lon, lat).
-    pub fn entries(&self, product: &[(f64, f64)], lonlat: Option<&[(f64, f64)]>) -> (Value, Value, Vec<Finding>) {
+    /// each of [`Self::points`] lies in the product's pixels and on the ground (lon, lat). An
+    /// input that is not `calibrated` (a display stretch) gives its ships no sigma0 or contrast:
+    /// its grey levels read as dB are not dB.
+    pub fn entries(
+        &self,
+        product: &[(f64, f64)],
+        lonlat: Option<&[(f64, f64)]>,
+        calibrated: bool,
+    ) -> (Value, Value, Vec<Finding>) {
+        let in_db = |v: f64| if calibrated { json!(v) } else { Value::Null };
         let at = |k: usize| (product[k], lonlat.map(|l| l[k]));
         let mut findings = Vec::new();
         let ships: Vec<Value> = self
@@ -205,8 +219,8 @@ impl SeaFindings {
                 let mut properties = Map::new();
                 properties.insert("length_m".into(), json!(s.length_m));
                 properties.insert("width_m".into(), json!(s.width_m));
-                properties.insert("peak_sigma0_db".into(), json!(s.peak_db));
-                properties.insert("contrast_db".into(), json!(s.contrast_db));
+                properties.insert("peak_sigma0_db".into(), in_db(s.peak_db));
+                properties.insert("contrast_db".into(), in_db(s.contrast_db));
                 properties.insert("ship".into(), json!(k));
                 properties.insert("found_in".into(), json!(self.ships_polarisation));
                 findings.push(Finding {
@@ -217,6 +231,11 @@ impl SeaFindings {
                     line: None,
                 });
                 let mut entry = serde_json::to_value(s).expect("a ship serialises");
+                for key in ["peak_sigma0", "peak_db", "background_db", "contrast_db"] {
+                    if !calibrated {
+                        entry[key] = Value::Null;
+                    }
+                }
                 entry["product_row"] = json!(row);
                 // the cross-polarised band the ship was found in; null: the scanned band
                 entry["found_in"] = json!(self.ships_polarisation);
@@ -576,13 +595,21 @@ mod tests {
             format: "Sentinel-1 SAFE".into(),
             slant_range_mid: Some(850_000.0),
             platform_velocity: Some(7400.0),
+            calibrated: true,
             ..Default::default()
         };
         let (g, notes) = product_geometry(&s1, (10.0, 10.0));
         assert_eq!((g.azimuth_deg, g.look_deg), (180.0, 90.0));
         assert!((g.range_over_velocity.unwrap() - 114.86).abs() < 0.01);
         assert_eq!(notes.len(), 1, "{notes:?}"); // the incidence, not annotated here
-        let (g, notes) = product_geometry(&ProductMeta::default(), (10.0, 10.0));
+        let bare = ProductMeta {
+            calibrated: true,
+            ..Default::default()
+        };
+        let (g, notes) = product_geometry(&bare, (10.0, 10.0));
         assert!(g.range_over_velocity.is_none() && notes.len() == 2, "{notes:?}");
+        // an uncalibrated one (a display stretch) says its ships have no sigma0
+        let (_, notes) = product_geometry(&ProductMeta::default(), (10.0, 10.0));
+        assert!(notes.len() == 3 && notes[1].contains("not calibrated"), "{notes:?}");
     }
 }

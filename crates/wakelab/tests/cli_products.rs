@@ -387,6 +387,8 @@ fn a_ship_and_its_wake_come_out_as_geojson() {
         ship["product_col"].as_f64().unwrap(),
     );
     assert!((row - ship_r).abs() < 2.0 && (col - ship_c).abs() < 2.0, "{ship}");
+    // calibrated: the return's brightest pixel is sigma0 10, 10 dB
+    assert!((ship["peak_db"].as_f64().unwrap() - 10.0).abs() < 0.01, "{ship}");
     let wake = &report["wakes"].as_array().unwrap()[0];
     assert_eq!(wake["ship"], 0, "{wake}");
     let image_course = wake["course_image_deg"].as_f64().unwrap();
@@ -440,6 +442,25 @@ fn a_ship_and_its_wake_come_out_as_geojson() {
     let printed: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
     assert_eq!(printed["ships"], report["ships"]);
     assert_eq!(printed["wakes"], report["wakes"]);
+
+    // the same scene as a display stretch (4 grey levels per dB): the ship is found where it
+    // is, but its grey levels are not dB, so it has no sigma0 or contrast, and the notes say why
+    let grey = image.mapv(|v| (128.0 + 4.0 * 10.0 * v.log10()).clamp(0.0, 255.0).round());
+    let shown = dir.path().join("shown.tif");
+    write_tif(&shown, &grey, &utm(TRANSFORM, image.dim()), "");
+    let report = detect(&shown, &model, &dir.path().join("shown"), &["--scale", "display"]);
+    let ships = report["ships"].as_array().unwrap();
+    assert_eq!(ships.len(), 1, "{ships:?}");
+    let ship = &ships[0];
+    assert!((ship["product_row"].as_f64().unwrap() - ship_r).abs() < 2.0, "{ship}");
+    for key in ["peak_sigma0", "peak_db", "background_db", "contrast_db"] {
+        assert!(ship[key].is_null(), "{key}: {ship}");
+    }
+    let notes = report["notes"].as_array().unwrap();
+    assert!(
+        notes.iter().any(|n| n.as_str().unwrap().contains("not calibrated")),
+        "{notes:?}"
+    );
 }
 
 /// A dual-polarisation Sentinel-1 product of 2,500 lines (read in three bands): a ship 3 dB over

@@ -98,7 +98,7 @@ pub struct StudyArgs {
     /// The input of `--stage learning`: a band (S, C, X, MWIR, LWIR) or bands as channels (S+X).
     #[arg(long, value_name = "NAME")]
     pub input: Option<String>,
-    /// Score the transfer study's detectors on real images: DIR holds each with NAME.geojson of its wakes.
+    /// Score the transfer study's detectors, and detect's classic ship and wake searches, on real images: DIR holds each with NAME.geojson of its wakes.
     #[arg(long, value_name = "DIR")]
     pub real: Option<PathBuf>,
 }

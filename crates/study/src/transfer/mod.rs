@@ -22,6 +22,7 @@
 pub mod look_alikes;
 pub mod real;
 mod real_report;
+pub mod real_search;
 pub mod report;
 pub mod results;
 pub mod scenes;
@@ -188,6 +189,10 @@ pub fn run_transfer(
     let mut lines: Vec<String> = results.detectors.iter().map(report::describe).collect();
     let real = real_scores(dir, &results, real, quiet)?;
     lines.extend(real.iter().flat_map(|r| r.summaries.iter().map(real_report::describe)));
+    lines.extend(
+        real.iter()
+            .flat_map(|r| r.search_summary.as_ref().map(real_report::describe_search)),
+    );
     for file in report::write_report(dir, &results, real.as_ref())? {
         lines.push(format!("wrote {}", file.display()));
     }
@@ -549,6 +554,17 @@ mod tests {
         let visibility = wake_score.wake_visibility[0].unwrap();
         assert!((10.0..40.0).contains(&visibility), "{visibility}");
         let csv = std::fs::read_to_string(dir.path().join("report/tables/transfer_real.csv")).unwrap();
+        assert_eq!(csv.lines().count(), 3, "{csv}");
+        // the classic search ran once per image: the line (1.8 km, 5.2 dB dark) is a free wake
+        // along the drawn one, and the sea has none
+        let search: Vec<_> = scored
+            .search
+            .iter()
+            .map(|s| (s.image.as_str(), s.found, s.false_wakes))
+            .collect();
+        assert_eq!(search, [("sea.npy", 0, 0), ("wake.npy", 1, 0)], "{:?}", scored.search);
+        assert!(scored.search[1].axis_errors_deg[0] < 2.0, "{:?}", scored.search);
+        let csv = std::fs::read_to_string(dir.path().join("report/tables/transfer_real_search.csv")).unwrap();
         assert_eq!(csv.lines().count(), 3, "{csv}");
         // a later run without --real keeps the section while the detectors are the same
         run_transfer(&study, dir.path(), &device, None, true).unwrap();

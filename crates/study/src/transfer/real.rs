@@ -10,9 +10,11 @@
 //! `--exclude`). A wake is found when a detection or the map's peak lies within 500 m of it
 //! (the study's rule on simulated scenes); every other detection is a false alarm.
 
+use super::real_search::{score_search, summarise_search, SearchScore, SearchSummary, M_PER_DEGREE};
 use super::visibility::{self, Spread};
 use crate::product_scan::{open_product, ScanProgress};
 use crate::products::{detect, DetectRequest};
+use crate::steps::calibration::FOUND_WITHIN_M;
 use crate::steps::open_sea::distance_to_segment;
 use crate::Result;
 use anyhow::{anyhow, Context};
@@ -22,12 +24,6 @@ use std::path::{Path, PathBuf};
 use wakelab_learn::detect::ScanOptions;
 use wakelab_products::{InputScale, ReadOptions, Source};
 use wakelab_schema::band::Band;
-
-/// A detection this close to a wake (m) finds it.
-pub const FOUND_WITHIN_M: f64 = 500.0;
-
-/// Metres per degree of latitude (WGS 84's mean radius, 6,371 km).
-const M_PER_DEGREE: f64 = 6_371_000.0 * std::f64::consts::PI / 180.0;
 
 /// How an image is read and where its wakes are, from its `NAME.geojson`.
 #[derive(Debug, Clone, PartialEq)]
@@ -208,8 +204,16 @@ fn place(point: &Value, lonlat: bool) -> Option<(f64, f64)> {
 }
 
 /// Scan `annotation`'s image with the detector `model` (of `footprint` m) on the CPU, as
-/// `detect` does by default, writing `detect`'s files into `out`, and score it.
-pub fn score_image(annotation: &Annotation, model: &Path, footprint: f64, out: &Path) -> Result<RealScore> {
+/// `detect` does by default, writing `detect`'s files into `out`, and score it; with `search`,
+/// also run `detect`'s classic ship and wake search and score that
+/// ([`super::real_search`]).
+pub fn score_image(
+    annotation: &Annotation,
+    model: &Path,
+    footprint: f64,
+    out: &Path,
+    search: bool,
+) -> Result<(RealScore, Option<SearchScore>)> {
     let image = &annotation.image;
     let read = ReadOptions {
         scale: annotation.scale,
@@ -227,9 +231,8 @@ pub fn score_image(annotation: &Annotation, model: &Path, footprint: f64, out: &
         mask: None,
         // the user asked for these images: one of another band is scored, and its note says so
         force: true,
-        // the CNN is scored here; the classic ship and wake searches (seconds to minutes on a
-        // real image with many bright targets) are `detect`'s, not this table's
-        search_sea: false,
+        // seconds to minutes on a real image with many bright targets: once per image
+        search_sea: search,
     };
     let progress = ScanProgress {
         reading: &mut |_, _| {},
@@ -281,8 +284,13 @@ pub fn score_image(annotation: &Annotation, model: &Path, footprint: f64, out: &
             vec![None; annotation.wakes.len()]
         })
     };
-    Ok(RealScore {
-        image: image.file_name().unwrap_or_default().to_string_lossy().into(),
+    let name: String = image.file_name().unwrap_or_default().to_string_lossy().into();
+    let searched = search.then(|| SearchScore {
+        image: name.clone(),
+        ..score_search(&annotation.wakes, lonlat, &written, spacing)
+    });
+    let score = RealScore {
+        image: name,
         footprint,
         wakes: annotation.wakes.len(),
         detections: on_wake.len(),
@@ -294,7 +302,8 @@ pub fn score_image(annotation: &Annotation, model: &Path, footprint: f64, out: &
         wake_visibility,
         notes,
         skipped: None,
-    })
+    };
+    Ok((score, searched))
 }
 
 /// The visibility ([`visibility::along`]) of each of `annotation`'s wakes (drawn in pixels) in
@@ -361,6 +370,12 @@ pub struct RealResults {
     pub dir: PathBuf,
     pub scores: Vec<RealScore>,
     pub summaries: Vec<RealSummary>,
+    /// The classic ship and wake search on the same images, once per image (at the first
+    /// detector's spacing, as `detect` with it searches), and its summary.
+    #[serde(default)]
+    pub search: Vec<SearchScore>,
+    #[serde(default)]
+    pub search_summary: Option<SearchSummary>,
 }
 
 /// Where the real images' scores are kept.
@@ -380,31 +395,53 @@ pub fn score_real(
 ) -> Result<RealResults> {
     let images = annotations(real_dir)?;
     let total = images.len() * detectors.len();
-    let mut scores = Vec::new();
-    for (footprint, model) in detectors {
+    let (mut scores, mut search) = (Vec::new(), Vec::new());
+    for (k, (footprint, model)) in detectors.iter().enumerate() {
         for annotation in &images {
             let stem = annotation.image.file_stem().unwrap_or_default();
+            let name: String = annotation
+                .image
+                .file_name()
+                .unwrap_or_default()
+                .to_string_lossy()
+                .into();
             let out = run_dir.join("real").join(format!("{footprint:.0}m")).join(stem);
-            let score = score_image(annotation, model, *footprint, &out).unwrap_or_else(|e| RealScore {
-                image: annotation
-                    .image
-                    .file_name()
-                    .unwrap_or_default()
-                    .to_string_lossy()
-                    .into(),
-                footprint: *footprint,
-                wakes: annotation.wakes.len(),
-                detections: 0,
-                false_alarms: 0,
-                peak_on_wake: false,
-                strongest_on_wake: false,
-                first_on_wake: None,
-                km2: 0.0,
-                wake_visibility: Vec::new(),
-                notes: vec![],
-                skipped: Some(format!("{e:#}")),
-            });
-            scores.push(score);
+            // the classic search does not depend on the detector: it runs with the first
+            match score_image(annotation, model, *footprint, &out, k == 0) {
+                Ok((score, searched)) => {
+                    scores.push(score);
+                    search.extend(searched);
+                }
+                Err(e) => {
+                    let why = format!("{e:#}");
+                    scores.push(RealScore {
+                        image: name.clone(),
+                        footprint: *footprint,
+                        wakes: annotation.wakes.len(),
+                        detections: 0,
+                        false_alarms: 0,
+                        peak_on_wake: false,
+                        strongest_on_wake: false,
+                        first_on_wake: None,
+                        km2: 0.0,
+                        wake_visibility: Vec::new(),
+                        notes: vec![],
+                        skipped: Some(why.clone()),
+                    });
+                    if k == 0 {
+                        search.push(SearchScore {
+                            image: name,
+                            wakes: annotation.wakes.len(),
+                            ships: 0,
+                            search_wakes: 0,
+                            found: 0,
+                            false_wakes: 0,
+                            axis_errors_deg: Vec::new(),
+                            skipped: Some(why),
+                        });
+                    }
+                }
+            }
             progress(scores.len(), total);
         }
     }
@@ -412,11 +449,14 @@ pub fn score_real(
         .iter()
         .map(|(f, _)| summarise(*f, &scores.iter().filter(|s| s.footprint == *f).collect::<Vec<_>>()))
         .collect();
+    let search_summary = (!search.is_empty()).then(|| summarise_search(&search));
     Ok(RealResults {
         key: key.into(),
         dir: real_dir.to_path_buf(),
         scores,
         summaries,
+        search,
+        search_summary,
     })
 }
 

@@ -3,6 +3,7 @@
 //! Markdown for `report/transfer.md`, CSV for `report/tables/transfer_real.csv`.
 
 use super::real::{RealResults, RealScore, RealSummary};
+use super::real_search::{SearchScore, SearchSummary, AXIS_WITHIN_DEG};
 use std::fmt::Write;
 
 const HEADER: [&str; 12] = [
@@ -105,6 +106,98 @@ pub fn markdown(real: &RealResults) -> String {
     md += &format!("\n| {} |\n|{}\n", HEADER.join(" | "), " --- |".repeat(HEADER.len()));
     for s in &real.scores {
         md += &format!("| {} |\n", row(s).join(" | "));
+    }
+    md + &search_markdown(real)
+}
+
+const SEARCH_HEADER: [&str; 8] = [
+    "image",
+    "wakes",
+    "ships",
+    "search_wakes",
+    "found",
+    "false_wakes",
+    "axis_errors_deg",
+    "skipped",
+];
+
+fn search_row(s: &SearchScore) -> Vec<String> {
+    vec![
+        s.image.replace(',', ";"),
+        s.wakes.to_string(),
+        s.ships.to_string(),
+        s.search_wakes.to_string(),
+        s.found.to_string(),
+        s.false_wakes.to_string(),
+        s.axis_errors_deg
+            .iter()
+            .map(|e| format!("{e:.1}"))
+            .collect::<Vec<_>>()
+            .join(" "),
+        s.skipped
+            .as_deref()
+            .map_or(String::new(), |why| why.replace([',', '|', '\n'], ";")),
+    ]
+}
+
+/// The classic search's per-image table as CSV.
+pub fn search_csv(real: &RealResults) -> String {
+    let mut text = SEARCH_HEADER.join(",") + "\n";
+    for s in &real.search {
+        text += &(search_row(s).join(",") + "\n");
+    }
+    text
+}
+
+/// One line: what the classic search did on the user's images.
+pub fn describe_search(s: &SearchSummary) -> String {
+    format!(
+        "  real images, classic ship and wake search: a wake found in {}/{} wake images ({}/{} wakes, median axis error {}), {:.1} false wakes per wake image; no-wake images without a wake {}/{}; {:.1} ships per image; {} image(s) skipped",
+        s.images_found,
+        s.wake_images,
+        s.wakes_found,
+        s.wakes,
+        s.median_axis_error_deg.map_or("-".into(), |e| format!("{e:.1} deg")),
+        s.false_wakes_per_wake_image,
+        s.no_wake_images_clean,
+        s.no_wake_images,
+        s.ships_per_image,
+        s.skipped
+    )
+}
+
+/// The classic search's Markdown section (none where it did not run).
+fn search_markdown(real: &RealResults) -> String {
+    let Some(s) = &real.search_summary else {
+        return String::new();
+    };
+    let mut md = String::from("\n### The classic ship and wake search on the same images\n\n");
+    let _ = writeln!(
+        md,
+        "`wakelab detect`'s own ship (CFAR) and wake (Radon) searches, run once per image at the first detector's spacing, as `detect` with that detector runs them. A reported wake finds a drawn one when the two lines come within 500 m of each other and their axes differ by at most {AXIS_WITHIN_DEG:.0} degrees (modulo 180: a drawn wake has no direction, so the course is not checked); every other reported wake is a false wake. Ships are not drawn, so they are counted, not scored.\n"
+    );
+    md += "| wake images with a wake found | wakes found | median axis error (deg) | false wakes per wake image | no-wake images without a wake | ships per image |\n";
+    md += "| --- | --- | --- | --- | --- | --- |\n";
+    let _ = writeln!(
+        md,
+        "| {}/{} | {}/{} | {} | {:.1} | {}/{} | {:.1} |",
+        s.images_found,
+        s.wake_images,
+        s.wakes_found,
+        s.wakes,
+        s.median_axis_error_deg.map_or("-".into(), |e| format!("{e:.1}")),
+        s.false_wakes_per_wake_image,
+        s.no_wake_images_clean,
+        s.no_wake_images,
+        s.ships_per_image
+    );
+    md += &format!(
+        "\n| {} |\n|{}\n",
+        SEARCH_HEADER.join(" | "),
+        " --- |".repeat(SEARCH_HEADER.len())
+    );
+    for s in &real.search {
+        md += &format!("| {} |\n", search_row(s).join(" | "));
     }
     md
 }

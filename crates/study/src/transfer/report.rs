@@ -223,6 +223,11 @@ pub fn write_report(dir: &Path, results: &TransferResults, real: Option<&RealRes
         let real_table = tables.join("transfer_real.csv");
         write_atomically(&real_table, real_report::csv(real).as_bytes())?;
         written.push(real_table);
+        if !real.search.is_empty() {
+            let search_table = tables.join("transfer_real_search.csv");
+            write_atomically(&search_table, real_report::search_csv(real).as_bytes())?;
+            written.push(search_table);
+        }
     }
     write_atomically(&md, text.as_bytes())?;
     write_atomically(&table, csv(results).as_bytes())?;

@@ -1,0 +1,261 @@
+//! The classic ship and wake search (`wakelab detect`'s, beside the CNN; issue 39, item 6) on the
+//! images of `--real DIR`, scored against the wakes as the user drew them.
+//!
+//! A wake the search reports finds a drawn wake when the two lines come within
+//! [`FOUND_WITHIN_M`] of each other and their axes differ by at most [`AXIS_WITHIN_DEG`]: the
+//! CNN's rule of 500 m, with the direction a line adds (a line across the wake, through it, is
+//! not the wake). Drawn wakes have no direction, so the axis error is taken modulo 180 degrees:
+//! the search's course (ship at the apex) is not checked here. Every reported wake that finds
+//! no drawn one is a false wake.
+
+use crate::steps::calibration::FOUND_WITHIN_M;
+use crate::steps::open_sea::distance_to_segment;
+use serde::{Deserialize, Serialize};
+use serde_json::Value;
+
+/// Metres per degree of latitude (WGS 84's mean radius, 6,371 km).
+pub(crate) const M_PER_DEGREE: f64 = 6_371_000.0 * std::f64::consts::PI / 180.0;
+
+/// A reported wake's axis within this of a drawn wake's (degrees, modulo 180) finds it.
+pub const AXIS_WITHIN_DEG: f64 = 20.0;
+
+/// How the classic search did on one image.
+#[derive(Debug, Clone, Serialize, Deserialize, PartialEq)]
+pub struct SearchScore {
+    pub image: String,
+    /// Wakes drawn, ships and wakes the search reported.
+    pub wakes: usize,
+    pub ships: usize,
+    pub search_wakes: usize,
+    /// Drawn wakes found, and the reported wakes that found none.
+    pub found: usize,
+    pub false_wakes: usize,
+    /// Per drawn wake found, the least axis difference (degrees, modulo 180) of a reported wake
+    /// that found it.
+    pub axis_errors_deg: Vec<f64>,
+    /// Why the image was not searched.
+    pub skipped: Option<String>,
+}
+
+/// A line in metres on a plane: (x, y) of its ends.
+type Segment = ((f64, f64), (f64, f64));
+
+/// The least distance between two segments: zero where they cross, else the least of their
+/// ends' distances to the other.
+fn segments_apart(a: Segment, b: Segment) -> f64 {
+    let cross = |o: (f64, f64), p: (f64, f64), q: (f64, f64)| (p.0 - o.0) * (q.1 - o.1) - (p.1 - o.1) * (q.0 - o.0);
+    let (d1, d2) = (cross(b.0, b.1, a.0), cross(b.0, b.1, a.1));
+    let (d3, d4) = (cross(a.0, a.1, b.0), cross(a.0, a.1, b.1));
+    if d1 * d2 < 0.0 && d3 * d4 < 0.0 {
+        return 0.0;
+    }
+    [
+        distance_to_segment(a.0, b),
+        distance_to_segment(a.1, b),
+        distance_to_segment(b.0, a),
+        distance_to_segment(b.1, a),
+    ]
+    .into_iter()
+    .fold(f64::INFINITY, f64::min)
+}
+
+/// The difference of two segments' axes (degrees, 0-90: a line has no direction).
+fn axis_difference(a: Segment, b: Segment) -> f64 {
+    let axis = |s: Segment| (s.1 .1 - s.0 .1).atan2(s.1 .0 - s.0 .0).to_degrees();
+    let d = (axis(a) - axis(b)).rem_euclid(180.0).abs();
+    d.min(180.0 - d)
+}
+
+/// A reported wake's ends as the annotation places them: (column, row) of the product's
+/// pixels, or (longitude, latitude).
+fn wake_ends(wake: &Value, lonlat: bool) -> Option<((f64, f64), (f64, f64))> {
+    let point = |key: &str| -> Option<(f64, f64)> {
+        let p = &wake[key];
+        let (a, b) = (p.get(0)?.as_f64()?, p.get(1)?.as_f64()?);
+        // product_* are [row, column]; lonlat_* [longitude, latitude]
+        Some(if lonlat { (a, b) } else { (b, a) })
+    };
+    if lonlat {
+        Some((point("lonlat_start")?, point("lonlat_end")?))
+    } else {
+        Some((point("product_start")?, point("product_end")?))
+    }
+}
+
+/// Score the ships and wakes of `detections.json` (`written`) against the drawn `wakes`
+/// (polylines of (column, row) pixels, or of (longitude, latitude) with `lonlat`); `spacing`
+/// (m; rows, columns) scales the product's pixels.
+pub fn score_search(wakes: &[Vec<(f64, f64)>], lonlat: bool, written: &Value, spacing: (f64, f64)) -> SearchScore {
+    // metres on the plane tangent at `origin` (longitude and latitude), or pixels scaled
+    let metres = |p: (f64, f64), origin: (f64, f64)| {
+        if lonlat {
+            let cos = origin.1.to_radians().cos();
+            ((p.0 - origin.0) * cos * M_PER_DEGREE, (p.1 - origin.1) * M_PER_DEGREE)
+        } else {
+            ((p.0 - origin.0) * spacing.1, (p.1 - origin.1) * spacing.0)
+        }
+    };
+    let reported: Vec<_> = written["wakes"]
+        .as_array()
+        .into_iter()
+        .flatten()
+        .filter_map(|w| wake_ends(w, lonlat))
+        .collect();
+    let mut best: Vec<Option<f64>> = vec![None; wakes.len()];
+    let mut false_wakes = 0;
+    for &(start, end) in &reported {
+        let found_one = {
+            let line = (metres(start, start), metres(end, start));
+            let mut any = false;
+            for (drawn, best) in wakes.iter().zip(best.iter_mut()) {
+                for s in drawn.windows(2) {
+                    let segment = (metres(s[0], start), metres(s[1], start));
+                    let axis = axis_difference(line, segment);
+                    if segments_apart(line, segment) <= FOUND_WITHIN_M && axis <= AXIS_WITHIN_DEG {
+                        any = true;
+                        *best = Some(best.map_or(axis, |b: f64| b.min(axis)));
+                    }
+                }
+            }
+            any
+        };
+        false_wakes += usize::from(!found_one);
+    }
+    SearchScore {
+        image: String::new(),
+        wakes: wakes.len(),
+        ships: written["ships"].as_array().map_or(0, Vec::len),
+        search_wakes: reported.len(),
+        found: best.iter().flatten().count(),
+        false_wakes,
+        axis_errors_deg: best.into_iter().flatten().collect(),
+        skipped: None,
+    }
+}
+
+/// What the search's scores add up to.
+#[derive(Debug, Clone, Serialize, Deserialize, PartialEq)]
+pub struct SearchSummary {
+    /// Images with a drawn wake, and those where the search found one of them.
+    pub wake_images: usize,
+    pub images_found: usize,
+    /// Drawn wakes, and those found.
+    pub wakes: usize,
+    pub wakes_found: usize,
+    pub false_wakes_per_wake_image: f64,
+    /// Images without a drawn wake, and those where the search reported none.
+    pub no_wake_images: usize,
+    pub no_wake_images_clean: usize,
+    pub ships_per_image: f64,
+    /// The median axis error of the wakes found (degrees, modulo 180).
+    pub median_axis_error_deg: Option<f64>,
+    /// Images not searched.
+    pub skipped: usize,
+}
+
+/// The summary of `scores`.
+pub fn summarise_search(scores: &[SearchScore]) -> SearchSummary {
+    let searched: Vec<&SearchScore> = scores.iter().filter(|s| s.skipped.is_none()).collect();
+    let with: Vec<&&SearchScore> = searched.iter().filter(|s| s.wakes > 0).collect();
+    let without: Vec<&&SearchScore> = searched.iter().filter(|s| s.wakes == 0).collect();
+    let mut errors: Vec<f64> = searched
+        .iter()
+        .flat_map(|s| s.axis_errors_deg.iter().copied())
+        .collect();
+    errors.sort_by(f64::total_cmp);
+    let median = match errors.len() {
+        0 => None,
+        n if n % 2 == 1 => Some(errors[n / 2]),
+        n => Some(0.5 * (errors[n / 2 - 1] + errors[n / 2])),
+    };
+    SearchSummary {
+        wake_images: with.len(),
+        images_found: with.iter().filter(|s| s.found > 0).count(),
+        wakes: with.iter().map(|s| s.wakes).sum(),
+        wakes_found: with.iter().map(|s| s.found).sum(),
+        false_wakes_per_wake_image: with.iter().map(|s| s.false_wakes as f64).sum::<f64>() / with.len().max(1) as f64,
+        no_wake_images: without.len(),
+        no_wake_images_clean: without.iter().filter(|s| s.search_wakes == 0).count(),
+        ships_per_image: searched.iter().map(|s| s.ships as f64).sum::<f64>() / searched.len().max(1) as f64,
+        median_axis_error_deg: median,
+        skipped: scores.len() - searched.len(),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use serde_json::json;
+
+    /// Segments that cross are 0 apart; parallel ones their offset; one ending short of
+    /// another, the distance from its end (a 3-4-5 triangle).
+    #[test]
+    fn segments_are_apart_by_their_nearest_points() {
+        let horizontal = ((0.0, 0.0), (10.0, 0.0));
+        assert_eq!(segments_apart(horizontal, ((5.0, -1.0), (5.0, 1.0))), 0.0);
+        assert!((segments_apart(horizontal, ((0.0, 2.0), (10.0, 2.0))) - 2.0).abs() < 1e-12);
+        assert!((segments_apart(horizontal, ((13.0, 4.0), (13.0, 9.0))) - 5.0).abs() < 1e-12);
+        // axes: modulo 180, at most 90
+        assert!((axis_difference(horizontal, ((10.0, 0.0), (0.0, 0.0)))).abs() < 1e-12);
+        assert!((axis_difference(horizontal, ((0.0, 0.0), (1.0, 1.0))) - 45.0).abs() < 1e-12);
+        assert!((axis_difference(horizontal, ((0.0, 0.0), (-1.0, 1.0))) - 45.0).abs() < 1e-12);
+    }
+
+    /// A reported wake 30 px (300 m at 10 m) beside a drawn one and 10 degrees off finds it;
+    /// one across it (90 degrees) and one 80 px (800 m) away are false; the second drawn wake
+    /// stays unfound.
+    #[test]
+    fn a_reported_wake_finds_a_drawn_one_near_and_along_it() {
+        let drawn = [vec![(100.0, 100.0), (300.0, 100.0)], vec![(0.0, 500.0), (50.0, 500.0)]];
+        let along = 200.0 * 10f64.to_radians().tan();
+        // product_* are [row, column]
+        let written = json!({
+            "ships": [{}, {}],
+            "wakes": [
+                {"product_start": [130.0, 100.0], "product_end": [130.0 + along, 300.0]},
+                {"product_start": [50.0, 200.0], "product_end": [150.0, 200.0]},
+                {"product_start": [180.0, 100.0], "product_end": [180.0, 300.0]},
+            ]
+        });
+        let s = score_search(&drawn, false, &written, (10.0, 10.0));
+        assert_eq!(
+            (s.wakes, s.ships, s.search_wakes, s.found, s.false_wakes),
+            (2, 2, 3, 1, 2)
+        );
+        assert_eq!(s.axis_errors_deg.len(), 1);
+        assert!((s.axis_errors_deg[0] - 10.0).abs() < 1e-9, "{:?}", s.axis_errors_deg);
+    }
+
+    /// The summary: images with a wake found, wakes found, false wakes per wake image, clean
+    /// no-wake images, the median axis error; skipped images left out.
+    #[test]
+    fn the_search_summary_adds_up() {
+        let score = |wakes, found, false_wakes, errors: Vec<f64>| SearchScore {
+            image: "x".into(),
+            wakes,
+            ships: 3,
+            search_wakes: found + false_wakes,
+            found,
+            false_wakes,
+            axis_errors_deg: errors,
+            skipped: None,
+        };
+        let scores = [
+            score(2, 1, 1, vec![4.0]),
+            score(1, 1, 0, vec![2.0]),
+            score(1, 0, 3, vec![]),
+            score(0, 0, 0, vec![]),
+            score(0, 0, 1, vec![]),
+            SearchScore {
+                skipped: Some("unreadable".into()),
+                ..score(1, 0, 0, vec![])
+            },
+        ];
+        let s = summarise_search(&scores);
+        assert_eq!((s.wake_images, s.images_found, s.wakes, s.wakes_found), (3, 2, 4, 2));
+        assert!((s.false_wakes_per_wake_image - 4.0 / 3.0).abs() < 1e-12);
+        assert_eq!((s.no_wake_images, s.no_wake_images_clean, s.skipped), (2, 1, 1));
+        assert_eq!(s.median_axis_error_deg, Some(3.0));
+        assert!((s.ships_per_image - 3.0).abs() < 1e-12);
+    }
+}

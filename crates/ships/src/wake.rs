@@ -843,12 +843,10 @@ mod tests {
     #[test]
     fn a_wake_from_an_apex_off_the_image_is_measured_where_it_shows() {
         let g = Geometry::along_rows(10.0, 35.0, None);
-        let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(7);
-        let image = Array2::from_shape_fn((400, 300), |(r, c)| {
-            let speckle: f64 = (0..4).map(|_| -> f64 { Exp1.sample(&mut rng) }).sum::<f64>() / 4.0;
-            let dark = r < 200 && (c as f64 - 150.0).abs() < 3.0;
-            (0.01 * speckle * if dark { 10f64.powf(-0.2) } else { 1.0 }) as f32
-        });
+        let mut image = crate::speckle(400, 300, 4, 0.01, 7);
+        image
+            .slice_mut(ndarray::s![..200, 148..153])
+            .mapv_inplace(|v| v * 10f32.powf(-0.2));
         let normalised = crate::radon::normalise(image.view(), &g, 1000.0);
         let o = WakeOptions::default();
         // straight down the rows (heading 180) from row -50, column 150
@@ -867,11 +865,8 @@ mod tests {
     #[test]
     fn an_images_dark_edge_is_no_free_wake() {
         let g = Geometry::along_rows(10.0, 35.0, None);
-        let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(11);
-        let image = Array2::from_shape_fn((300, 300), |(r, _)| {
-            let speckle: f64 = (0..4).map(|_| -> f64 { Exp1.sample(&mut rng) }).sum::<f64>() / 4.0;
-            (0.01 * speckle * if r < 4 { 0.5 } else { 1.0 }) as f32
-        });
+        let mut image = crate::speckle(300, 300, 4, 0.01, 11);
+        image.slice_mut(ndarray::s![..4, ..]).mapv_inplace(|v| v * 0.5);
         let search = SearchImage::new(image.view(), &g, crate::BACKGROUND_M);
         let found = free_wakes(&search, &[], &WakeOptions::default());
         assert!(found.is_empty(), "{found:?}");

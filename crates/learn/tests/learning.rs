@@ -223,10 +223,21 @@ fn line_sums_show_a_faint_line_and_the_scan_reads_them_alike() {
 
 /// A "base" detector of 32-pixel windows of `bands` at threshold 0.5, reading `input_form`.
 fn scan_info(bands: &str, input_form: wakelab_schema::architecture::InputForm) -> ModelInfo {
+    detector_info(Architecture::Base, bands, 32, input_form)
+}
+
+/// A detector's metadata: `architecture` on windows of `input_size` of `bands`, threshold 0.5,
+/// no spacing, looks, scale or calibration.
+fn detector_info(
+    architecture: Architecture,
+    bands: &str,
+    input_size: usize,
+    input_form: wakelab_schema::architecture::InputForm,
+) -> ModelInfo {
     ModelInfo {
-        architecture: Architecture::Base,
+        architecture,
         bands: bands.parse().unwrap(),
-        input_size: 32,
+        input_size,
         threshold: 0.5,
         unet_width: wakelab_learn::models::UNET_WIDTH,
         pixel_spacing: None,
@@ -340,18 +351,7 @@ fn saved_detector_reloads_with_the_same_outputs_and_refuses_the_wrong_architectu
     let before = detect(&detector, Architecture::Cls, &train, &device);
     let dir = tempfile::tempdir().unwrap();
     let path = dir.path().join("cls.safetensors");
-    let info = ModelInfo {
-        architecture: Architecture::Cls,
-        bands: "C".parse().unwrap(),
-        input_size: 24,
-        threshold: 0.5,
-        unet_width: wakelab_learn::models::UNET_WIDTH,
-        pixel_spacing: None,
-        looks: None,
-        input_scale: None,
-        calibration: None,
-        input_form: Default::default(),
-    };
+    let info = detector_info(Architecture::Cls, "C", 24, Default::default());
     let (_, export) = save_detector(&detector, &info, &path).unwrap();
     assert!(export.exists());
     let (loaded, loaded_info) = load_detector(&path, Some((Architecture::Cls, 24)), &device).unwrap();

@@ -820,7 +820,6 @@ mod tests {
         assert!((s.value - 10.0).abs() < 1e-9);
     }
 
-    /// Speckle alone holds no free wake; a dark line 4 km long through an empty scene is one.
     /// A dark patch 5 dB deep and 600 m long behind a ship (a shadow, a slick's end) is a
     /// trough the search would take for a wake; it fades inside the image well short of the
     /// kilometre a wake persists, so it is not one. Without that least length it is taken.
@@ -872,6 +871,7 @@ mod tests {
         assert!(found.is_empty(), "{found:?}");
     }
 
+    /// Speckle alone holds no free wake; a dark line 4 km long through an empty scene is one.
     #[test]
     fn free_wakes_are_long_dark_lines() {
         let g = Geometry::along_rows(10.0, 35.0, None);

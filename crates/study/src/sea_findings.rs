@@ -231,8 +231,8 @@ impl SeaFindings {
                     line: None,
                 });
                 let mut entry = serde_json::to_value(s).expect("a ship serialises");
-                for key in ["peak_sigma0", "peak_db", "background_db", "contrast_db"] {
-                    if !calibrated {
+                if !calibrated {
+                    for key in ["peak_sigma0", "peak_db", "background_db", "contrast_db"] {
                         entry[key] = Value::Null;
                     }
                 }

@@ -10,7 +10,7 @@
 //! `--exclude`). A wake is found when a detection or the map's peak lies within 500 m of it
 //! (the study's rule on simulated scenes); every other detection is a false alarm.
 
-use super::real_search::{score_search, summarise_search, SearchScore, SearchSummary, M_PER_DEGREE};
+use super::real_search::{metres_from, score_search, summarise_search, SearchScore, SearchSummary};
 use super::visibility::{self, Spread};
 use crate::product_scan::{open_product, ScanProgress};
 use crate::products::{detect, DetectRequest};
@@ -176,14 +176,7 @@ pub fn read_annotation(geojson: &Path, image: &Path) -> Result<Annotation> {
 /// Metres from a point to the nearest wake: in pixels scaled by the spacing (x: columns, y:
 /// rows), or for longitude and latitude on the plane tangent at the point.
 fn to_wakes(point: (f64, f64), annotation: &Annotation, spacing: (f64, f64)) -> f64 {
-    let project = |q: (f64, f64)| {
-        if annotation.lonlat {
-            let cos = point.1.to_radians().cos();
-            ((q.0 - point.0) * cos * M_PER_DEGREE, (q.1 - point.1) * M_PER_DEGREE)
-        } else {
-            ((q.0 - point.0) * spacing.1, (q.1 - point.1) * spacing.0)
-        }
-    };
+    let project = |q: (f64, f64)| metres_from(q, point, annotation.lonlat, spacing);
     annotation
         .wakes
         .iter()

@@ -16,6 +16,17 @@ use serde_json::Value;
 /// Metres per degree of latitude (WGS 84's mean radius, 6,371 km).
 pub(crate) const M_PER_DEGREE: f64 = 6_371_000.0 * std::f64::consts::PI / 180.0;
 
+/// `p` in metres east and south of `origin`, both (column, row) pixels of `spacing` (m; rows,
+/// columns), or with `lonlat` (longitude, latitude) on the plane tangent at `origin`.
+pub(crate) fn metres_from(p: (f64, f64), origin: (f64, f64), lonlat: bool, spacing: (f64, f64)) -> (f64, f64) {
+    if lonlat {
+        let cos = origin.1.to_radians().cos();
+        ((p.0 - origin.0) * cos * M_PER_DEGREE, (p.1 - origin.1) * M_PER_DEGREE)
+    } else {
+        ((p.0 - origin.0) * spacing.1, (p.1 - origin.1) * spacing.0)
+    }
+}
+
 /// A reported wake's axis within this of a drawn wake's (degrees, modulo 180) finds it.
 pub const AXIS_WITHIN_DEG: f64 = 20.0;
 
@@ -87,14 +98,7 @@ fn wake_ends(wake: &Value, lonlat: bool) -> Option<((f64, f64), (f64, f64))> {
 /// (m; rows, columns) scales the product's pixels.
 pub fn score_search(wakes: &[Vec<(f64, f64)>], lonlat: bool, written: &Value, spacing: (f64, f64)) -> SearchScore {
     // metres on the plane tangent at `origin` (longitude and latitude), or pixels scaled
-    let metres = |p: (f64, f64), origin: (f64, f64)| {
-        if lonlat {
-            let cos = origin.1.to_radians().cos();
-            ((p.0 - origin.0) * cos * M_PER_DEGREE, (p.1 - origin.1) * M_PER_DEGREE)
-        } else {
-            ((p.0 - origin.0) * spacing.1, (p.1 - origin.1) * spacing.0)
-        }
-    };
+    let metres = |p: (f64, f64), origin: (f64, f64)| metres_from(p, origin, lonlat, spacing);
     let reported: Vec<_> = written["wakes"]
         .as_array()
         .into_iter()

@@ -61,6 +61,13 @@ impl Default for CfarOptions {
     }
 }
 
+impl CfarOptions {
+    /// The defaults with the false-alarm probability `pfa` (`wakelab detect --ship-pfa`).
+    pub fn with_pfa(pfa: f64) -> Self {
+        Self { pfa, ..Self::default() }
+    }
+}
+
 /// A ship found in the image.
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct Ship {

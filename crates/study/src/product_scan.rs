@@ -16,6 +16,7 @@ use wakelab_learn::device::Device;
 use wakelab_learn::store::{Detector, ModelInfo};
 use wakelab_products::{Frame, ProductMeta, Quantity, ReadOptions, ReadReport, RowSource, Source, SpacingSource};
 use wakelab_schema::band::Band;
+use wakelab_ships::cfar::CfarOptions;
 
 /// Spacing ratios (detector / input) within this of 1 are scanned as they are.
 const SAME_SPACING: f64 = 0.05;
@@ -173,8 +174,9 @@ pub struct Scanner<'a> {
     pub device: &'a Device,
     /// Scan an input whose band is not the detector's.
     pub force: bool,
-    /// Seek ships and their wakes in a radar image (the classic searches beside the CNN).
-    pub search_sea: bool,
+    /// Seek ships (with these CFAR settings) and their wakes in a radar image (the classic
+    /// searches beside the CNN); None: no search.
+    pub search_sea: Option<CfarOptions>,
 }
 
 /// A product opened for a detector of `band`: its source, how it was read, and what the band
@@ -288,7 +290,7 @@ pub fn scan_opened(opened: OpenedProduct, scanner: Scanner, progress: ScanProgre
     scan.feed(0, image.view(), device, progress.scanning);
     let mut overlay = crate::scan::OverlayMeans::new(image.dim(), band);
     overlay.add(0, image.view());
-    let sea = (band.is_radar() && scanner.search_sea).then(|| {
+    let sea = scanner.search_sea.filter(|_| band.is_radar()).map(|cfar| {
         let (geometry, sea_notes) = product_geometry(&product.meta, scanned_spacing(&product.meta, info, factor));
         notes.extend(sea_notes);
         notes.extend(cross.as_ref().map(|c| cross_note(&c.1)));
@@ -296,6 +298,7 @@ pub fn scan_opened(opened: OpenedProduct, scanner: Scanner, progress: ScanProgre
             image.view(),
             cross.as_ref().map(|c| (c.0.view(), c.1.as_str())),
             geometry,
+            cfar,
         )
     });
     notes.splice(0..0, product.report.notes.iter().cloned());
@@ -355,12 +358,12 @@ fn scan_by_bands(
     let (n, stride) = scan.window_and_stride();
     let height = n + BAND_ROWS.div_ceil(stride * fr) * stride;
     let mut overlay = crate::scan::OverlayMeans::new(scanned, band);
-    let mut sea = (band.is_radar() && scanner.search_sea).then(|| {
+    let mut sea = scanner.search_sea.filter(|_| band.is_radar()).map(|cfar| {
         let (geometry, sea_notes) = product_geometry(&source.meta, scanned_spacing(&source.meta, info, factor));
         notes.extend(sea_notes);
         let pol = cross.as_ref().map(|c| c.meta.polarisation.clone().unwrap_or_default());
         notes.extend(pol.as_deref().map(cross_note));
-        SeaStream::new(geometry, scanned.1, TILE_ROWS, pol)
+        SeaStream::new(geometry, cfar, scanned.1, TILE_ROWS, pol)
     });
     // scanned rows counted (masked, floored, overlay) so far: a band's overlap with the last
     // is not

@@ -6,11 +6,13 @@ use crate::scan::{default_scan_dir, write_asked_mask, write_scan, ScanFiles, Sca
 use crate::shipped::{choose, shipped_note, SHIPPED_BAND};
 use anyhow::Result;
 use std::path::{Path, PathBuf};
+use wakelab_core::ConfigError;
 use wakelab_learn::detect::{Detection, ScanOptions};
 use wakelab_learn::device::parse_device;
 use wakelab_learn::store::{load_detector, load_detector_bytes};
 use wakelab_products::cog::{write_sigma0, write_sigma0_rows};
 use wakelab_products::{ProductMeta, Quantity, ReadOptions, ReadReport, Source};
+use wakelab_ships::cfar::CfarOptions;
 
 /// What `wakelab detect` scans, with what and where it writes.
 pub struct DetectRequest<'a> {
@@ -28,7 +30,7 @@ pub struct DetectRequest<'a> {
     /// Scan an input of another band than the detector's (`--force`).
     pub force: bool,
     /// Seek ships and their wakes (radar images) beside the detector's scan.
-    pub search_sea: bool,
+    pub search_sea: Option<CfarOptions>,
 }
 
 /// A finished `wakelab detect`: the detection, what the user should know, and the files.
@@ -57,6 +59,7 @@ impl Detected {
         let written: serde_json::Value = serde_json::from_str(&text)?;
         out["ships"] = written["ships"].clone();
         out["wakes"] = written["wakes"].clone();
+        out["ship_search"] = written["ship_search"].clone();
         Ok(out)
     }
 }
@@ -82,6 +85,14 @@ impl Detected {
 /// Load the detector (the user's, or the shipped one for the image's spacing), read and scan the
 /// product, and write the scan's files.
 pub fn detect(request: DetectRequest, progress: ScanProgress) -> Result<Detected> {
+    if let Some(pfa) = request.search_sea.map(|c| c.pfa).filter(|p| !(*p > 0.0 && *p <= 0.01)) {
+        return Err(ConfigError::new(
+            "--ship-pfa",
+            pfa,
+            "above 0 and at most 0.01 (a false-alarm probability per pixel)",
+        )
+        .into());
+    }
     let device = parse_device(request.device)?;
     let (image, force) = (request.image, request.force);
     let (detector, info, model, opened, chosen) = match request.model {

@@ -72,6 +72,9 @@ struct DetectionsFile<'a> {
     ships: Value,
     wakes: Value,
     ghosts: Option<Value>,
+    /// The ship search's settings (`--ship-pfa` and the rest) and its threshold in background
+    /// deviations.
+    ship_search: Option<Value>,
 }
 
 /// What a scan wrote.
@@ -274,6 +277,11 @@ pub fn write_scan(dir: &Path, scanned: &Scanned, detection: &Detection) -> Resul
                 "sidelobes": s.sidelobes,
                 "too_long_for_ships": s.too_long,
             })
+        }),
+        ship_search: scanned.sea.map(|s| {
+            let mut settings = json!(s.cfar);
+            settings["threshold_sigmas"] = json!(wakelab_ships::cfar::sigmas_for(s.cfar.pfa));
+            settings
         }),
     };
     write_atomically(&files.detections, serde_json::to_string_pretty(&report)?.as_bytes())?;

@@ -31,6 +31,8 @@ pub struct SeaFindings {
     pub sidelobes: usize,
     pub too_long: usize,
     pub geometry: Geometry,
+    /// The settings the ships were sought with.
+    pub cfar: CfarOptions,
     /// The cross-polarised band the ships were sought in (VH, HV), where the product has one;
     /// None: the scanned band itself.
     pub ships_polarisation: Option<String>,
@@ -95,19 +97,25 @@ pub fn product_geometry(meta: &ProductMeta, spacing: (f64, f64)) -> (Geometry, V
     )
 }
 
-/// The searches on `image` (linear sigma0 as scanned), the ships sought in `cross` (the
-/// product's cross-polarised band on the same grid, named `polarisation`) where one is given:
-/// tile by tile as a streamed product's ([`SeaStream`]), so that memory holds one tile's search.
-pub fn search_image(image: ArrayView2<f32>, cross: Option<(ArrayView2<f32>, &str)>, geometry: Geometry) -> SeaFindings {
-    let mut stream = SeaStream::new(geometry, image.ncols(), TILE_ROWS, cross.map(|c| c.1.to_string()));
+/// The searches on `image` (linear sigma0 as scanned), the ships sought (with `cfar`) in
+/// `cross` (the product's cross-polarised band on the same grid, named `polarisation`) where one
+/// is given: tile by tile as a streamed product's ([`SeaStream`]), so that memory holds one
+/// tile's search.
+pub fn search_image(
+    image: ArrayView2<f32>,
+    cross: Option<(ArrayView2<f32>, &str)>,
+    geometry: Geometry,
+    cfar: CfarOptions,
+) -> SeaFindings {
+    let mut stream = SeaStream::new(geometry, cfar, image.ncols(), TILE_ROWS, cross.map(|c| c.1.to_string()));
     stream.push(0, image, cross.map(|c| c.0));
     stream.finish()
 }
 
 impl SeaFindings {
-    /// No findings yet, for a product searched a band at a time (its ships in the
-    /// cross-polarised band `ships_polarisation` where it has one).
-    pub fn empty(geometry: Geometry, ships_polarisation: Option<String>) -> Self {
+    /// No findings yet, for a product searched a band at a time (its ships, sought with `cfar`,
+    /// in the cross-polarised band `ships_polarisation` where it has one).
+    pub fn empty(geometry: Geometry, cfar: CfarOptions, ships_polarisation: Option<String>) -> Self {
         Self {
             ships: Vec::new(),
             wakes: Vec::new(),
@@ -115,6 +123,7 @@ impl SeaFindings {
             sidelobes: 0,
             too_long: 0,
             geometry,
+            cfar,
             ships_polarisation,
         }
     }
@@ -131,13 +140,7 @@ impl SeaFindings {
         origin: (usize, usize),
         own: (Range<usize>, Range<usize>),
     ) {
-        let found = search_polarised(
-            tile,
-            cross,
-            &self.geometry,
-            &CfarOptions::default(),
-            &WakeOptions::default(),
-        );
+        let found = search_polarised(tile, cross, &self.geometry, &self.cfar, &WakeOptions::default());
         let shift = (origin.0 as f64, origin.1 as f64);
         let owned = |(row, col): (f64, f64)| {
             own.0.contains(&((row + shift.0).max(0.0) as usize)) && own.1.contains(&((col + shift.1).max(0.0) as usize))
@@ -352,15 +355,21 @@ pub struct SeaStream {
 }
 
 impl SeaStream {
-    /// A stream of images of `cols` columns at `geometry`, searched in bands of `own` rows; with
-    /// the rows of the cross-polarised band `ships_polarisation`, where there is one, pushed
-    /// beside them.
-    pub fn new(geometry: Geometry, cols: usize, own: usize, ships_polarisation: Option<String>) -> Self {
+    /// A stream of images of `cols` columns at `geometry`, searched in bands of `own` rows, its
+    /// ships with `cfar`; with the rows of the cross-polarised band `ships_polarisation`, where
+    /// there is one, pushed beside them.
+    pub fn new(
+        geometry: Geometry,
+        cfar: CfarOptions,
+        cols: usize,
+        own: usize,
+        ships_polarisation: Option<String>,
+    ) -> Self {
         Self {
             margin: (sea_margin_m() / geometry.spacing.0).ceil() as usize,
             margin_cols: (sea_margin_m() / geometry.spacing.1).ceil() as usize,
             held_cross: ships_polarisation.as_ref().map(|_| ndarray::Array2::zeros((0, cols))),
-            findings: SeaFindings::empty(geometry, ships_polarisation),
+            findings: SeaFindings::empty(geometry, cfar, ships_polarisation),
             own: own.max(1),
             held: ndarray::Array2::zeros((0, cols)),
             held_from: 0,
@@ -544,7 +553,7 @@ mod tests {
         let image = ship_scene(1600, 300, (700, 150), 0);
         let g = Geometry::along_rows(10.0, 35.0, None);
         let (ship, wake) = whole_search(&image, &g);
-        let mut stream = SeaStream::new(g, 300, 200, None);
+        let mut stream = SeaStream::new(g, CfarOptions::default(), 300, 200, None);
         for start in (0..1600).step_by(150) {
             let end = (start + 170).min(1600);
             stream.push(start, image.slice(ndarray::s![start..end, ..]), None);
@@ -552,7 +561,7 @@ mod tests {
         let streamed = stream.finish();
         assert_same(&streamed, &ship, &wake);
         // bands without margins (as before): the wake stops at the band's edge, 1 km behind
-        let mut cut = SeaFindings::empty(g, None);
+        let mut cut = SeaFindings::empty(g, CfarOptions::default(), None);
         for start in (0..1600).step_by(200) {
             cut.add_tile(
                 image.slice(ndarray::s![start..start + 200, ..]),
@@ -577,7 +586,11 @@ mod tests {
         let image = ship_scene(300, 4800, (150, 4000), 270);
         let g = Geometry::along_rows(10.0, 35.0, None);
         let (ship, wake) = whole_search(&image, &g);
-        assert_same(&search_image(image.view(), None, g), &ship, &wake);
+        assert_same(
+            &search_image(image.view(), None, g, CfarOptions::default()),
+            &ship,
+            &wake,
+        );
     }
 
     #[test]

@@ -25,7 +25,7 @@ pub fn run_detect(args: &DetectArgs, quiet: bool) -> Result<()> {
         out: args.out.clone(),
         mask: args.mask.as_deref(),
         force: args.force,
-        search_sea: true,
+        search_sea: Some(wakelab_ships::cfar::CfarOptions::with_pfa(args.ship_pfa)),
     };
     let progress = ScanProgress {
         reading: &mut wakelab_study::follow_on(&bar, "rows read"),
@@ -48,11 +48,8 @@ pub fn run_detect(args: &DetectArgs, quiet: bool) -> Result<()> {
 pub fn run_calibrate(args: &CalibrateArgs, quiet: bool) -> Result<()> {
     let template = "{spinner} calibrate: rows [{bar:30}] {pos}/{len} | {elapsed_precise}, {eta} left";
     let bar = wakelab_study::progress_bar(quiet, 0, template);
-    let read = args.read.options();
-    let done = calibrate(&args.product, read, &args.out, args.db, &mut |done, total| {
-        bar.set_length(total as u64);
-        bar.set_position(done as u64);
-    })?;
+    let rows = &mut wakelab_study::follow_on(&bar, "rows");
+    let done = calibrate(&args.product, args.read.options(), &args.out, args.db, rows)?;
     bar.finish_and_clear();
     if args.json {
         println!("{}", serde_json::to_string_pretty(&done.json())?);

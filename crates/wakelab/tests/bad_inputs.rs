@@ -182,6 +182,12 @@ fn every_bad_input_is_refused_by_name_without_a_panic_or_leftovers() {
             &["inf.npy", "1 infinite pixel(s)"],
         ),
         case(
+            "ship false-alarm probability out of range",
+            "detect {dir}/inf.npy --model {dir}/models/S_base.safetensors --out {out} --ship-pfa 0.5",
+            1,
+            &["--ship-pfa", "0.5", "at most 0.01"],
+        ),
+        case(
             "constant image in detect",
             "detect {dir}/constant.npy --model {dir}/models/S_base.safetensors --out {out}",
             1,

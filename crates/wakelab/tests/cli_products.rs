@@ -442,6 +442,16 @@ fn a_ship_and_its_wake_come_out_as_geojson() {
     let printed: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
     assert_eq!(printed["ships"], report["ships"]);
     assert_eq!(printed["wakes"], report["wakes"]);
+    // the ship search states its settings: P_fa 1e-6 is 4.753 standard normal deviations
+    assert_eq!(printed["ship_search"], report["ship_search"]);
+    assert_eq!(report["ship_search"]["pfa"], 1e-6);
+    let sigmas = report["ship_search"]["threshold_sigmas"].as_f64().unwrap();
+    assert!((sigmas - 4.7534).abs() < 1e-3, "{sigmas}");
+    // --ship-pfa 1e-12 (7.03 deviations) still finds the ship 30 dB over the sea
+    let strict = detect(&tif, &model, &dir.path().join("strict"), &["--ship-pfa", "1e-12"]);
+    assert_eq!(strict["ships"].as_array().unwrap().len(), 1, "{}", strict["ships"]);
+    let sigmas = strict["ship_search"]["threshold_sigmas"].as_f64().unwrap();
+    assert!((sigmas - 7.0345).abs() < 1e-3, "{sigmas}");
 
     // the same scene as a display stretch (4 grey levels per dB): the ship is found where it
     // is, but its grey levels are not dB, so it has no sigma0 or contrast, and the notes say why

@@ -24,6 +24,7 @@ use std::path::{Path, PathBuf};
 use wakelab_learn::detect::ScanOptions;
 use wakelab_products::{InputScale, ReadOptions, Source};
 use wakelab_schema::band::Band;
+use wakelab_ships::cfar::CfarOptions;
 
 /// How an image is read and where its wakes are, from its `NAME.geojson`.
 #[derive(Debug, Clone, PartialEq)]
@@ -225,7 +226,7 @@ pub fn score_image(
         // the user asked for these images: one of another band is scored, and its note says so
         force: true,
         // seconds to minutes on a real image with many bright targets: once per image
-        search_sea: search,
+        search_sea: search.then(CfarOptions::default),
     };
     let progress = ScanProgress {
         reading: &mut |_, _| {},

@@ -23,6 +23,7 @@ pub mod look_alikes;
 pub mod real;
 mod real_report;
 pub mod real_search;
+pub mod real_ships;
 pub mod report;
 pub mod results;
 pub mod scenes;
@@ -522,7 +523,10 @@ mod tests {
         let mut wake = sea(&mut rng);
         wake.slice_mut(ndarray::s![40..220, 126..130]).mapv_inplace(|v| v * 0.3);
         ndarray_npy::write_npy(real.join("wake.npy"), &wake).unwrap();
-        ndarray_npy::write_npy(real.join("sea.npy"), &sea(&mut rng)).unwrap();
+        // the sea holds a ship: 60 m square, 30 dB above the sea
+        let mut with_ship = sea(&mut rng);
+        with_ship.slice_mut(ndarray::s![60..66, 60..66]).fill(10.0);
+        ndarray_npy::write_npy(real.join("sea.npy"), &with_ship).unwrap();
         let hints = r#""wakelab": {"coordinates": "pixel", "pixel_spacing_m": 10, "scale": "linear"}"#;
         let line = r#"{"type": "Feature", "properties": {}, "geometry": {"type": "LineString", "coordinates": [[128, 40], [128, 220]]}}"#;
         std::fs::write(
@@ -530,9 +534,12 @@ mod tests {
             format!(r#"{{"type": "FeatureCollection", {hints}, "features": [{line}]}}"#),
         )
         .unwrap();
+        // its ship drawn as a box, and a second ship drawn where the sea holds none
+        let ships = r#"{"type": "Feature", "properties": {"kind": "ship"}, "geometry": {"type": "Polygon", "coordinates": [[[60, 60], [65, 60], [65, 65], [60, 65], [60, 60]]]}},
+                       {"type": "Feature", "properties": {"kind": "ship"}, "geometry": {"type": "Point", "coordinates": [200, 200]}}"#;
         std::fs::write(
             real.join("sea.geojson"),
-            format!(r#"{{"type": "FeatureCollection", {hints}, "features": []}}"#),
+            format!(r#"{{"type": "FeatureCollection", {hints}, "features": [{ships}]}}"#),
         )
         .unwrap();
         let lines = run_transfer(&study, dir.path(), &device, Some(&real), true).unwrap();
@@ -564,6 +571,17 @@ mod tests {
             .collect();
         assert_eq!(search, [("sea.npy", 0, 0), ("wake.npy", 1, 0)], "{:?}", scored.search);
         assert!(scored.search[1].axis_errors_deg[0] < 2.0, "{:?}", scored.search);
+        // the drawn ship is found, the one drawn on empty sea is not; the wake image's ships
+        // are not drawn, so not scored
+        let ships = scored.search[0].drawn_ships.unwrap();
+        assert_eq!((ships.drawn, ships.found), (2, 1), "{:?}", scored.search);
+        assert_eq!(ships.false_ships, scored.search[0].ships - 1, "{:?}", scored.search);
+        assert_eq!(scored.search[1].drawn_ships, None);
+        let summary = scored.search_summary.as_ref().unwrap();
+        assert_eq!(
+            (summary.ship_images, summary.drawn_ships, summary.ships_found),
+            (1, 2, 1)
+        );
         let csv = std::fs::read_to_string(dir.path().join("report/tables/transfer_real_search.csv")).unwrap();
         assert_eq!(csv.lines().count(), 3, "{csv}");
         // a later run without --real keeps the section while the detectors are the same

@@ -8,9 +8,12 @@
 //! own and the default, or `"pixel"`: [column, row] of the image's pixels), `pixel_spacing_m`
 //! and `scale` (as `detect --pixel-spacing`, `--scale`) and `exclude` (a land mask beside it, as
 //! `--exclude`). A wake is found when a detection or the map's peak lies within 500 m of it
-//! (the study's rule on simulated scenes); every other detection is a false alarm.
+//! (the study's rule on simulated scenes); every other detection is a false alarm. Features of
+//! `"kind": "ship"` (Points, or Polygons such as a dataset's boxes) are the image's ships, which
+//! score the classic ship search ([`super::real_ships`]).
 
 use super::real_search::{metres_from, score_search, summarise_search, SearchScore, SearchSummary};
+use super::real_ships::{score_ships, DrawnShip, SHIP_WITHIN_M};
 use super::visibility::{self, Spread};
 use crate::product_scan::{open_product, ScanProgress};
 use crate::products::{detect, DetectRequest};
@@ -36,6 +39,9 @@ pub struct Annotation {
     pub pixel_spacing: Option<f64>,
     pub scale: Option<InputScale>,
     pub exclude: Option<PathBuf>,
+    /// The ships drawn, where the file draws them (a ship feature, or `"ships_drawn": true`);
+    /// none where ships are not drawn, and are then counted, not scored.
+    pub ships: Option<Vec<DrawnShip>>,
 }
 
 /// How one detector did on one image.
@@ -134,13 +140,23 @@ pub fn read_annotation(geojson: &Path, image: &Path) -> Result<Annotation> {
     let exclude = how["exclude"]
         .as_str()
         .map(|f| geojson.parent().unwrap_or(Path::new(".")).join(f));
-    let mut wakes = Vec::new();
+    let ships_drawn = match &how["ships_drawn"] {
+        Value::Null => false,
+        v => v
+            .as_bool()
+            .ok_or_else(|| bad(format!("wakelab.ships_drawn {v}: true or false")))?,
+    };
+    let (mut wakes, mut ships) = (Vec::new(), Vec::new());
     for (i, feature) in doc["features"].as_array().into_iter().flatten().enumerate() {
         let kind = feature["properties"]["kind"].as_str();
+        let geometry = &feature["geometry"];
+        if kind == Some("ship") {
+            ships.push(DrawnShip::from_geometry(geometry).map_err(|e| bad(format!("features[{i}]: {e}")))?);
+            continue;
+        }
         if kind.is_some_and(|k| k != "wake") {
             continue;
         }
-        let geometry = &feature["geometry"];
         let lines: Vec<&Value> = match geometry["type"].as_str() {
             Some("LineString") => vec![&geometry["coordinates"]],
             Some("MultiLineString") => geometry["coordinates"].as_array().into_iter().flatten().collect(),
@@ -164,6 +180,7 @@ pub fn read_annotation(geojson: &Path, image: &Path) -> Result<Annotation> {
             }
         }
     }
+    let ships = (ships_drawn || !ships.is_empty()).then_some(ships);
     Ok(Annotation {
         image: image.to_path_buf(),
         wakes,
@@ -171,6 +188,7 @@ pub fn read_annotation(geojson: &Path, image: &Path) -> Result<Annotation> {
         pixel_spacing,
         scale,
         exclude,
+        ships,
     })
 }
 
@@ -279,8 +297,16 @@ pub fn score_image(
         })
     };
     let name: String = image.file_name().unwrap_or_default().to_string_lossy().into();
+    let km2 = scored_pixels(detection) as f64 * pixel_m2 / 1e6;
+    // the search runs on the averaged grid: a centre may lie a scanned pixel from a drawn box
+    let within = SHIP_WITHIN_M.max(spacing.0 * factor.0).max(spacing.1 * factor.1);
     let searched = search.then(|| SearchScore {
         image: name.clone(),
+        drawn_ships: annotation
+            .ships
+            .as_ref()
+            .map(|drawn| score_ships(drawn, lonlat, &written, spacing, within)),
+        km2,
         ..score_search(&annotation.wakes, lonlat, &written, spacing)
     });
     let score = RealScore {
@@ -292,7 +318,7 @@ pub fn score_image(
         peak_on_wake: distance(&written["peak"]) <= FOUND_WITHIN_M,
         strongest_on_wake: on_wake.first() == Some(&true),
         first_on_wake: on_wake.iter().position(|on| *on).map(|i| i + 1),
-        km2: scored_pixels(detection) as f64 * pixel_m2 / 1e6,
+        km2,
         wake_visibility,
         notes,
         skipped: None,
@@ -431,6 +457,8 @@ pub fn score_real(
                             found: 0,
                             false_wakes: 0,
                             axis_errors_deg: Vec::new(),
+                            drawn_ships: None,
+                            km2: 0.0,
                             skipped: Some(why),
                         });
                     }
@@ -515,6 +543,7 @@ mod tests {
             pixel_spacing: None,
             scale: None,
             exclude: None,
+            ships: None,
         }
     }
 
@@ -531,7 +560,8 @@ mod tests {
         assert!((d - 1111.95).abs() < 0.5, "{d}");
     }
 
-    /// An annotation file: pixel wakes, the reading hints, a no-wake image, and clear errors.
+    /// An annotation file: pixel wakes, drawn ships, the reading hints, a no-wake image, and
+    /// clear errors.
     #[test]
     fn annotations_read_their_wakes_and_hints() {
         let dir = tempfile::tempdir().unwrap();
@@ -561,6 +591,43 @@ mod tests {
         assert_eq!(
             (wake.lonlat, wake.pixel_spacing, wake.scale),
             (false, Some(10.0), Some(InputScale::Display))
+        );
+        // the image draws a ship, so its ships are scored; the sea's are not drawn
+        let ship = DrawnShip {
+            min: (1.0, 2.0),
+            max: (1.0, 2.0),
+        };
+        assert_eq!(
+            (wake.ships.as_deref(), read[0].ships.as_deref()),
+            (Some(&[ship][..]), None)
+        );
+
+        // a sea whose ships are drawn and that holds none: ships scored, none there
+        std::fs::write(
+            d.join("sea.geojson"),
+            r#"{"type": "FeatureCollection", "wakelab": {"ships_drawn": true}, "features": []}"#,
+        )
+        .unwrap();
+        assert_eq!(annotations(d).unwrap()[0].ships, Some(vec![]));
+        std::fs::write(
+            d.join("sea.geojson"),
+            r#"{"type": "FeatureCollection", "wakelab": {"ships_drawn": "yes"}, "features": []}"#,
+        )
+        .unwrap();
+        let e = annotations(d).unwrap_err().to_string();
+        assert!(
+            e.contains("sea.geojson: wakelab.ships_drawn \"yes\": true or false"),
+            "{e}"
+        );
+        std::fs::write(
+            d.join("sea.geojson"),
+            r#"{"type": "FeatureCollection", "features": [{"type": "Feature", "properties": {"kind": "ship"}, "geometry": {"type": "LineString", "coordinates": [[1, 2], [3, 4]]}}]}"#,
+        )
+        .unwrap();
+        let e = annotations(d).unwrap_err().to_string();
+        assert!(
+            e.contains("sea.geojson: features[0]: a ship is a Point or a Polygon"),
+            "{e}"
         );
 
         std::fs::write(

@@ -110,7 +110,7 @@ pub fn markdown(real: &RealResults) -> String {
     md + &search_markdown(real)
 }
 
-const SEARCH_HEADER: [&str; 8] = [
+const SEARCH_HEADER: [&str; 11] = [
     "image",
     "wakes",
     "ships",
@@ -119,6 +119,9 @@ const SEARCH_HEADER: [&str; 8] = [
     "false_wakes",
     "axis_errors_deg",
     "skipped",
+    "drawn_ships",
+    "ships_found",
+    "false_ships",
 ];
 
 fn search_row(s: &SearchScore) -> Vec<String> {
@@ -138,6 +141,14 @@ fn search_row(s: &SearchScore) -> Vec<String> {
             .as_deref()
             .map_or(String::new(), |why| why.replace([',', '|', '\n'], ";")),
     ]
+    .into_iter()
+    .chain(
+        // blank where the image's ships are not drawn
+        s.drawn_ships
+            .map_or([None; 3], |d| [Some(d.drawn), Some(d.found), Some(d.false_ships)])
+            .map(|n| n.map_or(String::new(), |n| n.to_string())),
+    )
+    .collect()
 }
 
 /// The classic search's per-image table as CSV.
@@ -149,9 +160,19 @@ pub fn search_csv(real: &RealResults) -> String {
     text
 }
 
+/// The ship search against the drawn ships, where any image draws them.
+fn describe_ships(s: &SearchSummary) -> Option<String> {
+    (s.ship_images > 0).then(|| {
+        format!(
+            "ships drawn in {} image(s): {}/{} found, {:.2} false ships per image ({:.1} per 100 km^2)",
+            s.ship_images, s.ships_found, s.drawn_ships, s.false_ships_per_image, s.false_ships_per_100_km2
+        )
+    })
+}
+
 /// One line: what the classic search did on the user's images.
 pub fn describe_search(s: &SearchSummary) -> String {
-    format!(
+    let line = format!(
         "  real images, classic ship and wake search: a wake found in {}/{} wake images ({}/{} wakes, median axis error {}), {:.1} false wakes per wake image; no-wake images without a wake {}/{}; {:.1} ships per image; {} image(s) skipped",
         s.images_found,
         s.wake_images,
@@ -163,7 +184,11 @@ pub fn describe_search(s: &SearchSummary) -> String {
         s.no_wake_images,
         s.ships_per_image,
         s.skipped
-    )
+    );
+    match describe_ships(s) {
+        Some(ships) => format!("{line}; {ships}"),
+        None => line,
+    }
 }
 
 /// The classic search's Markdown section (none where it did not run).
@@ -174,7 +199,7 @@ fn search_markdown(real: &RealResults) -> String {
     let mut md = String::from("\n### The classic ship and wake search on the same images\n\n");
     let _ = writeln!(
         md,
-        "`wakelab detect`'s own ship (CFAR) and wake (Radon) searches, run once per image at the first detector's spacing, as `detect` with that detector runs them. A reported wake finds a drawn one when the two lines come within 500 m of each other and their axes differ by at most {AXIS_WITHIN_DEG:.0} degrees (modulo 180: a drawn wake has no direction, so the course is not checked); every other reported wake is a false wake. Ships are not drawn, so they are counted, not scored.\n"
+        "`wakelab detect`'s own ship (CFAR) and wake (Radon) searches, run once per image at the first detector's spacing, as `detect` with that detector runs them. A reported wake finds a drawn one when the two lines come within 500 m of each other and their axes differ by at most {AXIS_WITHIN_DEG:.0} degrees (modulo 180: a drawn wake has no direction, so the course is not checked); every other reported wake is a false wake. Ships are scored only on the images whose ships are drawn (features of `\"kind\": \"ship\"`, or `\"ships_drawn\": true`): a drawn ship is found when a reported ship's centre lies within 50 m of it (or one scanned pixel, where that is larger), and every other reported ship is a false ship; elsewhere ships are counted, not scored.\n"
     );
     md += "| wake images with a wake found | wakes found | median axis error (deg) | false wakes per wake image | no-wake images without a wake | ships per image |\n";
     md += "| --- | --- | --- | --- | --- | --- |\n";
@@ -191,6 +216,9 @@ fn search_markdown(real: &RealResults) -> String {
         s.no_wake_images,
         s.ships_per_image
     );
+    if let Some(ships) = describe_ships(s) {
+        let _ = writeln!(md, "\nThe ship search against the drawn ships: {ships}.");
+    }
     md += &format!(
         "\n| {} |\n|{}\n",
         SEARCH_HEADER.join(" | "),

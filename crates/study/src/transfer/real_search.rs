@@ -30,6 +30,15 @@ pub(crate) fn metres_from(p: (f64, f64), origin: (f64, f64), lonlat: bool, spaci
 /// A reported wake's axis within this of a drawn wake's (degrees, modulo 180) finds it.
 pub const AXIS_WITHIN_DEG: f64 = 20.0;
 
+/// How the ship search did against the drawn ships of one image ([`super::real_ships`]).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+pub struct ShipScore {
+    pub drawn: usize,
+    pub found: usize,
+    /// Reported ships that found no drawn one.
+    pub false_ships: usize,
+}
+
 /// How the classic search did on one image.
 #[derive(Debug, Clone, Serialize, Deserialize, PartialEq)]
 pub struct SearchScore {
@@ -44,6 +53,13 @@ pub struct SearchScore {
     /// Per drawn wake found, the least axis difference (degrees, modulo 180) of a reported wake
     /// that found it.
     pub axis_errors_deg: Vec<f64>,
+    /// The ships against those drawn, where the image's ships are drawn
+    /// ([`super::real_ships`]).
+    #[serde(default)]
+    pub drawn_ships: Option<ShipScore>,
+    /// The area scanned (km^2; the first detector's scored cells).
+    #[serde(default)]
+    pub km2: f64,
     /// Why the image was not searched.
     pub skipped: Option<String>,
 }
@@ -133,6 +149,8 @@ pub fn score_search(wakes: &[Vec<(f64, f64)>], lonlat: bool, written: &Value, sp
         found: best.iter().flatten().count(),
         false_wakes,
         axis_errors_deg: best.into_iter().flatten().collect(),
+        drawn_ships: None,
+        km2: 0.0,
         skipped: None,
     }
 }
@@ -153,6 +171,18 @@ pub struct SearchSummary {
     pub ships_per_image: f64,
     /// The median axis error of the wakes found (degrees, modulo 180).
     pub median_axis_error_deg: Option<f64>,
+    /// Over the images whose ships are drawn: how many, the ships drawn and found, and the
+    /// false ships per image and per 100 km^2 scanned.
+    #[serde(default)]
+    pub ship_images: usize,
+    #[serde(default)]
+    pub drawn_ships: usize,
+    #[serde(default)]
+    pub ships_found: usize,
+    #[serde(default)]
+    pub false_ships_per_image: f64,
+    #[serde(default)]
+    pub false_ships_per_100_km2: f64,
     /// Images not searched.
     pub skipped: usize,
 }
@@ -172,6 +202,9 @@ pub fn summarise_search(scores: &[SearchScore]) -> SearchSummary {
         n if n % 2 == 1 => Some(errors[n / 2]),
         n => Some(0.5 * (errors[n / 2 - 1] + errors[n / 2])),
     };
+    let drawn: Vec<(ShipScore, f64)> = searched.iter().filter_map(|s| Some((s.drawn_ships?, s.km2))).collect();
+    let false_ships = drawn.iter().map(|(d, _)| d.false_ships as f64).sum::<f64>();
+    let ship_km2: f64 = drawn.iter().map(|(_, km2)| km2).sum();
     SearchSummary {
         wake_images: with.len(),
         images_found: with.iter().filter(|s| s.found > 0).count(),
@@ -182,6 +215,15 @@ pub fn summarise_search(scores: &[SearchScore]) -> SearchSummary {
         no_wake_images_clean: without.iter().filter(|s| s.search_wakes == 0).count(),
         ships_per_image: searched.iter().map(|s| s.ships as f64).sum::<f64>() / searched.len().max(1) as f64,
         median_axis_error_deg: median,
+        ship_images: drawn.len(),
+        drawn_ships: drawn.iter().map(|(d, _)| d.drawn).sum(),
+        ships_found: drawn.iter().map(|(d, _)| d.found).sum(),
+        false_ships_per_image: false_ships / drawn.len().max(1) as f64,
+        false_ships_per_100_km2: if ship_km2 > 0.0 {
+            100.0 * false_ships / ship_km2
+        } else {
+            f64::NAN
+        },
         skipped: scores.len() - searched.len(),
     }
 }
@@ -231,7 +273,7 @@ mod tests {
     }
 
     /// The summary: images with a wake found, wakes found, false wakes per wake image, clean
-    /// no-wake images, the median axis error; skipped images left out.
+    /// no-wake images, the median axis error, the drawn ships; skipped images left out.
     #[test]
     fn the_search_summary_adds_up() {
         let score = |wakes, found, false_wakes, errors: Vec<f64>| SearchScore {
@@ -242,11 +284,24 @@ mod tests {
             found,
             false_wakes,
             axis_errors_deg: errors,
+            drawn_ships: None,
+            km2: 4.0,
             skipped: None,
         };
+        let ships = |drawn, found, false_ships| ShipScore {
+            drawn,
+            found,
+            false_ships,
+        };
         let scores = [
-            score(2, 1, 1, vec![4.0]),
-            score(1, 1, 0, vec![2.0]),
+            SearchScore {
+                drawn_ships: Some(ships(3, 2, 1)),
+                ..score(2, 1, 1, vec![4.0])
+            },
+            SearchScore {
+                drawn_ships: Some(ships(0, 0, 2)),
+                ..score(1, 1, 0, vec![2.0])
+            },
             score(1, 0, 3, vec![]),
             score(0, 0, 0, vec![]),
             score(0, 0, 1, vec![]),
@@ -261,5 +316,9 @@ mod tests {
         assert_eq!((s.no_wake_images, s.no_wake_images_clean, s.skipped), (2, 1, 1));
         assert_eq!(s.median_axis_error_deg, Some(3.0));
         assert!((s.ships_per_image - 3.0).abs() < 1e-12);
+        // ships: two images drawn (8 km^2), 2 of 3 found, 3 false ships
+        assert_eq!((s.ship_images, s.drawn_ships, s.ships_found), (2, 3, 2));
+        assert!((s.false_ships_per_image - 1.5).abs() < 1e-12);
+        assert!((s.false_ships_per_100_km2 - 37.5).abs() < 1e-12);
     }
 }

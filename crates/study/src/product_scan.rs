@@ -6,7 +6,7 @@
 //! band of rows at a time, so memory holds one band, not the product. What was assumed is said in
 //! the scan's notes.
 
-use crate::sea_findings::{product_geometry, search_image, SeaFindings, SeaStream, TILE_ROWS};
+use crate::sea_findings::{product_geometry, search_image, SeaFindings, SeaStream, ShipSearch, TILE_ROWS};
 use anyhow::Result;
 use std::path::Path;
 use wakelab_core::ConfigError;
@@ -16,7 +16,6 @@ use wakelab_learn::device::Device;
 use wakelab_learn::store::{Detector, ModelInfo};
 use wakelab_products::{Frame, ProductMeta, Quantity, ReadOptions, ReadReport, RowSource, Source, SpacingSource};
 use wakelab_schema::band::Band;
-use wakelab_ships::cfar::CfarOptions;
 
 /// Spacing ratios (detector / input) within this of 1 are scanned as they are.
 const SAME_SPACING: f64 = 0.05;
@@ -176,7 +175,7 @@ pub struct Scanner<'a> {
     pub force: bool,
     /// Seek ships (with these CFAR settings) and their wakes in a radar image (the classic
     /// searches beside the CNN); None: no search.
-    pub search_sea: Option<CfarOptions>,
+    pub search_sea: Option<ShipSearch>,
 }
 
 /// A product opened for a detector of `band`: its source, how it was read, and what the band
@@ -290,9 +289,11 @@ pub fn scan_opened(opened: OpenedProduct, scanner: Scanner, progress: ScanProgre
     scan.feed(0, image.view(), device, progress.scanning);
     let mut overlay = crate::scan::OverlayMeans::new(image.dim(), band);
     overlay.add(0, image.view());
-    let sea = scanner.search_sea.filter(|_| band.is_radar()).map(|cfar| {
+    let sea = scanner.search_sea.filter(|_| band.is_radar()).map(|search| {
         let (geometry, sea_notes) = product_geometry(&product.meta, scanned_spacing(&product.meta, info, factor));
         notes.extend(sea_notes);
+        let (cfar, pfa_note) = search.cfar(product.meta.calibrated);
+        notes.extend(pfa_note);
         notes.extend(cross.as_ref().map(|c| cross_note(&c.1)));
         search_image(
             image.view(),
@@ -358,9 +359,11 @@ fn scan_by_bands(
     let (n, stride) = scan.window_and_stride();
     let height = n + BAND_ROWS.div_ceil(stride * fr) * stride;
     let mut overlay = crate::scan::OverlayMeans::new(scanned, band);
-    let mut sea = scanner.search_sea.filter(|_| band.is_radar()).map(|cfar| {
+    let mut sea = scanner.search_sea.filter(|_| band.is_radar()).map(|search| {
         let (geometry, sea_notes) = product_geometry(&source.meta, scanned_spacing(&source.meta, info, factor));
         notes.extend(sea_notes);
+        let (cfar, pfa_note) = search.cfar(source.meta.calibrated);
+        notes.extend(pfa_note);
         let pol = cross.as_ref().map(|c| c.meta.polarisation.clone().unwrap_or_default());
         notes.extend(pol.as_deref().map(cross_note));
         SeaStream::new(geometry, cfar, scanned.1, TILE_ROWS, pol)

@@ -12,7 +12,6 @@ use wakelab_learn::device::parse_device;
 use wakelab_learn::store::{load_detector, load_detector_bytes};
 use wakelab_products::cog::{write_sigma0, write_sigma0_rows};
 use wakelab_products::{ProductMeta, Quantity, ReadOptions, ReadReport, Source};
-use wakelab_ships::cfar::CfarOptions;
 
 /// What `wakelab detect` scans, with what and where it writes.
 pub struct DetectRequest<'a> {
@@ -30,7 +29,7 @@ pub struct DetectRequest<'a> {
     /// Scan an input of another band than the detector's (`--force`).
     pub force: bool,
     /// Seek ships and their wakes (radar images) beside the detector's scan.
-    pub search_sea: Option<CfarOptions>,
+    pub search_sea: Option<crate::sea_findings::ShipSearch>,
 }
 
 /// A finished `wakelab detect`: the detection, what the user should know, and the files.
@@ -85,7 +84,11 @@ impl Detected {
 /// Load the detector (the user's, or the shipped one for the image's spacing), read and scan the
 /// product, and write the scan's files.
 pub fn detect(request: DetectRequest, progress: ScanProgress) -> Result<Detected> {
-    if let Some(pfa) = request.search_sea.map(|c| c.pfa).filter(|p| !(*p > 0.0 && *p <= 0.01)) {
+    if let Some(pfa) = request
+        .search_sea
+        .and_then(|s| s.pfa)
+        .filter(|p| !(*p > 0.0 && *p <= 0.01))
+    {
         return Err(ConfigError::new(
             "--ship-pfa",
             pfa,

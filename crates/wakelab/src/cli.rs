@@ -449,9 +449,9 @@ pub struct DetectArgs {
     /// Scan even when the input's band (from its mission, metadata or name) is not the detector's.
     #[arg(long)]
     pub force: bool,
-    /// The ship search's (CFAR's) false-alarm probability per pixel of open sea, in (0, 0.01].
-    #[arg(long, value_name = "P", default_value_t = 1e-6)]
-    pub ship_pfa: f64,
+    /// Ship search (CFAR) false-alarm probability per sea pixel, in (0, 0.01]; 1e-6, 1e-9 on display images.
+    #[arg(long, value_name = "P")]
+    pub ship_pfa: Option<f64>,
 }
 
 #[derive(Args, Debug)]

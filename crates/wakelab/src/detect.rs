@@ -25,7 +25,7 @@ pub fn run_detect(args: &DetectArgs, quiet: bool) -> Result<()> {
         out: args.out.clone(),
         mask: args.mask.as_deref(),
         force: args.force,
-        search_sea: Some(wakelab_ships::cfar::CfarOptions::with_pfa(args.ship_pfa)),
+        search_sea: Some(wakelab_study::sea_findings::ShipSearch { pfa: args.ship_pfa }),
     };
     let progress = ScanProgress {
         reading: &mut wakelab_study::follow_on(&bar, "rows read"),

@@ -471,6 +471,12 @@ fn a_ship_and_its_wake_come_out_as_geojson() {
         notes.iter().any(|n| n.as_str().unwrap().contains("not calibrated")),
         "{notes:?}"
     );
+    // its ships are sought at the display's false-alarm probability, and a note says why
+    assert_eq!(report["ship_search"]["pfa"], 1e-9);
+    assert!(
+        notes.iter().any(|n| n.as_str().unwrap().contains("heavier tail")),
+        "{notes:?}"
+    );
 }
 
 /// A dual-polarisation Sentinel-1 product of 2,500 lines (read in three bands): a ship 3 dB over

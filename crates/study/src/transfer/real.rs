@@ -17,6 +17,7 @@ use super::real_ships::{score_ships, DrawnShip, SHIP_WITHIN_M};
 use super::visibility::{self, Spread};
 use crate::product_scan::{open_product, ScanProgress};
 use crate::products::{detect, DetectRequest};
+use crate::sea_findings::ShipSearch;
 use crate::steps::calibration::FOUND_WITHIN_M;
 use crate::steps::open_sea::distance_to_segment;
 use crate::Result;
@@ -27,7 +28,6 @@ use std::path::{Path, PathBuf};
 use wakelab_learn::detect::ScanOptions;
 use wakelab_products::{InputScale, ReadOptions, Source};
 use wakelab_schema::band::Band;
-use wakelab_ships::cfar::CfarOptions;
 
 /// How an image is read and where its wakes are, from its `NAME.geojson`.
 #[derive(Debug, Clone, PartialEq)]
@@ -244,7 +244,7 @@ pub fn score_image(
         // the user asked for these images: one of another band is scored, and its note says so
         force: true,
         // seconds to minutes on a real image with many bright targets: once per image
-        search_sea: search.then(CfarOptions::default),
+        search_sea: search.then(ShipSearch::default),
     };
     let progress = ScanProgress {
         reading: &mut |_, _| {},

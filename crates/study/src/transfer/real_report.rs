@@ -4,6 +4,7 @@
 
 use super::real::{RealResults, RealScore, RealSummary};
 use super::real_search::{SearchScore, SearchSummary, AXIS_WITHIN_DEG};
+use super::real_ships::SHIP_WITHIN_M;
 use std::fmt::Write;
 
 const HEADER: [&str; 12] = [
@@ -199,7 +200,7 @@ fn search_markdown(real: &RealResults) -> String {
     let mut md = String::from("\n### The classic ship and wake search on the same images\n\n");
     let _ = writeln!(
         md,
-        "`wakelab detect`'s own ship (CFAR) and wake (Radon) searches, run once per image at the first detector's spacing, as `detect` with that detector runs them. A reported wake finds a drawn one when the two lines come within 500 m of each other and their axes differ by at most {AXIS_WITHIN_DEG:.0} degrees (modulo 180: a drawn wake has no direction, so the course is not checked); every other reported wake is a false wake. Ships are scored only on the images whose ships are drawn (features of `\"kind\": \"ship\"`, or `\"ships_drawn\": true`): a drawn ship is found when a reported ship's centre lies within 50 m of it (or one scanned pixel, where that is larger), and every other reported ship is a false ship; elsewhere ships are counted, not scored.\n"
+        "`wakelab detect`'s own ship (CFAR) and wake (Radon) searches, run once per image at the first detector's spacing, as `detect` with that detector runs them. A reported wake finds a drawn one when the two lines come within 500 m of each other and their axes differ by at most {AXIS_WITHIN_DEG:.0} degrees (modulo 180: a drawn wake has no direction, so the course is not checked); every other reported wake is a false wake. Ships are scored only on the images whose ships are drawn (features of `\"kind\": \"ship\"`, or `\"ships_drawn\": true`): a drawn ship is found when a reported ship's centre lies within {SHIP_WITHIN_M:.0} m of it (or one scanned pixel, where that is larger), and every other reported ship is a false ship; elsewhere ships are counted, not scored.\n"
     );
     md += "| wake images with a wake found | wakes found | median axis error (deg) | false wakes per wake image | no-wake images without a wake | ships per image |\n";
     md += "| --- | --- | --- | --- | --- | --- |\n";

@@ -602,41 +602,32 @@ mod tests {
             (Some(&[ship][..]), None)
         );
 
+        // the sea's file rewritten: what annotations() then reads, or why it refuses it
+        let sea_reads = |text: &str| {
+            std::fs::write(d.join("sea.geojson"), text).unwrap();
+            annotations(d)
+        };
         // a sea whose ships are drawn and that holds none: ships scored, none there
-        std::fs::write(
-            d.join("sea.geojson"),
-            r#"{"type": "FeatureCollection", "wakelab": {"ships_drawn": true}, "features": []}"#,
-        )
-        .unwrap();
-        assert_eq!(annotations(d).unwrap()[0].ships, Some(vec![]));
-        std::fs::write(
-            d.join("sea.geojson"),
-            r#"{"type": "FeatureCollection", "wakelab": {"ships_drawn": "yes"}, "features": []}"#,
-        )
-        .unwrap();
-        let e = annotations(d).unwrap_err().to_string();
-        assert!(
-            e.contains("sea.geojson: wakelab.ships_drawn \"yes\": true or false"),
-            "{e}"
-        );
-        std::fs::write(
-            d.join("sea.geojson"),
-            r#"{"type": "FeatureCollection", "features": [{"type": "Feature", "properties": {"kind": "ship"}, "geometry": {"type": "LineString", "coordinates": [[1, 2], [3, 4]]}}]}"#,
-        )
-        .unwrap();
-        let e = annotations(d).unwrap_err().to_string();
-        assert!(
-            e.contains("sea.geojson: features[0]: a ship is a Point or a Polygon"),
-            "{e}"
-        );
-
-        std::fs::write(
-            d.join("sea.geojson"),
-            r#"{"type": "FeatureCollection", "wakelab": {"pixel_spacing_m": -3}, "features": []}"#,
-        )
-        .unwrap();
-        let e = annotations(d).unwrap_err().to_string();
-        assert!(e.contains("sea.geojson: wakelab.pixel_spacing_m -3"), "{e}");
+        let drawn = sea_reads(r#"{"type": "FeatureCollection", "wakelab": {"ships_drawn": true}, "features": []}"#);
+        assert_eq!(drawn.unwrap()[0].ships, Some(vec![]));
+        let refusals = [
+            (
+                r#"{"type": "FeatureCollection", "wakelab": {"ships_drawn": "yes"}, "features": []}"#,
+                "sea.geojson: wakelab.ships_drawn \"yes\": true or false",
+            ),
+            (
+                r#"{"type": "FeatureCollection", "features": [{"type": "Feature", "properties": {"kind": "ship"}, "geometry": {"type": "LineString", "coordinates": [[1, 2], [3, 4]]}}]}"#,
+                "sea.geojson: features[0]: a ship is a Point or a Polygon",
+            ),
+            (
+                r#"{"type": "FeatureCollection", "wakelab": {"pixel_spacing_m": -3}, "features": []}"#,
+                "sea.geojson: wakelab.pixel_spacing_m -3",
+            ),
+        ];
+        for (text, why) in refusals {
+            let e = sea_reads(text).unwrap_err().to_string();
+            assert!(e.contains(why), "{e}");
+        }
         std::fs::remove_file(d.join("sea.tif")).unwrap();
         let e = annotations(d).unwrap_err().to_string();
         assert!(e.contains("sea.geojson: no image of that name"), "{e}");

@@ -173,8 +173,8 @@ pub struct Scanner<'a> {
     pub device: &'a Device,
     /// Scan an input whose band is not the detector's.
     pub force: bool,
-    /// Seek ships (with these CFAR settings) and their wakes in a radar image (the classic
-    /// searches beside the CNN); None: no search.
+    /// Seek ships (at this false-alarm probability, or the input's default) and their wakes in
+    /// a radar image (the classic searches beside the CNN); None: no search.
     pub search_sea: Option<ShipSearch>,
 }
 

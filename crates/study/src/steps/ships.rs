@@ -60,11 +60,12 @@ pub struct SceneResult {
     pub ship_found: bool,
     pub false_ships: usize,
     pub false_ships_without: usize,
-    /// The ship's wake found (anchored on the found ship, or free), its course error (degrees;
-    /// for a free wake the axis's, modulo 180) and the speeds read (m/s) or why not.
+    /// The ship's wake found along its track (anchored on the found ship with its axis within
+    /// 20 degrees of the track, or free within 10), its course error (degrees; for a free wake
+    /// the axis's, modulo 180) and the speeds read (m/s) or why not.
     pub wake_found: bool,
-    /// Wakes found that are not the ship's (anchored on a false ship, or free and off its
-    /// track), in this scene and in its twin without the ship (every wake there).
+    /// Wakes found that are not the ship's (anchored on a false ship or off the track, or free
+    /// and off its track), in this scene and in its twin without the ship (every wake there).
     #[serde(default)]
     pub false_wakes: usize,
     #[serde(default)]
@@ -210,14 +211,17 @@ fn run_scene(c: &WakelabConfig, run_dir: &Path, in_view: bool, cnn: Option<&Ship
     }
     let false_ships = found.ships.ships.len() - usize::from(found_ship.is_some());
     let wake = match found_ship {
-        Some(i) => found.wakes.iter().find(|w| w.ship == Some(i)),
+        // the ship's wake, if it lies along the track: one on another line (a swell's trough,
+        // a streak) is a false wake, not a found one with a large course error
+        Some(i) => found
+            .wakes
+            .iter()
+            .find(|w| w.ship == Some(i) && along_track(w.axis_deg, c.scene.heading, 20.0)),
         // the ship out of view: a free wake along the track
-        None if !in_view => found.wakes.iter().find(|w| {
-            w.ship.is_none() && {
-                let e = angle_difference(w.axis_deg, c.scene.heading);
-                e.abs().min(180.0 - e.abs()) < 10.0
-            }
-        }),
+        None if !in_view => found
+            .wakes
+            .iter()
+            .find(|w| w.ship.is_none() && along_track(w.axis_deg, c.scene.heading, 10.0)),
         None => None,
     };
     let mut no_speed = Vec::new();
@@ -267,6 +271,14 @@ fn run_scene(c: &WakelabConfig, run_dir: &Path, in_view: bool, cnn: Option<&Ship
         seconds,
         km2: (c.scene.size as f64 * c.scene.pixel_spacing / 1000.0).powi(2),
     })
+}
+
+/// Whether a line of direction `axis_deg` runs along a track of `heading` to within `within`
+/// degrees, either way (a wake's axis points back along its course; a reversed wake lies on
+/// the right line, and its course error says so).
+fn along_track(axis_deg: f64, heading: f64, within: f64) -> bool {
+    let e = angle_difference(axis_deg, heading).abs();
+    e.min(180.0 - e) < within
 }
 
 /// The ships step: every scene searched and scored (reused when the base configuration and
@@ -352,6 +364,20 @@ mod tests {
         // looking to port (90 counter-clockwise from the course): north
         c.platform.look_direction = 90.0;
         assert_eq!(scene_geometry(&c).look_deg, 0.0);
+    }
+
+    /// A wake runs back along its ship's course: its axis 180 degrees from the heading is on
+    /// the track, 15 degrees off is within 20, a reversed one (axis = heading) is on the line,
+    /// and a line across the track (90 degrees, a swell's trough) is not, nor is one 25 off.
+    #[test]
+    fn a_wake_is_scored_only_along_its_track() {
+        assert!(along_track(270.0, 90.0, 20.0));
+        assert!(along_track(285.0, 90.0, 20.0));
+        assert!(along_track(5.0, 350.0, 20.0));
+        assert!(along_track(350.0, 170.0, 20.0));
+        assert!(!along_track(0.0, 90.0, 20.0));
+        assert!(!along_track(295.0, 90.0, 20.0));
+        assert!(!along_track(285.0, 90.0, 10.0));
     }
 
     /// Every scene of the default study's base is a valid configuration.

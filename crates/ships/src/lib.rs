@@ -121,6 +121,13 @@ pub fn angle_difference(a: f64, b: f64) -> f64 {
     (a - b + 180.0).rem_euclid(360.0) - 180.0
 }
 
+/// The angle between two lines of directions `a` and `b` (degrees, in [0, 90]): a line has
+/// no direction, so a direction and its reverse are the same line.
+pub fn line_difference(a: f64, b: f64) -> f64 {
+    let e = angle_difference(a, b).abs();
+    e.min(180.0 - e)
+}
+
 /// Standard gravity (m/s^2), for the Kelvin wavelength.
 pub const GRAVITY: f64 = 9.806_65;
 
@@ -157,6 +164,10 @@ mod tests {
         assert!((g.heading_of(0.0, 1.0) - 90.0).abs() < 1e-12);
         assert_eq!(angle_difference(10.0, 350.0), 20.0);
         assert_eq!(angle_difference(350.0, 10.0), -20.0);
+        assert_eq!(line_difference(350.0, 10.0), 20.0);
+        assert_eq!(line_difference(190.0, 10.0), 0.0);
+        assert_eq!(line_difference(100.0, 10.0), 90.0);
+        assert_eq!(line_difference(280.0, 90.0), 10.0);
     }
 
     /// A ship 3 dB over its sea in VV (speckle hides it from the CFAR) and 25 dB over the

@@ -23,7 +23,7 @@ use wakelab_ships::cfar::CfarOptions;
 use wakelab_ships::radon::SearchImage;
 use wakelab_ships::wake::ship_wake;
 use wakelab_ships::wake::WakeOptions;
-use wakelab_ships::{angle_difference, search, Geometry, BACKGROUND_M};
+use wakelab_ships::{angle_difference, line_difference, search, Geometry, BACKGROUND_M};
 use wakelab_surface::scene::SceneGrid;
 
 /// The ships' speeds (m/s), scenes per speed with the ship in view, and scenes of free wakes.
@@ -277,8 +277,7 @@ fn run_scene(c: &WakelabConfig, run_dir: &Path, in_view: bool, cnn: Option<&Ship
 /// degrees, either way (a wake's axis points back along its course; a reversed wake lies on
 /// the right line, and its course error says so).
 fn along_track(axis_deg: f64, heading: f64, within: f64) -> bool {
-    let e = angle_difference(axis_deg, heading).abs();
-    e.min(180.0 - e) < within
+    line_difference(axis_deg, heading) < within
 }
 
 /// The ships step: every scene searched and scored (reused when the base configuration and

@@ -89,8 +89,7 @@ fn segments_apart(a: Segment, b: Segment) -> f64 {
 /// The difference of two segments' axes (degrees, 0-90: a line has no direction).
 fn axis_difference(a: Segment, b: Segment) -> f64 {
     let axis = |s: Segment| (s.1 .1 - s.0 .1).atan2(s.1 .0 - s.0 .0).to_degrees();
-    let d = (axis(a) - axis(b)).rem_euclid(180.0).abs();
-    d.min(180.0 - d)
+    wakelab_ships::line_difference(axis(a), axis(b))
 }
 
 /// A reported wake's ends as the annotation places them: (column, row) of the product's

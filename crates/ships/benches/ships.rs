@@ -1,12 +1,14 @@
 //! The ship and wake searches on 100 km^2 of 10 m pixels (1000 x 1000, 4-look speckle, one ship
-//! with its wake): the CFAR, the normalisation, one ship's wake search, the free wakes, and the
-//! whole search, whose time is the "per 100 km^2" figure.
+//! with its wake): the land mask, the CFAR, the normalisation, one ship's wake search, the free
+//! wakes, and the whole search, whose time is the "per 100 km^2" figure; and the whole search
+//! without the land mask, side by side.
 
 use criterion::{criterion_group, criterion_main, Criterion};
 use ndarray::Array2;
 use rand::SeedableRng;
 use rand_distr::{Distribution, Exp1};
 use wakelab_ships::cfar::{find_ships, CfarOptions};
+use wakelab_ships::land::{land_mask, LandOptions};
 use wakelab_ships::radon::SearchImage;
 use wakelab_ships::wake::{free_wakes, ship_wake, WakeOptions};
 use wakelab_ships::{search, Geometry, BACKGROUND_M};
@@ -42,6 +44,9 @@ fn bench(c: &mut Criterion) {
     let (cfar, wakes) = (CfarOptions::default(), WakeOptions::default());
     let mut group = c.benchmark_group("ships_100km2");
     group.sample_size(10);
+    group.bench_function("land_mask", |b| {
+        b.iter(|| land_mask(image.view(), &g, &LandOptions::default()))
+    });
     group.bench_function("cfar", |b| b.iter(|| find_ships(image.view(), &g, &cfar)));
     group.bench_function("normalise", |b| {
         b.iter(|| SearchImage::new(image.view(), &g, BACKGROUND_M))
@@ -53,6 +58,10 @@ fn bench(c: &mut Criterion) {
     });
     group.bench_function("free_wakes", |b| b.iter(|| free_wakes(&normalised, &[], &wakes)));
     group.bench_function("search", |b| b.iter(|| search(image.view(), &g, &cfar, &wakes)));
+    let sea_only = CfarOptions { land: None, ..cfar };
+    group.bench_function("search_without_land_mask", |b| {
+        b.iter(|| search(image.view(), &g, &sea_only, &wakes))
+    });
     group.finish();
 }
 

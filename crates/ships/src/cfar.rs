@@ -14,6 +14,7 @@
 //! rejected and counted. Pixels that are NaN (no data, land) are neither tested nor counted in
 //! a background.
 
+use crate::land::LandOptions;
 use crate::Geometry;
 use ndarray::{s, Array2, ArrayView2};
 use rayon::prelude::*;
@@ -41,6 +42,10 @@ pub struct CfarOptions {
     /// `sidelobe_m` is a sidelobe of it; on its azimuth line farther away, an azimuth ambiguity.
     pub ghost_db: f64,
     pub sidelobe_m: f64,
+    /// Land found in the image itself ([`crate::land`]): targets on it are not ships, and the
+    /// wake searches leave it out as no data; None: only the product's mask and the user's
+    /// `--exclude` are left out.
+    pub land: Option<LandOptions>,
 }
 
 impl Default for CfarOptions {
@@ -57,6 +62,7 @@ impl Default for CfarOptions {
             min_pixels: 3,
             ghost_db: 15.0,
             sidelobe_m: 400.0,
+            land: Some(LandOptions::default()),
         }
     }
 }
@@ -96,10 +102,11 @@ pub struct Ship {
 pub struct ShipSearch {
     pub ships: Vec<Ship>,
     pub ambiguities: Vec<Ship>,
-    /// The centres (row, column) of the targets rejected as sidelobes, and of those rejected
-    /// for their length.
+    /// The centres (row, column) of the targets rejected as sidelobes, of those rejected for
+    /// their length, and of those on land ([`crate::land`]; filled by the scene's search).
     pub sidelobes: Vec<(f64, f64)>,
     pub too_long: Vec<(f64, f64)>,
+    pub on_land: Vec<(f64, f64)>,
     /// The threshold in background standard deviations, Phi^-1(1 - P_fa).
     pub threshold_sigmas: f64,
     pub options: CfarOptions,
@@ -300,6 +307,7 @@ pub fn find_ships(image: ArrayView2<f32>, geometry: &Geometry, options: &CfarOpt
         ambiguities,
         sidelobes,
         too_long,
+        on_land: Vec::new(),
         threshold_sigmas: t,
         options: *options,
     }

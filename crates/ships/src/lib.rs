@@ -16,11 +16,12 @@
 
 pub mod cfar;
 pub mod kelvin;
+pub mod land;
 pub mod radon;
 pub mod wake;
 
 use cfar::{find_ships, CfarOptions, ShipSearch};
-use ndarray::ArrayView2;
+use ndarray::{Array2, ArrayView2};
 use serde::Serialize;
 use wake::{free_wakes, ship_wake, Wake, WakeOptions};
 
@@ -81,6 +82,10 @@ impl Geometry {
 pub struct Findings {
     pub ships: ShipSearch,
     pub wakes: Vec<Wake>,
+    /// The land found in the image and left out of the searches (true: land), where the
+    /// search sought it ([`CfarOptions::land`]).
+    #[serde(skip)]
+    pub land: Option<Array2<bool>>,
 }
 
 /// The scale (m) over which the wake searches take the sea's local mean.
@@ -103,7 +108,32 @@ pub fn search_polarised(
     cfar: &CfarOptions,
     wakes: &WakeOptions,
 ) -> Findings {
-    let ships = find_ships(cross.unwrap_or(image), geometry, cfar);
+    let land = cfar
+        .land
+        .map(|o| land::land_mask(image, geometry, &o))
+        .filter(|l| l.iter().any(|&v| v));
+    // ships are sought in the whole image, so that the land's bright returns still stand in
+    // the backgrounds and still reject their sidelobes (a bright target masked out would leave
+    // its sidelobes at sea as ships); a target whose centre lies on land is not a ship
+    let mut ships = find_ships(cross.unwrap_or(image), geometry, cfar);
+    let sea_image = land.as_ref().map(|l| {
+        let at = |s: &cfar::Ship| {
+            let (r, c) = (s.row.round().max(0.0) as usize, s.col.round().max(0.0) as usize);
+            l.get((r, c)).copied().unwrap_or(false)
+        };
+        let (on_land, at_sea): (Vec<_>, Vec<_>) = ships.ships.drain(..).partition(|s| at(s));
+        ships.ships = at_sea;
+        ships.on_land = on_land.iter().map(|s| (s.row, s.col)).collect();
+        // the wakes are sought in the sea alone: land is no data to them
+        let mut sea = image.to_owned();
+        ndarray::Zip::from(&mut sea).and(l).for_each(|v, &is_land| {
+            if is_land {
+                *v = f32::NAN;
+            }
+        });
+        sea
+    });
+    let image = sea_image.as_ref().map_or(image, |a| a.view());
     let normalised = radon::SearchImage::new(image, geometry, BACKGROUND_M);
     let mut found: Vec<Wake> = ships
         .ships
@@ -113,7 +143,11 @@ pub fn search_polarised(
         .collect();
     let free = free_wakes(&normalised, &found, wakes);
     found.extend(free);
-    Findings { ships, wakes: found }
+    Findings {
+        ships,
+        wakes: found,
+        land,
+    }
 }
 
 /// `a - b` folded into [-180, 180) degrees.
@@ -193,6 +227,41 @@ mod tests {
         );
         let wake = dual.wakes.iter().find(|w| w.ship == Some(0)).expect("its wake");
         assert!(angle_difference(wake.course_deg.unwrap(), 0.0).abs() < 3.0, "{wake:?}");
+    }
+
+    /// Land beside the sea: a city (its mean 10 dB over the sea's, a fifth of its pixels 20 dB
+    /// over that, six towers 50 dB over it) and a ship at sea a kilometre off its shore. With
+    /// land left out (the default) the ship alone is found and the towers are targets on land;
+    /// searched as sea, the towers are ships too.
+    #[test]
+    fn land_is_left_out_of_the_searches() {
+        use rand::{RngExt, SeedableRng};
+        let g = Geometry::along_rows(10.0, 35.0, None);
+        let mut image = speckle(500, 600, 4, 0.01, 5);
+        let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(9);
+        for v in image.slice_mut(ndarray::s![.., ..300]).iter_mut() {
+            *v *= if rng.random::<f64>() < 0.2 { 1000.0 } else { 10.0 };
+        }
+        for k in 0..6 {
+            let (r, c) = (40 + 80 * k, 50 + 40 * k);
+            image.slice_mut(ndarray::s![r..r + 3, c..c + 3]).fill(1e4);
+        }
+        image.slice_mut(ndarray::s![244..256, 400..403]).fill(3.0);
+        let (cfar, wakes) = (CfarOptions::default(), WakeOptions::default());
+        let found = search(image.view(), &g, &cfar, &wakes);
+        assert_eq!(found.ships.ships.len(), 1, "{:?}", found.ships.ships);
+        let ship = &found.ships.ships[0];
+        assert!(
+            (ship.row - 250.0).abs() < 2.0 && (ship.col - 401.0).abs() < 2.0,
+            "{ship:?}"
+        );
+        assert_eq!(found.ships.on_land.len(), 6, "the towers: {:?}", found.ships.on_land);
+        let land = found.land.expect("the city is land");
+        let city = land.slice(ndarray::s![.., ..300]);
+        assert!(city.iter().filter(|&&l| l).count() as f64 > 0.95 * city.len() as f64);
+        let all = search(image.view(), &g, &CfarOptions { land: None, ..cfar }, &wakes);
+        let on_land = all.ships.ships.iter().filter(|s| s.col < 300.0).count();
+        assert_eq!(on_land, 6, "{:?}", all.ships.ships);
     }
 
     /// What a user can hand `detect` without a panic: an image all no-data, one smaller than

@@ -304,6 +304,7 @@ pub fn scan_opened(opened: OpenedProduct, scanner: Scanner, progress: ScanProgre
     });
     notes.splice(0..0, product.report.notes.iter().cloned());
     masked_note(&mut notes, masked);
+    land_note(&mut notes, sea.as_ref());
     Ok(ProductScan {
         path: product.path,
         meta: product.meta,
@@ -331,6 +332,18 @@ fn masked_note(notes: &mut Vec<String>, masked: usize) {
     if masked > 0 {
         notes.push(format!(
             "{masked} no-data pixel(s) masked; windows more than half no-data are not scored"
+        ));
+    }
+}
+
+/// What the notes say of the land the ship and wake searches found and left out.
+fn land_note(notes: &mut Vec<String>, sea: Option<&SeaFindings>) {
+    if let Some(sea) = sea.filter(|s| !s.land.is_empty()) {
+        let g = &sea.geometry;
+        notes.push(format!(
+            "ships and wakes: {:.2} km^2 of land found in the image ({} scanned pixels) left out of their searches (--no-land-mask to search it)",
+            sea.land_pixels() as f64 * g.spacing.0 * g.spacing.1 / 1e6,
+            sea.land_pixels()
         ));
     }
 }
@@ -411,6 +424,8 @@ fn scan_by_bands(
     notes.splice(0..0, report.notes.iter().cloned());
     masked_note(&mut notes, masked);
     let detection = scan.finish()?;
+    let sea = sea.map(SeaStream::finish);
+    land_note(&mut notes, sea.as_ref());
     Ok(ProductScan {
         frame: source.frame.scaled(factor.0, factor.1, scanned),
         product_frame: source.frame,
@@ -423,6 +438,6 @@ fn scan_by_bands(
         band,
         notes,
         detection,
-        sea: sea.map(SeaStream::finish),
+        sea,
     })
 }

@@ -72,6 +72,8 @@ struct DetectionsFile<'a> {
     ships: Value,
     wakes: Value,
     ghosts: Option<Value>,
+    /// The land found in the image and left out of the ship and wake searches (pixels, km^2).
+    land: Option<Value>,
     /// The ship search's settings (`--ship-pfa` and the rest) and its threshold in background
     /// deviations.
     ship_search: Option<Value>,
@@ -276,6 +278,14 @@ pub fn write_scan(dir: &Path, scanned: &Scanned, detection: &Detection) -> Resul
                 "azimuth_ambiguities": s.ambiguities,
                 "sidelobes": s.sidelobes,
                 "too_long_for_ships": s.too_long,
+                "on_land": s.on_land,
+            })
+        }),
+        land: scanned.sea.map(|s| {
+            let g = &s.geometry;
+            json!({
+                "pixels": s.land_pixels(),
+                "km2": s.land_pixels() as f64 * g.spacing.0 * g.spacing.1 / 1e6,
             })
         }),
         ship_search: scanned.sea.map(|s| {

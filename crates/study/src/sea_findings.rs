@@ -30,6 +30,12 @@ pub struct SeaFindings {
     pub ambiguities: usize,
     pub sidelobes: usize,
     pub too_long: usize,
+    /// Targets on the land found in the image (not ships).
+    pub on_land: usize,
+    /// The land found in the image and left out of the searches: runs of scanned pixels
+    /// (row, first column, column past the last), so that a product's land costs a few numbers
+    /// a row, not a mask.
+    pub land: Vec<(usize, usize, usize)>,
     pub geometry: Geometry,
     /// The settings the ships were sought with.
     pub cfar: CfarOptions,
@@ -106,17 +112,19 @@ pub const DISPLAY_SHIP_PFA: f64 = 1e-9;
 
 /// How `detect` seeks ships and their wakes: the CFAR's false-alarm probability as the user
 /// gave it (`--ship-pfa`), else SNAP's 1e-6 on calibrated images and [`DISPLAY_SHIP_PFA`] on
-/// display-stretched ones.
+/// display-stretched ones; and whether land found in the image is left out (the default) or
+/// searched too (`--no-land-mask`).
 #[derive(Debug, Clone, Copy, Default, PartialEq)]
 pub struct ShipSearch {
     pub pfa: Option<f64>,
+    pub keep_land: bool,
 }
 
 impl ShipSearch {
     /// The CFAR's settings for an image that is `calibrated` or not, and a note where the
     /// display's default was taken.
     pub fn cfar(&self, calibrated: bool) -> (CfarOptions, Option<String>) {
-        match self.pfa {
+        let (options, note) = match self.pfa {
             Some(pfa) => (CfarOptions::with_pfa(pfa), None),
             None if calibrated => (CfarOptions::default(), None),
             None => (
@@ -125,7 +133,9 @@ impl ShipSearch {
                     "ships: sought at a false-alarm probability of {DISPLAY_SHIP_PFA:e}, not 1e-6: a display stretch's grey levels have a heavier tail than the CFAR's model of calibrated dB (--ship-pfa to choose)"
                 )),
             ),
-        }
+        };
+        let land = if self.keep_land { None } else { options.land };
+        (CfarOptions { land, ..options }, note)
     }
 }
 
@@ -154,6 +164,8 @@ impl SeaFindings {
             ambiguities: 0,
             sidelobes: 0,
             too_long: 0,
+            on_land: 0,
+            land: Vec::new(),
             geometry,
             cfar,
             ships_polarisation,
@@ -205,6 +217,33 @@ impl SeaFindings {
         self.ambiguities += count(found.ships.ambiguities.iter().map(|a| (a.row, a.col)).collect());
         self.sidelobes += count(found.ships.sidelobes);
         self.too_long += count(found.ships.too_long);
+        self.on_land += count(found.ships.on_land);
+        if let Some(land) = &found.land {
+            // the land of the tile's own rows and columns, as runs of the whole image
+            for (r, row) in land.outer_iter().enumerate() {
+                let whole_row = r + origin.0;
+                if !own.0.contains(&whole_row) {
+                    continue;
+                }
+                let mut start = None;
+                for c in 0..=row.len() {
+                    let is_land = c < row.len() && row[c] && own.1.contains(&(c + origin.1));
+                    match (is_land, start) {
+                        (true, None) => start = Some(c),
+                        (false, Some(s)) => {
+                            self.land.push((whole_row, s + origin.1, c + origin.1));
+                            start = None;
+                        }
+                        _ => {}
+                    }
+                }
+            }
+        }
+    }
+
+    /// How many scanned pixels of land were left out of the searches.
+    pub fn land_pixels(&self) -> usize {
+        self.land.iter().map(|&(_, a, b)| b - a).sum()
     }
 
     /// "2 ship(s), 1 wake(s) (1 of a ship, 0 free)".
@@ -315,10 +354,25 @@ impl SeaFindings {
         (Value::Array(ships), Value::Array(wakes), findings)
     }
 
-    /// Draw the ships (cyan squares) and the wakes (yellow lines from their start, the ship's
-    /// end marked) on an overlay picture of `scale` scanned pixels per picture pixel.
+    /// Draw the land left out (tinted brown), the ships (cyan squares) and the wakes (yellow
+    /// lines from their start, the ship's end marked) on an overlay picture of `scale` scanned pixels per picture pixel.
     pub fn draw(&self, picture: &mut RgbImage, scale: f64) {
         let (w, h) = (picture.width() as i64, picture.height() as i64);
+        // land left out: tinted brown, half over the image (each picture row from the first
+        // scanned row it holds, so that a row is tinted once)
+        for &(row, from, to) in &self.land {
+            let r = (row as f64 / scale).floor() as i64;
+            if !(0..h).contains(&r) || (r as f64 * scale).ceil() as usize != row {
+                continue;
+            }
+            let (c0, c1) = ((from as f64 / scale).round() as i64, (to as f64 / scale).round() as i64);
+            for c in c0.max(0)..c1.min(w) {
+                let p = picture.get_pixel_mut(c as u32, r as u32);
+                for (k, tint) in [150u16, 90, 40].iter().enumerate() {
+                    p.0[k] = ((p.0[k] as u16 + tint) / 2) as u8;
+                }
+            }
+        }
         let mut put = |r: f64, c: f64, colour: Rgb<u8>| {
             let (r, c) = ((r / scale).round() as i64, (c / scale).round() as i64);
             if (0..h).contains(&r) && (0..w).contains(&c) {
@@ -611,6 +665,34 @@ mod tests {
         assert!(short < 0.5 * wake.length_m, "{short} m against {} m", wake.length_m);
     }
 
+    /// Land found in a streamed search is the land of the whole image, each pixel counted once
+    /// though the bands overlap: a city (its mean 10 dB over the sea's, a fifth of its pixels
+    /// 20 dB over that) on the left of a sea 1.6 km tall, streamed in bands of 200 rows.
+    #[test]
+    fn a_streamed_search_leaves_out_the_land_of_the_whole_image() {
+        let mut image = ship_scene(1600, 300, (700, 250), 0);
+        let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(9);
+        for v in image.slice_mut(ndarray::s![.., ..120]).iter_mut() {
+            *v *= if rng.random::<f64>() < 0.2 { 1000.0 } else { 10.0 };
+        }
+        let g = Geometry::along_rows(10.0, 35.0, None);
+        let whole = wakelab_ships::land::land_mask(image.view(), &g, &Default::default());
+        let expected = whole.iter().filter(|&&l| l).count();
+        assert!(expected >= 1600 * 115, "{expected}");
+        let mut stream = SeaStream::new(g, CfarOptions::default(), 300, 200, None);
+        for start in (0..1600).step_by(150) {
+            let end = (start + 170).min(1600);
+            stream.push(start, image.slice(ndarray::s![start..end, ..]), None);
+        }
+        let streamed = stream.finish();
+        assert_eq!(streamed.land_pixels(), expected);
+        assert!(streamed
+            .land
+            .iter()
+            .all(|&(r, a, b)| (0..b - a).all(|k| whole[[r, a + k]])));
+        assert_eq!(streamed.ships.len(), 1, "{:?}", streamed.ships);
+    }
+
     /// An image wider than a tile: the ship left of the tiles' edge (column 4,096) sailing
     /// left, its wake crossing the edge, is found once and its wake whole.
     #[test]
@@ -629,7 +711,10 @@ mod tests {
     /// calibrated image and 1e-9 on a display stretch, with a note saying why.
     #[test]
     fn the_false_alarm_probability_follows_the_input() {
-        let given = ShipSearch { pfa: Some(1e-4) };
+        let given = ShipSearch {
+            pfa: Some(1e-4),
+            ..ShipSearch::default()
+        };
         assert_eq!(given.cfar(false), (CfarOptions::with_pfa(1e-4), None));
         let unset = ShipSearch::default();
         assert_eq!(unset.cfar(true), (CfarOptions::default(), None));
@@ -637,6 +722,13 @@ mod tests {
         let (display, note) = unset.cfar(false);
         assert_eq!(display.pfa, 1e-9);
         assert!(note.unwrap().contains("1e-9, not 1e-6"));
+        // land found in the image is left out unless the user keeps it (--no-land-mask)
+        assert!(unset.cfar(true).0.land.is_some());
+        let keep = ShipSearch {
+            keep_land: true,
+            ..ShipSearch::default()
+        };
+        assert_eq!(keep.cfar(false).0.land, None);
     }
 
     #[test]

@@ -452,6 +452,10 @@ pub struct DetectArgs {
     /// Ship search (CFAR) false-alarm probability per sea pixel, in (0, 0.01]; 1e-6, 1e-9 on display images.
     #[arg(long, value_name = "P")]
     pub ship_pfa: Option<f64>,
+    /// Seek ships and wakes on land too. By default land found in the image (bright scatterers
+    /// dense over areas wider than any ship) is left out, as --exclude's pixels are.
+    #[arg(long)]
+    pub no_land_mask: bool,
 }
 
 #[derive(Args, Debug)]

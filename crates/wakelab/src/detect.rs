@@ -25,7 +25,10 @@ pub fn run_detect(args: &DetectArgs, quiet: bool) -> Result<()> {
         out: args.out.clone(),
         mask: args.mask.as_deref(),
         force: args.force,
-        search_sea: Some(wakelab_study::sea_findings::ShipSearch { pfa: args.ship_pfa }),
+        search_sea: Some(wakelab_study::sea_findings::ShipSearch {
+            pfa: args.ship_pfa,
+            keep_land: args.no_land_mask,
+        }),
     };
     let progress = ScanProgress {
         reading: &mut wakelab_study::follow_on(&bar, "rows read"),

@@ -121,6 +121,11 @@ pub struct ShipSearch {
 }
 
 impl ShipSearch {
+    /// `--ship-pfa` and `--no-land-mask` as the user gave them.
+    pub fn new(pfa: Option<f64>, keep_land: bool) -> Self {
+        Self { pfa, keep_land }
+    }
+
     /// The CFAR's settings for an image that is `calibrated` or not, and a note where the
     /// display's default was taken.
     pub fn cfar(&self, calibrated: bool) -> (CfarOptions, Option<String>) {

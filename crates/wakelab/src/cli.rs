@@ -381,8 +381,7 @@ pub struct ReadArgs {
     /// Polarisation to read (default VV, else HH); `detect` seeks ships in VH / HV where present.
     #[arg(long, value_name = "VV|HH|VH|HV")]
     pub pol: Option<String>,
-    /// Keep the thermal noise in a Sentinel-1 or TerraSAR-X product's sigma0 (removed by
-    /// default).
+    /// Keep the thermal noise in a Sentinel-1 or TerraSAR-X product's sigma0 (removed by default).
     #[arg(long)]
     pub keep_noise: bool,
     /// A raster of the input's size, non-zero on pixels to ignore (land, anything).
@@ -452,8 +451,7 @@ pub struct DetectArgs {
     /// Ship search (CFAR) false-alarm probability per sea pixel, in (0, 0.01]; 1e-6, 1e-9 on display images.
     #[arg(long, value_name = "P")]
     pub ship_pfa: Option<f64>,
-    /// Seek ships and wakes on land too. By default land found in the image (bright scatterers
-    /// dense over areas wider than any ship) is left out, as --exclude's pixels are.
+    /// Seek ships and wakes on land too (by default land found in the image is left out).
     #[arg(long)]
     pub no_land_mask: bool,
 }

@@ -1,11 +1,10 @@
 //! `wakelab detect` and `wakelab calibrate`: a user's own image or SAR product; the study crate
 //! reads, scans and writes ([`wakelab_study::products`]), this draws the progress and prints.
 
-use crate::cli::{CalibrateArgs, DetectArgs};
-use crate::Result;
+use crate::{cli::CalibrateArgs, cli::DetectArgs, Result};
 use wakelab_learn::detect::ScanOptions;
-use wakelab_study::product_scan::ScanProgress;
 use wakelab_study::products::{calibrate, detect, DetectRequest};
+use wakelab_study::{product_scan::ScanProgress, sea_findings::ShipSearch};
 
 /// `wakelab detect`: a saved single-band detector scanned over a product of any size.
 pub fn run_detect(args: &DetectArgs, quiet: bool) -> Result<()> {
@@ -25,10 +24,7 @@ pub fn run_detect(args: &DetectArgs, quiet: bool) -> Result<()> {
         out: args.out.clone(),
         mask: args.mask.as_deref(),
         force: args.force,
-        search_sea: Some(wakelab_study::sea_findings::ShipSearch {
-            pfa: args.ship_pfa,
-            keep_land: args.no_land_mask,
-        }),
+        search_sea: Some(ShipSearch::new(args.ship_pfa, args.no_land_mask)),
     };
     let progress = ScanProgress {
         reading: &mut wakelab_study::follow_on(&bar, "rows read"),

@@ -29,22 +29,21 @@ fn main() {
 }
 
 fn dispatch(cli: Cli) -> Result<()> {
-    let quiet = cli.quiet;
     match cli.command {
-        Command::Run(args) => study::run_study_command(&args, quiet),
-        Command::Scene(args) => scene::run_pipeline(&args, quiet),
-        Command::Wake(args) => scene::run_wake_only(&args, quiet),
+        Command::Run(args) => study::run_study_command(&args, cli.quiet),
+        Command::Scene(args) => scene::run_pipeline(&args, cli.quiet),
+        Command::Wake(args) => scene::run_wake_only(&args, cli.quiet),
         Command::Idp(args) => reports::idp(&args),
         Command::Spectrum(args) => reports::spectrum(&args),
         Command::Optics(args) => reports::optics(&args),
         Command::Sar {
             action: SarAction::Sigma0(args),
         } => reports::sar_sigma0(&args),
-        Command::Dataset(args) => dataset::run_dataset(&args, quiet),
-        Command::Train(args) => learn::run_train(&args, quiet),
-        Command::Eval(args) => learn::run_eval(&args, quiet),
-        Command::Detect(args) => detect::run_detect(&args, quiet),
-        Command::Calibrate(args) => detect::run_calibrate(&args, quiet),
+        Command::Dataset(args) => dataset::run_dataset(&args, cli.quiet),
+        Command::Train(args) => learn::run_train(&args, cli.quiet),
+        Command::Eval(args) => learn::run_eval(&args, cli.quiet),
+        Command::Detect(args) => detect::run_detect(&args, cli.quiet),
+        Command::Calibrate(args) => detect::run_calibrate(&args, cli.quiet),
         Command::Config {
             action: ConfigAction::Show { config },
         } => reports::config_show(&config),

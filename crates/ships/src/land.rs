@@ -297,7 +297,7 @@ fn wide_regions(mask: &Array2<bool>, radius: f64) -> Array2<bool> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::speckle;
+    use crate::{city_beside_the_sea, speckle};
 
     /// Open sea at 10 m: a wind front (the right half 6 dB brighter), one-look and four-look
     /// speckle, and a ship 300 m long 30 dB over the sea. None of it is land: the front changes
@@ -320,13 +320,8 @@ mod tests {
     /// farther than 100 m from it is not.
     #[test]
     fn a_city_on_the_shore_is_land_and_the_sea_beside_it_is_not() {
-        use rand::{RngExt, SeedableRng};
         let g = Geometry::along_rows(10.0, 35.0, None);
-        let mut image = speckle(500, 600, 4, 0.01, 5);
-        let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(9);
-        for v in image.slice_mut(ndarray::s![.., ..300]).iter_mut() {
-            *v *= if rng.random::<f64>() < 0.2 { 1000.0 } else { 10.0 };
-        }
+        let image = city_beside_the_sea();
         let land = land_mask(image.view(), &g, &LandOptions::default());
         let city = land.slice(ndarray::s![.., ..300]);
         let share = city.iter().filter(|&&l| l).count() as f64 / city.len() as f64;

@@ -178,6 +178,19 @@ pub(crate) fn speckle(rows: usize, cols: usize, looks: usize, mean: f64, seed: u
     })
 }
 
+/// 500 x 600 pixels of 10 m: a city on the left half (its mean 10 dB over the sea's, a fifth
+/// of its pixels, its buildings, 20 dB over that) beside four-look open sea on the right.
+#[cfg(test)]
+pub(crate) fn city_beside_the_sea() -> ndarray::Array2<f32> {
+    use rand::{RngExt, SeedableRng};
+    let mut image = speckle(500, 600, 4, 0.01, 5);
+    let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(9);
+    for v in image.slice_mut(ndarray::s![.., ..300]).iter_mut() {
+        *v *= if rng.random::<f64>() < 0.2 { 1000.0 } else { 10.0 };
+    }
+    image
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -235,13 +248,8 @@ mod tests {
     /// searched as sea, the towers are ships too.
     #[test]
     fn land_is_left_out_of_the_searches() {
-        use rand::{RngExt, SeedableRng};
         let g = Geometry::along_rows(10.0, 35.0, None);
-        let mut image = speckle(500, 600, 4, 0.01, 5);
-        let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(9);
-        for v in image.slice_mut(ndarray::s![.., ..300]).iter_mut() {
-            *v *= if rng.random::<f64>() < 0.2 { 1000.0 } else { 10.0 };
-        }
+        let mut image = city_beside_the_sea();
         for k in 0..6 {
             let (r, c) = (40 + 80 * k, 50 + 40 * k);
             image.slice_mut(ndarray::s![r..r + 3, c..c + 3]).fill(1e4);

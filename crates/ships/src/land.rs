@@ -6,8 +6,9 @@
 //! quays, slopes facing the radar) standing far above their neighbourhood, dense over areas
 //! wider than any ship. The open sea's speckle, its wind fronts and its slicks change the sea's
 //! level over kilometres but leave few pixels far above their own neighbourhood. So land is
-//! read as the field's image-only land masks read it (texture and brightness, then an area
-//! rule; e.g. SNAP's and Crisp 2004's "land masking" section, where no coastline is given):
+//! read from texture and brightness, then an area rule (SNAP and Crisp 2004 mask land with a
+//! coastline; this is for images without one, and its rules are this crate's own, tuned on the
+//! real images below):
 //!
 //! 1. the image in dB is cut into cells of `cell_m` (at least 5 pixels a side); each cell's
 //!    median and spread (1.4826 MAD) are taken, and the sea's spread is the median of the
@@ -22,8 +23,9 @@
 //!    the quay;
 //! 5. land grows by `buffer_m` into the sea (the shore's cells with too few bright pixels).
 //!
-//! Measured on 46 inshore SSDD chips and 30 real wake images (docs/results.md): land is masked
-//! in most inshore chips, no open sea of the wake images is.
+//! Measured on 232 SSDD test chips, 30 real wake images and 5 CauchySAR images
+//! (docs/results.md): land found in 26 of 46 inshore chips, and on no open sea of the wake
+//! images; inshore false ships 2.15 -> 2.00 per chip.
 
 use crate::Geometry;
 use ndarray::{Array2, ArrayView2};

@@ -1,7 +1,9 @@
 //! The ship and wake searches on 100 km^2 of 10 m pixels (1000 x 1000, 4-look speckle, one ship
 //! with its wake): the land mask, the CFAR, the normalisation, one ship's wake search, the free
 //! wakes, and the whole search, whose time is the "per 100 km^2" figure; and the whole search
-//! without the land mask, side by side.
+//! without the land mask, side by side. One ship's wake search is also timed on a wake with no
+//! trough, only a bright arm, where the search takes both passes (the trough's, then the
+//! arm's).
 
 use criterion::{criterion_group, criterion_main, Criterion};
 use ndarray::Array2;
@@ -13,7 +15,8 @@ use wakelab_ships::radon::SearchImage;
 use wakelab_ships::wake::{free_wakes, ship_wake, WakeOptions};
 use wakelab_ships::{search, Geometry, BACKGROUND_M};
 
-fn scene() -> (Array2<f32>, Geometry) {
+/// The scene; its wake a trough (`bright` false) or a bright arm 1 pixel wide, 3 dB bright.
+fn scene(bright: bool) -> (Array2<f32>, Geometry) {
     let g = Geometry::along_rows(10.0, 35.0, Some(110.0));
     let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(1);
     let mut image = Array2::from_shape_fn((1000, 1000), |_| {
@@ -22,13 +25,14 @@ fn scene() -> (Array2<f32>, Geometry) {
     // a wake 3 km long from (500, 500) heading 210 (the ship on course 30), 3 dB dark, 40 m wide
     let (ur, uc) = g.step(210.0);
     let (vr, vc) = g.step(300.0);
+    let (across, gain) = if bright { (0, 2.0) } else { (2, 0.5) };
     for i in 5..300 {
-        for j in -2..=2 {
+        for j in -across..=across {
             let (r, c) = (
                 500.0 + ur * 10.0 * i as f64 + vr * 10.0 * j as f64,
                 500.0 + uc * 10.0 * i as f64 + vc * 10.0 * j as f64,
             );
-            image[[r.round() as usize, c.round() as usize]] *= 0.5;
+            image[[r.round() as usize, c.round() as usize]] *= gain;
         }
     }
     for r in 495..505 {
@@ -40,7 +44,7 @@ fn scene() -> (Array2<f32>, Geometry) {
 }
 
 fn bench(c: &mut Criterion) {
-    let (image, g) = scene();
+    let (image, g) = scene(false);
     let (cfar, wakes) = (CfarOptions::default(), WakeOptions::default());
     let mut group = c.benchmark_group("ships_100km2");
     group.sample_size(10);
@@ -55,6 +59,12 @@ fn bench(c: &mut Criterion) {
     let normalised = SearchImage::new(image.view(), &g, BACKGROUND_M);
     group.bench_function("ship_wake", |b| {
         b.iter(|| ship_wake(&normalised, &ships.ships[0], 0, &wakes))
+    });
+    let (arm_image, _) = scene(true);
+    let arm_ships = find_ships(arm_image.view(), &g, &cfar);
+    let arm_normalised = SearchImage::new(arm_image.view(), &g, BACKGROUND_M);
+    group.bench_function("ship_wake_bright_arm", |b| {
+        b.iter(|| ship_wake(&arm_normalised, &arm_ships.ships[0], 0, &wakes))
     });
     group.bench_function("free_wakes", |b| b.iter(|| free_wakes(&normalised, &[], &wakes)));
     group.bench_function("search", |b| b.iter(|| search(image.view(), &g, &cfar, &wakes)));

@@ -61,6 +61,21 @@ pub struct WakeOptions {
     /// there was seen for 1.3 km or more (docs/results.md).
     pub min_length_m: f64,
     pub min_seen_m: f64,
+    /// The bright arm sought where a ship has no trough: its half-width, the distance and
+    /// half-width of its side bands (m), its least brightness over the brighter side (the sea's
+    /// standard deviations) and its least visible length (m). At 10 m pixels the narrow V's
+    /// arms (half-angles of 1-4 degrees) are a thin bright tail behind the ship, 1-2 pixels
+    /// wide; on real C-band display images they ran 500 m to 2 km (docs/results.md).
+    pub arm_half_width_m: f64,
+    pub arm_side_offset_m: f64,
+    pub arm_side_half_width_m: f64,
+    pub arm_min_contrast: f64,
+    pub arm_min_length_m: f64,
+    /// The brightest a bright arm may be (the sea's standard deviations): the narrow V's arms
+    /// on real images stood 0.3-1.6 over the brighter side, while lines brighter than that
+    /// over a kilometre were structures (a hull at a finer spacing than assumed, a pier, a
+    /// sidelobe streak joining ships; docs/results.md).
+    pub arm_max_contrast: f64,
 }
 
 impl Default for WakeOptions {
@@ -78,6 +93,12 @@ impl Default for WakeOptions {
             free_min_length_m: 1000.0,
             min_length_m: 1000.0,
             min_seen_m: 1000.0,
+            arm_half_width_m: 10.0,
+            arm_side_offset_m: 100.0,
+            arm_side_half_width_m: 50.0,
+            arm_min_contrast: 0.25,
+            arm_min_length_m: 500.0,
+            arm_max_contrast: 1.6,
         }
     }
 }
@@ -101,11 +122,47 @@ pub struct SpeedReadings {
     pub kelvin: Result<KelvinReading, String>,
 }
 
+/// What marks a wake in the image.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
+pub enum Signature {
+    /// The turbulent wake's dark trough, darker than the sea either side of it.
+    #[serde(rename = "dark trough")]
+    Trough,
+    /// A bright arm of the narrow V (or its two arms merged at the image's resolution), brighter
+    /// than the sea either side of it: many real C- and X-band wakes show this alone (the
+    /// transfer issue's item 4; Rabaud & Moisy 2013 on the narrow wakes of fast ships).
+    #[serde(rename = "bright arm")]
+    BrightArm,
+}
+
+impl Signature {
+    /// The line's band half-width, the side bands' distance and half-width (m), and the least
+    /// contrast of the line to its sides.
+    fn bands(self, o: &WakeOptions) -> (f64, f64, f64, f64) {
+        match self {
+            Signature::Trough => (
+                o.trough_half_width_m,
+                o.side_offset_m,
+                o.side_half_width_m,
+                o.min_contrast,
+            ),
+            Signature::BrightArm => (
+                o.arm_half_width_m,
+                o.arm_side_offset_m,
+                o.arm_side_half_width_m,
+                o.arm_min_contrast,
+            ),
+        }
+    }
+}
+
 /// A wake found in the image.
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct Wake {
     /// The index of its ship in the search's ships (None: a free wake).
     pub ship: Option<usize>,
+    /// What marks it: a dark trough or a bright arm.
+    pub signature: Signature,
     /// Where the wake begins (the ship's true position for a ship's wake) and where it fades
     /// (fractional pixels).
     pub start: (f64, f64),
@@ -128,27 +185,51 @@ pub struct Wake {
     pub speed: Option<SpeedReadings>,
 }
 
-/// The darkness of the trough along direction `heading` from `apex` under the darker of its
-/// side bands.
-fn trough_contrast(image: &Normalised, apex: (f64, f64), heading: f64, near: f64, o: &WakeOptions, far: f64) -> f64 {
-    let (trough, n) = image.ray_mean(apex, heading, (near, far), 0.0, o.trough_half_width_m);
+/// The contrast of the line along direction `heading` from `apex` to its side bands: for a
+/// trough its darkness under the darker side, for a bright arm its brightness over the
+/// brighter side.
+fn line_contrast(
+    image: &Normalised,
+    apex: (f64, f64),
+    heading: f64,
+    near: f64,
+    o: &WakeOptions,
+    far: f64,
+    signature: Signature,
+) -> f64 {
+    let (half_width, side_offset, side_half_width, _) = signature.bands(o);
+    let (line, n) = image.ray_mean(apex, heading, (near, far), 0.0, half_width);
     if n < 8 {
         return f64::NAN;
     }
     let left = image
-        .ray_mean(apex, heading, (near, far), -o.side_offset_m, o.side_half_width_m)
+        .ray_mean(apex, heading, (near, far), -side_offset, side_half_width)
         .0;
     let right = image
-        .ray_mean(apex, heading, (near, far), o.side_offset_m, o.side_half_width_m)
+        .ray_mean(apex, heading, (near, far), side_offset, side_half_width)
         .0;
-    // a trough is darker than both its sides; an edge (a slick's, a coast's) than one only
+    // a trough is darker than both its sides, an arm brighter; an edge (a slick's, a coast's)
+    // than one only
+    let pick = |a: f64, b: f64| match signature {
+        Signature::Trough => a.min(b),
+        Signature::BrightArm => a.max(b),
+    };
     let sides = match (left.is_finite(), right.is_finite()) {
-        (true, true) => left.min(right),
+        (true, true) => pick(left, right),
         (true, false) => left,
         (false, true) => right,
         _ => return f64::NAN,
     };
-    sides - trough
+    match signature {
+        Signature::Trough => sides - line,
+        Signature::BrightArm => line - sides,
+    }
+}
+
+/// The darkness of the trough along direction `heading` from `apex` under the darker of its
+/// side bands.
+fn trough_contrast(image: &Normalised, apex: (f64, f64), heading: f64, near: f64, o: &WakeOptions, far: f64) -> f64 {
+    line_contrast(image, apex, heading, near, o, far, Signature::Trough)
 }
 
 /// What the trough's contrast the other way (`ahead`) takes from a wake's score. A wake's score
@@ -172,11 +253,17 @@ fn robust_z(best: f64, all: &[f64]) -> f64 {
     (best - m) / (1.4826 * mad)
 }
 
+/// How far from straight back (degrees, either way) a bright arm's way ahead is measured: a
+/// sidelobe streak is one or two pixels wide, and a ray tilted under a degree from an apex a
+/// pixel off it stays on the streak one way and leaves it the other, making the whole line
+/// look like a half-line.
+const ARM_AHEAD_SPREAD_DEG: f64 = 1.0;
+
 /// The length of the coarse pass's rays (m).
 const COARSE_LENGTH_M: f64 = 1200.0;
 
-/// The best (contrast, offset, heading) over candidate headings, each with its offsets (m
-/// along the flight direction from `origin`, in `image`'s pixels).
+/// The best (contrast, offset, heading) of a line of `signature` over candidate headings, each
+/// with its offsets (m along the flight direction from `origin`, in `image`'s pixels).
 fn best_ray(
     image: &Normalised,
     origin: (f64, f64),
@@ -184,6 +271,7 @@ fn best_ray(
     near: f64,
     o: &WakeOptions,
     far: f64,
+    signature: Signature,
 ) -> (f64, f64, f64) {
     let g = &image.geometry;
     let az = g.step(g.azimuth_deg);
@@ -193,14 +281,19 @@ fn best_ray(
             let mut best = (f64::NEG_INFINITY, 0.0, 0.0);
             for &t in offsets {
                 let apex = (origin.0 + az.0 * t, origin.1 + az.1 * t);
-                let behind = trough_contrast(image, apex, *h, near, o, far);
-                // the score is at most the trough's contrast (the way ahead only takes from
-                // it): a trough no darker than the best so far cannot beat it, and the way
+                let behind = line_contrast(image, apex, *h, near, o, far, signature);
+                // the score is at most the line's contrast (the way ahead only takes from
+                // it): a line no stronger than the best so far cannot beat it, and the way
                 // ahead, half of the work, is not measured (the same best, found faster)
                 if behind.is_nan() || behind <= best.0 {
                     continue;
                 }
-                let score = behind - ahead_penalty(trough_contrast(image, apex, *h + 180.0, near, o, far));
+                let ahead = span(-ARM_AHEAD_SPREAD_DEG, ARM_AHEAD_SPREAD_DEG, 0.5)
+                    .into_iter()
+                    .filter(|&d| d == 0.0 || signature == Signature::BrightArm)
+                    .map(|d| line_contrast(image, apex, *h + 180.0 + d, near, o, far, signature))
+                    .fold(f64::NAN, f64::max);
+                let score = behind - ahead_penalty(ahead);
                 if score > best.0 {
                     best = (score, t, *h);
                 }
@@ -234,63 +327,102 @@ fn span(lo: f64, hi: f64, step: f64) -> Vec<f64> {
     (0..=n).map(|i| lo + step * i as f64).collect()
 }
 
-/// The wake of `ship` in `image`, if it has one.
+/// The wake of `ship` in `image`, if it has one: its dark trough, or where it has none, a
+/// bright arm.
 pub fn ship_wake(image: &SearchImage, ship: &Ship, index: usize, o: &WakeOptions) -> Option<Wake> {
+    anchored_wake(image, ship, index, o, Signature::Trough)
+        .or_else(|| anchored_wake(image, ship, index, o, Signature::BrightArm))
+}
+
+/// The wake of `ship` marked by a line of `signature`, if it has one.
+fn anchored_wake(
+    image: &SearchImage,
+    ship: &Ship,
+    index: usize,
+    o: &WakeOptions,
+    signature: Signature,
+) -> Option<Wake> {
     let fine = &image.fine;
     let g = fine.geometry;
     let pixel = g.spacing.0.max(g.spacing.1);
     let coarse_step = image.coarse.geometry.spacing.0.max(image.coarse.geometry.spacing.1);
     let near = (0.5 * ship.length_m + 2.0 * pixel).max(60.0);
     let far = o.length_m;
+    // the apexes searched: a trough's, with R/V known, those a ship up to the fastest speed
+    // can have, else anywhere within `max_offset_m` along the azimuth; a bright arm's only at
+    // the return (two coarse cells either way): a thin bright line is a weaker signature than a
+    // kilometre of trough, and a kilometre of freedom let it claim a neighbour's arm on real
+    // images and plain sea's bright streaks in the simulated scenes' twins (docs/results.md)
+    let offsets = |h: f64| match signature {
+        Signature::BrightArm => span(-2.0 * coarse_step, 2.0 * coarse_step, coarse_step),
+        Signature::Trough => admissible_offsets(&g, h, o, 2.0 * coarse_step, coarse_step),
+    };
     // coarse: on the coarse image, rays of COARSE_LENGTH_M every degree (a degree's error is 21 m
-    // at the end) from every coarse pixel of the
-    // admissible offsets
+    // at the end) from every coarse pixel of the admissible offsets
     let coarse_far = far.min(COARSE_LENGTH_M);
-    let candidates: Vec<(f64, Vec<f64>)> = span(0.0, 359.0, 1.0)
-        .into_iter()
-        .map(|h| (h, admissible_offsets(&g, h, o, 2.0 * coarse_step, coarse_step)))
-        .collect();
+    let candidates: Vec<(f64, Vec<f64>)> = span(0.0, 359.0, 1.0).into_iter().map(|h| (h, offsets(h))).collect();
     let origin = image.to_coarse((ship.row, ship.col));
-    let (_, t0, h0) = best_ray(&image.coarse, origin, &candidates, near, o, coarse_far);
+    let (_, t0, h0) = best_ray(&image.coarse, origin, &candidates, near, o, coarse_far, signature);
     // fine: quarter degrees and every pixel around the best, the whole length, on the image itself
     let fine_candidates: Vec<(f64, Vec<f64>)> = span(h0 - 1.5, h0 + 1.5, 0.25)
         .into_iter()
         .map(|h| (h, span(t0 - coarse_step, t0 + coarse_step, pixel)))
         .collect();
-    let (score, offset, axis) = best_ray(fine, (ship.row, ship.col), &fine_candidates, near, o, far);
+    let (score, offset, axis) = best_ray(fine, (ship.row, ship.col), &fine_candidates, near, o, far, signature);
     let axis = axis.rem_euclid(360.0);
     let az = g.step(g.azimuth_deg);
     let apex = (ship.row + az.0 * offset, ship.col + az.1 * offset);
-    let contrast = trough_contrast(fine, apex, axis, near, o, far);
+    let contrast = line_contrast(fine, apex, axis, near, o, far, signature);
     // significance among every direction from this apex
-    // each direction's trough once: a direction's score takes the opposite one's as its way ahead
-    let troughs: Vec<f64> = span(0.0, 359.0, 1.0)
+    // each direction's line once: a direction's score takes the opposite one's as its way ahead
+    let lines: Vec<f64> = span(0.0, 359.0, 1.0)
         .par_iter()
-        .map(|&h| trough_contrast(fine, apex, h, near, o, far))
+        .map(|&h| line_contrast(fine, apex, h, near, o, far, signature))
         .collect();
+    let spread = match signature {
+        Signature::Trough => 0,
+        Signature::BrightArm => ARM_AHEAD_SPREAD_DEG as usize,
+    };
     let all: Vec<f64> = (0..360)
-        .map(|h| troughs[h] - ahead_penalty(troughs[(h + 180) % 360]))
+        .map(|h| {
+            let ahead = (360 + 180 - spread..=360 + 180 + spread)
+                .map(|k| lines[(h + k) % 360])
+                .fold(f64::NAN, f64::max);
+            lines[h] - ahead_penalty(ahead)
+        })
         .filter(|c| c.is_finite())
         .collect();
     let z = robust_z(score, &all);
-    if z < o.min_z || contrast < o.min_contrast {
+    let (.., min_contrast) = signature.bands(o);
+    if z < o.min_z || contrast < min_contrast || (signature == Signature::BrightArm && contrast > o.arm_max_contrast) {
         return None;
     }
-    let seen = visible_length(fine, apex, axis, near, o);
-    if seen.in_image < o.min_seen_m || (seen.faded && seen.in_image < o.min_length_m) {
+    let seen = visible_length(fine, apex, axis, near, o, signature);
+    // a wake that fades must be seen for its least length, one that leaves the image for
+    // `min_seen_m`: a bright target's short one-sided smear (a display's clipped streak toward
+    // the image's edge) is no wake
+    let min_length = match signature {
+        Signature::Trough => o.min_length_m,
+        Signature::BrightArm => o.arm_min_length_m,
+    };
+    if seen.in_image < if seen.faded { min_length } else { o.min_seen_m } {
         return None;
     }
     let length = seen.length;
     let (ur, uc) = g.step(axis);
     let end = (apex.0 + ur * length, apex.1 + uc * length);
     let course = (axis + 180.0).rem_euclid(360.0);
-    let arms = find_arms(fine, apex, axis, near, length.min(o.length_m), o);
+    let arms = match signature {
+        Signature::Trough => find_arms(fine, apex, axis, near, length.min(o.length_m), o),
+        Signature::BrightArm => None,
+    };
     let speed = SpeedReadings {
         offset: offset_speed(&g, offset, course, 2.0 * pixel),
         kelvin: kelvin_along(fine, apex, axis, near, length, o),
     };
     Some(Wake {
         ship: Some(index),
+        signature,
         start: apex,
         end,
         axis_deg: axis,
@@ -385,7 +517,15 @@ struct Seen {
 /// until two in a row fall under half the search's least contrast, or the ray leaves the
 /// image. An apex off the image (a return near the edge, displaced in azimuth from its ship)
 /// starts the count where the ray enters it.
-fn visible_length(image: &Normalised, apex: (f64, f64), axis: f64, near: f64, o: &WakeOptions) -> Seen {
+fn visible_length(
+    image: &Normalised,
+    apex: (f64, f64),
+    axis: f64,
+    near: f64,
+    o: &WakeOptions,
+    signature: Signature,
+) -> Seen {
+    let (.., min_contrast) = signature.bands(o);
     let segment = 250.0;
     let (mut end, mut misses, mut d, mut entered) = (near, 0, near, None);
     let seen = |end: f64, entered: Option<f64>, faded| Seen {
@@ -394,7 +534,7 @@ fn visible_length(image: &Normalised, apex: (f64, f64), axis: f64, near: f64, o:
         faded,
     };
     while d < 30_000.0 {
-        let c = trough_contrast(image, apex, axis, d, o, d + segment);
+        let c = line_contrast(image, apex, axis, d, o, d + segment, signature);
         if !c.is_finite() {
             if entered.is_some() {
                 break;
@@ -404,7 +544,7 @@ fn visible_length(image: &Normalised, apex: (f64, f64), axis: f64, near: f64, o:
             continue;
         }
         entered.get_or_insert(d);
-        if c >= 0.5 * o.min_contrast {
+        if c >= 0.5 * min_contrast {
             end = d + segment;
             misses = 0;
         } else {
@@ -540,6 +680,7 @@ pub fn free_wakes(search: &SearchImage, known: &[Wake], o: &WakeOptions) -> Vec<
         }
         found.push(Wake {
             ship: None,
+            signature: Signature::Trough,
             start: to_fine(start),
             end: to_fine(end),
             axis_deg: hd,
@@ -800,6 +941,61 @@ mod tests {
         }
     }
 
+    /// A ship whose wake has no trough, only the narrow V's arms (+-4 degrees, 2 dB bright): its
+    /// wake is a bright arm, the course within the arms' half-angle (the search follows one arm).
+    /// The arm is sought at the return only, so the ships sail along the azimuth (no offset).
+    #[test]
+    fn a_wake_without_a_trough_is_found_by_its_bright_arm() {
+        for (k, &(course, speed)) in [(0.0, 9.0), (180.0, 7.0)].iter().enumerate() {
+            let (image, g, _, _) = scene_with_trough(course, speed, 40 + k as u64, (0.0, 0.0));
+            let ships = find_ships(image.view(), &g, &CfarOptions::default());
+            assert_eq!(ships.ships.len(), 1, "course {course}: {:?}", ships.ships);
+            let normalised = SearchImage::new(image.view(), &g, 2000.0);
+            let wake = ship_wake(&normalised, &ships.ships[0], 0, &WakeOptions::default()).expect("a wake");
+            assert_eq!(wake.signature, Signature::BrightArm, "course {course}: {wake:?}");
+            let course_error = angle_difference(wake.course_deg.unwrap(), course);
+            assert!(course_error.abs() <= 5.0, "course {course}: found {wake:?}");
+        }
+    }
+
+    /// A bright target with the sinc's sidelobes along its row and its column (a cross of
+    /// 1-pixel streaks 3 dB over the sea, 1.5 km each way, no R/V as on a display image): the
+    /// streaks run both ways from it, so they are no wake; the same target with a streak on one
+    /// side only has one, a bright arm along that streak.
+    #[test]
+    fn sidelobe_streaks_are_no_bright_arm() {
+        let g = Geometry::along_rows(10.0, 35.0, None);
+        let cross = |one_sided: bool| {
+            let mut image = crate::speckle(400, 400, 4, 0.01, 21);
+            for d in -150i64..=150 {
+                let (r, c) = ((200 + d) as usize, (200 + d) as usize);
+                if !one_sided || d > 0 {
+                    image[[r, 200]] *= 2.0;
+                }
+                if !one_sided {
+                    image[[200, c]] *= 2.0;
+                }
+            }
+            image.slice_mut(ndarray::s![198..=202, 199..=201]).fill(3.0);
+            image
+        };
+        let o = WakeOptions::default();
+        for one_sided in [false, true] {
+            let image = cross(one_sided);
+            let ships = find_ships(image.view(), &g, &CfarOptions::default());
+            assert_eq!(ships.ships.len(), 1, "{:?}", ships.ships);
+            let normalised = SearchImage::new(image.view(), &g, 2000.0);
+            let wake = ship_wake(&normalised, &ships.ships[0], 0, &o);
+            if one_sided {
+                let wake = wake.expect("the one-sided streak");
+                assert_eq!(wake.signature, Signature::BrightArm);
+                assert!(angle_difference(wake.axis_deg, 180.0).abs() < 1.0, "{wake:?}");
+            } else {
+                assert!(wake.is_none(), "{wake:?}");
+            }
+        }
+    }
+
     /// A track along the azimuth: the course is read, the offset speed is "unknown".
     #[test]
     fn a_track_along_the_azimuth_tells_no_offset_speed() {
@@ -882,12 +1078,12 @@ mod tests {
         let normalised = crate::radon::normalise(image.view(), &g, 1000.0);
         let o = WakeOptions::default();
         // straight down the rows (heading 180) from row -50, column 150
-        let seen = visible_length(&normalised, (-50.0, 150.0), 180.0, 60.0, &o);
+        let seen = visible_length(&normalised, (-50.0, 150.0), 180.0, 60.0, &o, Signature::Trough);
         assert!((2250.0..=2810.0).contains(&seen.length) && seen.faded, "{seen:?}");
         // of which the first 500 m are off the image (to within a segment)
         assert!((seen.length - seen.in_image - 500.0).abs() <= 250.0, "{seen:?}");
         // from an apex in the image, heading up: the ray leaves it at the top, unfaded
-        let seen = visible_length(&normalised, (150.0, 150.0), 0.0, 60.0, &o);
+        let seen = visible_length(&normalised, (150.0, 150.0), 0.0, 60.0, &o, Signature::Trough);
         assert!((1250.0..=1810.0).contains(&seen.length) && !seen.faded, "{seen:?}");
         assert_eq!(seen.length, seen.in_image + 60.0, "{seen:?}");
     }

@@ -338,6 +338,7 @@ impl SeaFindings {
                 let mut properties = Map::new();
                 for key in [
                     "ship",
+                    "signature",
                     "course_image_deg",
                     "course_deg",
                     "length_m",
@@ -561,6 +562,7 @@ fn wake_entry(
     json!({
         "ship": w.ship,
         "kind": if w.ship.is_some() { "ship's wake" } else { "free wake (its ship not found: the course is 180 degrees ambiguous)" },
+        "signature": w.signature,
         "product_start": [start.0, start.1],
         "product_end": [end.0, end.1],
         "lonlat_start": ll_start.map(|p| [p.0, p.1]),

@@ -1,0 +1,75 @@
+"""Score `wakelab detect`'s classic wake search on real images with wakes drawn by eye.
+
+usage: score_real_wakes.py DIR OUT [detect flags...]
+
+DIR holds NAME.png and NAME.geojson (LineStrings of "kind": "wake" in pixel coordinates, as
+`wakelab run --real` reads them). Each image runs through `wakelab detect` (the binary in
+$WAKELAB, else target/release/wakelab) into OUT/NAME/ unless that holds a result already. A drawn
+wake is found when a reported wake's segment comes within TOL pixels of it (default 30: 300 m at
+the assumed 10 m) and their lines differ by at most 20 degrees; a reported wake that finds none
+is false. Prints one line per image, then the totals: images where a wake is found, where one is
+found with at most one false wake (the transfer issue's target), wakes found by how they look (drawn "look": dark, bright, both).
+Pure Python, no packages.
+"""
+import json, math, os, subprocess, sys
+
+TOL = float(os.environ.get("TOL", "30"))
+ANGLE = 20.0
+
+
+def point_segment(p, a, b):
+    (px, py), (ax, ay), (bx, by) = p, a, b
+    length2 = (bx - ax) ** 2 + (by - ay) ** 2
+    t = 0.0 if length2 == 0 else max(0.0, min(1.0, ((px - ax) * (bx - ax) + (py - ay) * (by - ay)) / length2))
+    return math.hypot(px - ax - t * (bx - ax), py - ay - t * (by - ay))
+
+
+def segment_distance(a, b, c, d):
+    return min(point_segment(a, c, d), point_segment(b, c, d), point_segment(c, a, b), point_segment(d, a, b))
+
+
+def line_angle(a, b, c, d):
+    e = abs((math.degrees(math.atan2(b[1] - a[1], b[0] - a[0]) - math.atan2(d[1] - c[1], d[0] - c[0])) + 180) % 360 - 180)
+    return min(e, 180 - e)
+
+
+def main():
+    src, out, flags = sys.argv[1], sys.argv[2], sys.argv[3:]
+    binary = os.environ.get("WAKELAB", "target/release/wakelab")
+    totals = dict(images=0, found=0, target=0, reported=0, false=0)
+    by_kind = {}
+    for name in sorted(f[:-8] for f in os.listdir(src) if f.endswith(".geojson")):
+        drawn_json = json.load(open(os.path.join(src, name + ".geojson")))
+        meta = drawn_json.get("wakelab", {})
+        run = os.path.join(out, name)
+        if not os.path.exists(os.path.join(run, "detections.json")):
+            cmd = [binary, "--quiet", "detect", os.path.join(src, name + ".png"), "--out", run,
+                   "--scale", meta.get("scale", "display"),
+                   "--pixel-spacing", str(meta.get("pixel_spacing_m", 10))] + flags
+            subprocess.run(cmd, check=True, capture_output=True)
+        found = json.load(open(os.path.join(run, "detections.json")))
+        reported = [((w["product_start"][1], w["product_start"][0]), (w["product_end"][1], w["product_end"][0]))
+                    for w in found["wakes"] or []]
+        drawn = [(f["geometry"]["coordinates"][0], f["geometry"]["coordinates"][-1], f["properties"])
+                 for f in drawn_json["features"] if f["properties"].get("kind") == "wake"]
+        match = lambda r, d: segment_distance(r[0], r[1], d[0], d[1]) <= TOL and line_angle(r[0], r[1], d[0], d[1]) <= ANGLE
+        hits = [any(match(r, d) for r in reported) for d in drawn]
+        false = sum(1 for r in reported if not any(match(r, d) for d in drawn))
+        for hit, d in zip(hits, drawn):
+            k = by_kind.setdefault(d[2].get("look", "?"), [0, 0])
+            k[0] += hit
+            k[1] += 1
+        totals["images"] += 1
+        totals["found"] += any(hits)
+        totals["target"] += any(hits) and false <= 1
+        totals["reported"] += len(reported)
+        totals["false"] += false
+        print(f"{name}: drawn {len(drawn)}, found {sum(hits)}, reported {len(reported)}, false {false}")
+    t = totals
+    print(f"images {t['images']}: a wake found in {t['found']}, with at most one false wake in {t['target']}; "
+          f"wakes reported {t['reported']}, false {t['false']}; found by look: "
+          + ", ".join(f"{k} {v[0]}/{v[1]}" for k, v in sorted(by_kind.items())))
+
+
+if __name__ == "__main__":
+    main()

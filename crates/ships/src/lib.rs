@@ -7,7 +7,8 @@
 //!   azimuth ambiguities and sidelobe ghosts rejected, masked pixels (NaN) left out;
 //! - [`wake`]: each ship's wake, by a Radon search of the normalised image along rays from the
 //!   ship's true position (the detected return is displaced in azimuth by its range velocity),
-//!   the dark turbulent trough with the bright arms of the narrow V beside it; and the free
+//!   the dark turbulent trough with the bright arms of the narrow V beside it, or where there is
+//!   no trough a bright arm alone; and the free
 //!   wakes, whose ship has left the image, by the Radon transform of the whole image;
 //! - [`kelvin`]: the ship's speed from the wavelength of its transverse Kelvin waves.
 //!

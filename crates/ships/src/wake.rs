@@ -9,7 +9,9 @@
 //! directions from each: the wake's turbulent trough is the ray darker than the bands either
 //! side of it, significant against every other direction from the same apex (a robust z over
 //! the directions). Beside the trough it looks for the bright arms of the narrow V (half-angles
-//! of a few degrees) and the Kelvin cusps (19.47 degrees).
+//! of a few degrees) and the Kelvin cusps (19.47 degrees). A ship with no trough is searched
+//! again for a bright arm alone ([`Signature::BrightArm`]): many real C- and X-band wakes are
+//! only that, a thin bright tail behind the ship.
 //!
 //! What the wake tells:
 //! - the ship's course: opposite the trough's direction from the apex (the ship is at the apex
@@ -130,7 +132,8 @@ pub enum Signature {
     Trough,
     /// A bright arm of the narrow V (or its two arms merged at the image's resolution), brighter
     /// than the sea either side of it: many real C- and X-band wakes show this alone (the
-    /// transfer issue's item 4; Rabaud & Moisy 2013 on the narrow wakes of fast ships).
+    /// transfer issue's item 4; the narrow-V wake of Bragg waves, Munk, Scully-Power and
+    /// Zachariasen 1987).
     #[serde(rename = "bright arm")]
     BrightArm,
 }

@@ -6,7 +6,7 @@
 //! pixel and ground coordinates, a PNG of the image with the map over it, and the U-Net's mask
 //! where there is one.
 
-use crate::sea_findings::SeaFindings;
+use crate::sea_findings::{wake_colour, SeaFindings};
 use anyhow::Result;
 use image::{Rgb, RgbImage};
 use rayon::prelude::*;
@@ -22,6 +22,7 @@ use wakelab_products::frame::Placement;
 use wakelab_products::geojson::{feature_collection, Finding, Kind};
 use wakelab_products::{Frame, ProductMeta};
 use wakelab_schema::band::Band;
+use wakelab_ships::wake::Signature;
 
 /// Longest side of the overlay PNG; larger scenes are block-averaged down to it.
 const OVERLAY_SIDE: usize = 2048;
@@ -201,7 +202,8 @@ pub fn write_scan(dir: &Path, scanned: &Scanned, detection: &Detection) -> Resul
     if let Some(sea) = scanned.sea {
         sea.draw(&mut drawn, scale);
         legend.push((Rgb([0, 255, 255]), "square: ship".into()));
-        legend.push((Rgb([255, 230, 0]), "line: wake".into()));
+        legend.push((wake_colour(Signature::Trough), "line: wake, dark trough".into()));
+        legend.push((wake_colour(Signature::BrightArm), "line: wake, bright arm".into()));
     }
     let drawn = with_legend(&drawn, &legend);
     drawn.save_with_format(picture.temporary_path(), image::ImageFormat::Png)?;

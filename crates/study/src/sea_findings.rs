@@ -17,7 +17,7 @@ use std::ops::Range;
 use wakelab_products::geojson::{Finding, Kind};
 use wakelab_products::ProductMeta;
 use wakelab_ships::cfar::{CfarOptions, Ship};
-use wakelab_ships::wake::{Wake, WakeOptions};
+use wakelab_ships::wake::{Signature, Wake, WakeOptions};
 use wakelab_ships::{search_polarised, Geometry};
 
 /// The ships and wakes found in a scanned product, in the scanned grid's pixels, with the
@@ -385,8 +385,8 @@ impl SeaFindings {
                 picture.put_pixel(c as u32, r as u32, colour);
             }
         };
-        let yellow = Rgb([255, 230, 0]);
         for wake in &self.wakes {
+            let colour = wake_colour(wake.signature);
             let steps = ((wake.end.0 - wake.start.0).hypot(wake.end.1 - wake.start.1) / scale * 2.0)
                 .ceil()
                 .max(1.0);
@@ -395,7 +395,7 @@ impl SeaFindings {
                 put(
                     wake.start.0 + t * (wake.end.0 - wake.start.0),
                     wake.start.1 + t * (wake.end.1 - wake.start.1),
-                    yellow,
+                    colour,
                 );
             }
         }
@@ -410,6 +410,14 @@ impl SeaFindings {
                 put(ship.row + d, ship.col + side, cyan);
             }
         }
+    }
+}
+
+/// A wake's line on the overlay: yellow for a dark trough, green for a bright arm.
+pub fn wake_colour(signature: Signature) -> Rgb<u8> {
+    match signature {
+        Signature::Trough => Rgb([255, 230, 0]),
+        Signature::BrightArm => Rgb([0, 230, 0]),
     }
 }
 
@@ -670,6 +678,19 @@ mod tests {
             .map(|w| w.length_m)
             .fold(0.0, f64::max);
         assert!(short < 0.5 * wake.length_m, "{short} m against {} m", wake.length_m);
+    }
+
+    /// Each wake's `signature` in `detections.json` is written in words: the synthetic ship's
+    /// 3 dB trough is a "dark trough", and an arm is a "bright arm".
+    #[test]
+    fn a_wakes_signature_is_written_in_words() {
+        let image = ship_scene(1600, 300, (700, 150), 0);
+        let g = Geometry::along_rows(10.0, 35.0, None);
+        let (_, wake) = whole_search(&image, &g);
+        let entry = wake_entry(&wake, wake.start, wake.end, None, None, None);
+        assert_eq!(entry["signature"], "dark trough");
+        assert_eq!(json!(Signature::BrightArm), "bright arm");
+        assert_ne!(wake_colour(Signature::Trough), wake_colour(Signature::BrightArm));
     }
 
     /// Land found in a streamed search is the land of the whole image, each pixel counted once

@@ -420,7 +420,14 @@ fn anchored_wake(
         Signature::BrightArm => None,
     };
     let speed = SpeedReadings {
-        offset: offset_speed(&g, offset, course, 2.0 * pixel),
+        offset: match signature {
+            Signature::Trough => offset_speed(&g, offset, course, 2.0 * pixel),
+            // the arm's apex is not sought along the azimuth line, so its offset from the
+            // return is no measure of the ship's range velocity
+            Signature::BrightArm => Err(
+                "a bright arm is sought at the return, not along its azimuth line: its offset tells no speed".into(),
+            ),
+        },
         kelvin: kelvin_along(fine, apex, axis, near, length, o),
     };
     Some(Wake {
@@ -959,6 +966,26 @@ mod tests {
             let course_error = angle_difference(wake.course_deg.unwrap(), course);
             assert!(course_error.abs() <= 5.0, "course {course}: found {wake:?}");
         }
+    }
+
+    /// A bright arm across the azimuth (a one-sided streak along the target's row, R/V known):
+    /// found, but its apex was sought at the return only, so it reads no speed from the offset
+    /// (which would say 0 m/s).
+    #[test]
+    fn a_bright_arm_reads_no_offset_speed() {
+        let g = Geometry::along_rows(10.0, 35.0, Some(110.0));
+        let mut image = crate::speckle(400, 400, 4, 0.01, 23);
+        for c in 201..350 {
+            image[[200, c]] *= 2.0;
+        }
+        image.slice_mut(ndarray::s![198..=202, 199..=201]).fill(3.0);
+        let ships = find_ships(image.view(), &g, &CfarOptions::default());
+        assert_eq!(ships.ships.len(), 1, "{:?}", ships.ships);
+        let normalised = SearchImage::new(image.view(), &g, 2000.0);
+        let wake = ship_wake(&normalised, &ships.ships[0], 0, &WakeOptions::default()).expect("the arm");
+        assert_eq!(wake.signature, Signature::BrightArm);
+        assert!(angle_difference(wake.axis_deg, 90.0).abs() < 1.0, "{wake:?}");
+        assert!(wake.speed.as_ref().unwrap().offset.is_err(), "{wake:?}");
     }
 
     /// A bright target with the sinc's sidelobes along its row and its column (a cross of

@@ -34,6 +34,8 @@ def line_angle(a, b, c, d):
 
 
 def main():
+    if len(sys.argv) < 3 or not os.path.isdir(sys.argv[1]):
+        sys.exit("usage: score_real_wakes.py DIR OUT [detect flags...]: DIR must be a folder of NAME.png with NAME.geojson")
     src, out, flags = sys.argv[1], sys.argv[2], sys.argv[3:]
     binary = os.environ.get("WAKELAB", "target/release/wakelab")
     totals = dict(images=0, found=0, target=0, reported=0, false=0)

@@ -157,6 +157,15 @@ impl Signature {
             ),
         }
     }
+
+    /// How far from straight back (degrees, either way) the line's way ahead is measured:
+    /// [`ARM_AHEAD_SPREAD_DEG`] for a thin arm, straight back for a trough.
+    fn ahead_spread_deg(self) -> f64 {
+        match self {
+            Signature::Trough => 0.0,
+            Signature::BrightArm => ARM_AHEAD_SPREAD_DEG,
+        }
+    }
 }
 
 /// A wake found in the image.
@@ -291,9 +300,9 @@ fn best_ray(
                 if behind.is_nan() || behind <= best.0 {
                     continue;
                 }
-                let ahead = span(-ARM_AHEAD_SPREAD_DEG, ARM_AHEAD_SPREAD_DEG, 0.5)
+                let spread = signature.ahead_spread_deg();
+                let ahead = span(-spread, spread, 0.5)
                     .into_iter()
-                    .filter(|&d| d == 0.0 || signature == Signature::BrightArm)
                     .map(|d| line_contrast(image, apex, *h + 180.0 + d, near, o, far, signature))
                     .fold(f64::NAN, f64::max);
                 let score = behind - ahead_penalty(ahead);
@@ -382,10 +391,7 @@ fn anchored_wake(
         .par_iter()
         .map(|&h| line_contrast(fine, apex, h, near, o, far, signature))
         .collect();
-    let spread = match signature {
-        Signature::Trough => 0,
-        Signature::BrightArm => ARM_AHEAD_SPREAD_DEG as usize,
-    };
+    let spread = signature.ahead_spread_deg() as usize;
     let all: Vec<f64> = (0..360)
         .map(|h| {
             let ahead = (360 + 180 - spread..=360 + 180 + spread)

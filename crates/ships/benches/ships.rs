@@ -10,9 +10,10 @@ use ndarray::Array2;
 use rand::SeedableRng;
 use rand_distr::{Distribution, Exp1};
 use wakelab_ships::cfar::{find_ships, CfarOptions};
+use wakelab_ships::free_wake::free_wakes;
 use wakelab_ships::land::{land_mask, LandOptions};
 use wakelab_ships::radon::SearchImage;
-use wakelab_ships::wake::{free_wakes, ship_wake, WakeOptions};
+use wakelab_ships::wake::{ship_wake, WakeOptions};
 use wakelab_ships::{search, Geometry, BACKGROUND_M};
 
 /// The scene; its wake a trough (`bright` false) or a bright arm 1 pixel wide, 3 dB bright.

@@ -8,23 +8,26 @@
 //! - [`wake`]: each ship's wake, by a Radon search of the normalised image along rays from the
 //!   ship's true position (the detected return is displaced in azimuth by its range velocity),
 //!   the dark turbulent trough with the bright arms of the narrow V beside it, or where there is
-//!   no trough a bright arm alone; and the free
-//!   wakes, whose ship has left the image, by the Radon transform of the whole image;
+//!   no trough a bright arm alone;
+//! - [`free_wake`]: the free wakes, whose ship has left the image or is not seen, by the Radon
+//!   transform of the whole image;
 //! - [`kelvin`]: the ship's speed from the wavelength of its transverse Kelvin waves.
 //!
 //! Everything works on linear sigma0 (NaN for no data) in the image's pixels, with the
 //! [`Geometry`] that places them: no physics model, no deep learning.
 
 pub mod cfar;
+pub mod free_wake;
 pub mod kelvin;
 pub mod land;
 pub mod radon;
 pub mod wake;
 
 use cfar::{find_ships, CfarOptions, ShipSearch};
+use free_wake::free_wakes;
 use ndarray::{Array2, ArrayView2};
 use serde::Serialize;
-use wake::{free_wakes, ship_wake, Wake, WakeOptions};
+use wake::{ship_wake, Wake, WakeOptions};
 
 /// Where the image's pixels lie: their ground spacing and the radar's geometry.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize)]

@@ -1,0 +1,175 @@
+#!/usr/bin/env python3
+"""Regenerate the 20 held-out real SAR ship-wake images (bench/held_out_wakes/).
+
+The images are not kept in this repository (third-party content); this script
+cuts them, pixel for pixel, out of four public GitHub repositories at pinned
+commits. The hand-drawn wake lines are bench/held_out_wakes/*.geojson.
+
+Usage:
+    python3 bench/held_out_wakes.py OUT_DIR [--mirrors DIR] [--compare DIR]
+
+  OUT_DIR     where the 20 PNGs (8-bit greyscale) are written
+  --mirrors   folder holding the four repositories (default /work/.mirror);
+              each is looked up as DIR/OWNER+NAME/repo, DIR/OWNER+NAME or
+              DIR/NAME (bare repository or a clone with a work tree)
+  --compare   folder with earlier outputs: report per image whether the
+              pixels are equal, else how many differ
+It prints each output's name and sha256 at the end.
+
+Needs: python3 with numpy, Pillow and scipy (scipy.io.loadmat reads the
+TerraSAR-X .mat file); git on PATH. Tested with numpy 2.4, Pillow 13.0,
+scipy 1.17. Fetching the sources is the user's job, e.g. into DIR:
+    git clone https://github.com/libzzluo/OpenSARWake DIR/OpenSARWake
+    git -C DIR/OpenSARWake checkout cc86027e4005d84daaa6b4314d2799ef1583b4f5
+    git clone https://github.com/oktaykarakus/AssenSAR-Wake-Detector DIR/AssenSAR-Wake-Detector
+    git -C DIR/AssenSAR-Wake-Detector checkout d7f7fc2ccb642df185a5327336db06104be72990
+    git clone https://github.com/jascubero/Automated-ship-detection DIR/Automated-ship-detection
+    git -C DIR/Automated-ship-detection checkout 59ea6f7455ed2815a663f6c7cba5321742f03923
+    git clone https://github.com/kunal15145/Ship_Wake_Detection DIR/Ship_Wake_Detection
+    git -C DIR/Ship_Wake_Detection checkout 9480d4852e8f5f76088760375c3a1aa1e722d8f8
+(files are read with `git show COMMIT:PATH`, so the checkout is optional).
+
+Preparation (crops only, no resampling):
+  osw_01..12  OpenSARWake README figure samples.jpg, a 4x3 grid of chips: cut
+              at the white gutters (columns/rows >95 % white), 2 px inset,
+              grey = (R+B)//2; the burned-in green boxes (G-max(R,B) > 25 on
+              the whole figure, dilated 3 times with the 4-neighbourhood) are
+              filled with unmasked grey pixels of the same panel drawn at
+              random offsets in [-19,19]^2 with Chebyshev distance >= 4
+              (numpy default_rng(panel number), so the fill is reproducible).
+  tsx_01      AssenSAR testImage.mat 'Image' (TerraSAR-X), round(255*Image).
+  s1jas_01    jascubero Fig/sar_image.png, white margin + frame cut (6 px).
+  kun_01..06  kunal15145 'Live SAR images' as greyscale (PIL convert('L'));
+              live10 loses its 4-px black left border.
+"""
+import argparse, hashlib, io, os, subprocess, sys
+import numpy as np
+from PIL import Image
+
+OSW = ('libzzluo/OpenSARWake', 'cc86027e4005d84daaa6b4314d2799ef1583b4f5')
+TSX = ('oktaykarakus/AssenSAR-Wake-Detector', 'd7f7fc2ccb642df185a5327336db06104be72990')
+JAS = ('jascubero/Automated-ship-detection', '59ea6f7455ed2815a663f6c7cba5321742f03923')
+KUN = ('kunal15145/Ship_Wake_Detection', '9480d4852e8f5f76088760375c3a1aa1e722d8f8')
+LIVE = 'Dataset/Live SAR images Dataset/'
+# kun_NN: (file, crop as (y0, y1, x0, x1) or None)
+KUN_FILES = [('Live3.png', None), ('live1.png', None), ('live5.png', None),
+             ('live6.png', None), ('live7.png', None), ('live10.png', (0, None, 4, None))]
+
+
+def git_dir(mirrors, repo):
+    owner, name = repo.split('/')
+    for d in (f'{owner}+{name}/repo', f'{owner}+{name}', name):
+        p = os.path.join(mirrors, d)
+        for g in (os.path.join(p, '.git'), p):
+            if os.path.isfile(os.path.join(g, 'HEAD')) and os.path.isdir(os.path.join(g, 'objects')):
+                return g
+    sys.exit(f'{repo} not found under {mirrors} (see the docstring for git clone commands)')
+
+
+def blob(mirrors, src, path):
+    repo, commit = src
+    return subprocess.run(['git', '--git-dir', git_dir(mirrors, repo), 'show', f'{commit}:{path}'],
+                          check=True, capture_output=True).stdout
+
+
+def runs(flags):
+    """(start, end_exclusive) of each run of True."""
+    f = np.concatenate([[False], flags, [False]]).astype(np.int8)
+    d = np.diff(f)
+    return list(zip(np.nonzero(d == 1)[0], np.nonzero(d == -1)[0]))
+
+
+def dilate4(m, times):
+    for _ in range(times):
+        o = m.copy()
+        o[1:] |= m[:-1]; o[:-1] |= m[1:]; o[:, 1:] |= m[:, :-1]; o[:, :-1] |= m[:, 1:]
+        m = o
+    return m
+
+
+def fill(grey, mask, rng, rmin=4, rmax=19):
+    """Replace masked pixels by unmasked ones at random offsets rmin..rmax (Chebyshev)."""
+    out = grey.copy()
+    h, w = grey.shape
+    ys, xs = np.nonzero(mask)
+    todo = np.arange(ys.size)
+    for _ in range(10000):
+        if todo.size == 0:
+            return out
+        dy = rng.integers(-rmax, rmax + 1, todo.size)
+        dx = rng.integers(-rmax, rmax + 1, todo.size)
+        sy, sx = ys[todo] + dy, xs[todo] + dx
+        ok = (np.maximum(abs(dy), abs(dx)) >= rmin) & (sy >= 0) & (sy < h) & (sx >= 0) & (sx < w)
+        ok[ok] = ~mask[sy[ok], sx[ok]]
+        out[ys[todo[ok]], xs[todo[ok]]] = grey[sy[ok], sx[ok]]
+        todo = todo[~ok]
+    raise RuntimeError('fill: some masked pixels have no unmasked source in reach')
+
+
+def opensarwake(mirrors):
+    rgb = np.asarray(Image.open(io.BytesIO(blob(mirrors, OSW, 'samples.jpg'))).convert('RGB')).astype(np.int16)
+    r, g, b = rgb[..., 0], rgb[..., 1], rgb[..., 2]
+    white = rgb.min(axis=2) >= 245
+    # panels lie between the white gutters
+    cols = [(a + 2, e - 2) for a, e in runs(white.mean(axis=0) <= 0.95)]
+    rows = [(a + 2, e - 2) for a, e in runs(white.mean(axis=1) <= 0.95)]
+    assert len(cols) == 4 and len(rows) == 3, (cols, rows)
+    mask = dilate4(g - np.maximum(r, b) > 25, 3)
+    grey = ((r + b) // 2).astype(np.uint8)
+    out = {}
+    for i, (y0, y1) in enumerate(rows):
+        for j, (x0, x1) in enumerate(cols):
+            n = 4 * i + j + 1
+            out[f'osw_{n:02d}'] = fill(grey[y0:y1, x0:x1], mask[y0:y1, x0:x1], np.random.default_rng(n))
+    return out
+
+
+def terrasar(mirrors):
+    from scipy.io import loadmat
+    img = loadmat(io.BytesIO(blob(mirrors, TSX, 'images/testImage.mat')))['Image']
+    return {'tsx_01': np.clip(np.round(img * 255), 0, 255).astype(np.uint8)}
+
+
+def jascubero(mirrors):
+    im = Image.open(io.BytesIO(blob(mirrors, JAS, 'Conference Paper/Fig/sar_image.png'))).convert('L')
+    a = np.asarray(im)
+    return {'s1jas_01': a[6:a.shape[0] - 6, 6:a.shape[1] - 6]}
+
+
+def kunal(mirrors):
+    out = {}
+    for k, (f, crop) in enumerate(KUN_FILES, 1):
+        a = np.asarray(Image.open(io.BytesIO(blob(mirrors, KUN, LIVE + f))).convert('L'))
+        if crop:
+            a = a[crop[0]:crop[1], crop[2]:crop[3]]
+        out[f'kun_{k:02d}'] = a
+    return out
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__.split('\n')[0])
+    ap.add_argument('out_dir')
+    ap.add_argument('--mirrors', default='/work/.mirror')
+    ap.add_argument('--compare', default=None)
+    a = ap.parse_args()
+    os.makedirs(a.out_dir, exist_ok=True)
+    images = {}
+    for part in (kunal, opensarwake, jascubero, terrasar):
+        images.update(part(a.mirrors))
+    for name in sorted(images):
+        Image.fromarray(np.ascontiguousarray(images[name], dtype=np.uint8), 'L').save(
+            os.path.join(a.out_dir, name + '.png'))
+    if a.compare:
+        for name in sorted(images):
+            old = np.asarray(Image.open(os.path.join(a.compare, name + '.png')))
+            new = images[name]
+            same = old.shape == new.shape and (old == new).all()
+            diff = 'shape differs' if old.shape != new.shape else f'{int((old != new).sum())} px differ'
+            print(f'compare {name}: {"equal" if same else diff}')
+    for name in sorted(images):
+        with open(os.path.join(a.out_dir, name + '.png'), 'rb') as f:
+            print(f'{name}.png {hashlib.sha256(f.read()).hexdigest()}')
+
+
+if __name__ == '__main__':
+    main()

@@ -5,7 +5,7 @@
 //! not the wake of a ship already found ([`crate::wake::ship_wake`]).
 
 use crate::radon::{median, Normalised, SearchImage};
-use crate::wake::{span, trough_contrast, Signature, Wake, WakeOptions};
+use crate::wake::{line_contrast, span, Signature, Wake, WakeOptions};
 use crate::{angle_difference, Geometry};
 use rayon::prelude::*;
 
@@ -219,7 +219,7 @@ fn dark_extent(
     let dark: Vec<Option<bool>> = starts
         .iter()
         .map(|&d| {
-            let c = trough_contrast(image, through, heading, d, o, d + segment);
+            let c = line_contrast(image, through, heading, d, o, d + segment, Signature::Trough);
             c.is_finite().then_some(c >= 0.5 * o.min_contrast)
         })
         .collect();

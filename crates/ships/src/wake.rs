@@ -200,7 +200,7 @@ pub struct Wake {
 /// The contrast of the line along direction `heading` from `apex` to its side bands: for a
 /// trough its darkness under the darker side, for a bright arm its brightness over the
 /// brighter side.
-fn line_contrast(
+pub(crate) fn line_contrast(
     image: &Normalised,
     apex: (f64, f64),
     heading: f64,
@@ -236,19 +236,6 @@ fn line_contrast(
         Signature::Trough => sides - line,
         Signature::BrightArm => line - sides,
     }
-}
-
-/// The darkness of the trough along direction `heading` from `apex` under the darker of its
-/// side bands.
-pub(crate) fn trough_contrast(
-    image: &Normalised,
-    apex: (f64, f64),
-    heading: f64,
-    near: f64,
-    o: &WakeOptions,
-    far: f64,
-) -> f64 {
-    line_contrast(image, apex, heading, near, o, far, Signature::Trough)
 }
 
 /// What the trough's contrast the other way (`ahead`) takes from a wake's score. A wake's score

@@ -1,26 +1,53 @@
 #!/usr/bin/env bash
-# The 30 real SAR wake images of Ultraaaman/yolo3_ship_wake_detection (its test/ folder, commit
-# fb66d81; the repository states no licence, so the images are not in this one), each with its
-# wakes drawn by eye in bench/real_wakes/NAME.geojson (98 wakes, 71 of them "sure"; pixel
-# coordinates, apex first). Fetches the images into DIR as single-band PNGs beside their GeoJSON
-# (`wakelab detect` refuses colour images), then scores `wakelab detect`'s classic wake search on
-# them (bench/score_real_wakes.py). The same DIR serves `wakelab run --study transfer --real DIR`.
+# Real SAR wake images, each with its wakes drawn by eye (pixel coordinates, apex first), fetched
+# into DIR as single-band PNGs beside their GeoJSON (`wakelab detect` refuses colour images),
+# then `wakelab detect`'s classic wake search scored on them (bench/score_real_wakes.py). The
+# same DIR serves `wakelab run --study transfer --real DIR`. Two sets:
 #
-#   bench/real_wakes.sh DIR [detect flags...]     # e.g. bench/real_wakes.sh /tmp/real_wakes
+# - the tuning set (default): the 30 images of Ultraaaman/yolo3_ship_wake_detection (its test/
+#   folder, commit fb66d81; no licence, so the images are not in this repository), 98 wakes in
+#   bench/real_wakes/NAME.geojson. The search's rules were set looking at them.
+# - `--held-out`: 20 images of four other repositories (bench/held_out_wakes/README.md), 41
+#   wakes in bench/held_out_wakes/NAME.geojson, cut by bench/held_out_wakes.py (numpy, Pillow,
+#   scipy). No rule was set looking at them: score a search on them once, after freezing it.
+#   MIRRORS=FOLDER uses clones already there instead of cloning.
+#
+#   bench/real_wakes.sh [--held-out] DIR [detect flags...]     # e.g. bench/real_wakes.sh /tmp/rw
 set -euo pipefail
-dir=${1:?usage: bench/real_wakes.sh DIR [detect flags...]}
+set_name=real_wakes
+if [ "${1:-}" = "--held-out" ]; then
+  set_name=held_out_wakes
+  shift
+fi
+dir=${1:?usage: bench/real_wakes.sh [--held-out] DIR [detect flags...]}
 shift
 here=$(cd "$(dirname "$0")" && pwd)
 mkdir -p "$dir"
-if [ ! -f "$dir/0002.png" ]; then
+
+# clone REPO COMMIT INTO
+clone() {
+  git clone --quiet "https://github.com/$1" "$3"
+  git -C "$3" checkout --quiet "$2"
+}
+
+if [ "$set_name" = real_wakes ] && [ ! -f "$dir/0002.png" ]; then
   src=$(mktemp -d)
-  git clone --quiet https://github.com/Ultraaaman/yolo3_ship_wake_detection "$src"
-  git -C "$src" checkout --quiet fb66d81
+  clone Ultraaaman/yolo3_ship_wake_detection fb66d81 "$src/yolo3"
   for g in "$here"/real_wakes/*.geojson; do
     name=$(basename "$g" .geojson)
-    gdal_translate -q -b 1 -of PNG "$src/test/$name.jpg" "$dir/$name.png"
+    gdal_translate -q -b 1 -of PNG "$src/yolo3/test/$name.jpg" "$dir/$name.png"
   done
   rm -rf "$src"
+elif [ "$set_name" = held_out_wakes ] && [ ! -f "$dir/tsx_01.png" ]; then
+  mirrors=${MIRRORS:-}
+  if [ -z "$mirrors" ]; then
+    mirrors=$(mktemp -d)
+    clone libzzluo/OpenSARWake cc86027e4005d84daaa6b4314d2799ef1583b4f5 "$mirrors/OpenSARWake"
+    clone oktaykarakus/AssenSAR-Wake-Detector d7f7fc2ccb642df185a5327336db06104be72990 "$mirrors/AssenSAR-Wake-Detector"
+    clone jascubero/Automated-ship-detection 59ea6f7455ed2815a663f6c7cba5321742f03923 "$mirrors/Automated-ship-detection"
+    clone kunal15145/Ship_Wake_Detection 9480d4852e8f5f76088760375c3a1aa1e722d8f8 "$mirrors/Ship_Wake_Detection"
+  fi
+  python3 "$here/held_out_wakes.py" "$dir" --mirrors "$mirrors"
 fi
-cp "$here"/real_wakes/*.geojson "$dir/"
+cp "$here/$set_name"/*.geojson "$dir/"
 python3 "$here/score_real_wakes.py" "$dir" "$dir/out" "$@"

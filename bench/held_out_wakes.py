@@ -43,8 +43,12 @@ Preparation (crops only, no resampling):
               live10 loses its 4-px black left border.
 """
 import argparse, hashlib, io, os, subprocess, sys
-import numpy as np
-from PIL import Image
+try:
+    import numpy as np
+    from PIL import Image
+    from scipy.io import loadmat
+except ImportError as missing:
+    sys.exit(f"held_out_wakes.py needs numpy, Pillow and scipy ({missing}): pip install numpy pillow scipy")
 
 OSW = ('libzzluo/OpenSARWake', 'cc86027e4005d84daaa6b4314d2799ef1583b4f5')
 TSX = ('oktaykarakus/AssenSAR-Wake-Detector', 'd7f7fc2ccb642df185a5327336db06104be72990')
@@ -125,7 +129,6 @@ def opensarwake(mirrors):
 
 
 def terrasar(mirrors):
-    from scipy.io import loadmat
     img = loadmat(io.BytesIO(blob(mirrors, TSX, 'images/testImage.mat')))['Image']
     return {'tsx_01': np.clip(np.round(img * 255), 0, 255).astype(np.uint8)}
 
@@ -157,8 +160,11 @@ def main():
     for part in (kunal, opensarwake, jascubero, terrasar):
         images.update(part(a.mirrors))
     for name in sorted(images):
-        Image.fromarray(np.ascontiguousarray(images[name], dtype=np.uint8), 'L').save(
-            os.path.join(a.out_dir, name + '.png'))
+        # a temporary name, then the real one: bench/real_wakes.sh takes the last image's presence
+        # for a finished set
+        path = os.path.join(a.out_dir, name + '.png')
+        Image.fromarray(np.ascontiguousarray(images[name], dtype=np.uint8), 'L').save(path + '.tmp', format='PNG')
+        os.replace(path + '.tmp', path)
     if a.compare:
         for name in sorted(images):
             old = np.asarray(Image.open(os.path.join(a.compare, name + '.png')))

@@ -4,9 +4,9 @@
 //! of its own direction (a swell's troughs are many parallel lines, a wake one), long enough, and
 //! not the wake of a ship already found ([`crate::wake::ship_wake`]).
 
-use crate::radon::{median, Normalised, SearchImage};
-use crate::wake::{line_contrast, span, Signature, Wake, WakeOptions};
-use crate::{angle_difference, Geometry};
+use crate::radon::{Normalised, SearchImage};
+use crate::wake::{line_contrast, robust_spread, span, Signature, Wake, WakeOptions};
+use crate::{line_difference, Geometry};
 use rayon::prelude::*;
 
 /// Free wakes: dark lines of the whole image, significant among the lines of their direction
@@ -22,6 +22,7 @@ pub fn free_wakes(search: &SearchImage, known: &[Wake], o: &WakeOptions) -> Vec<
     let factor = ((diagonal / 2000.0).max(20.0) / pixel).ceil().max(1.0) as usize;
     let coarse = fine.coarsened(factor);
     let to_fine = |(r, c): (f64, f64)| ((r + 0.5) * factor as f64 - 0.5, (c + 0.5) * factor as f64 - 0.5);
+    let to_coarse = |(r, c): (f64, f64)| ((r + 0.5) / factor as f64 - 0.5, (c + 0.5) / factor as f64 - 0.5);
     let image = &coarse;
     let g = image.geometry;
     let (h, w) = image.values.dim();
@@ -35,10 +36,7 @@ pub fn free_wakes(search: &SearchImage, known: &[Wake], o: &WakeOptions) -> Vec<
     let known: Vec<Wake> = known
         .iter()
         .map(|k| Wake {
-            start: (
-                (k.start.0 + 0.5) / factor as f64 - 0.5,
-                (k.start.1 + 0.5) / factor as f64 - 0.5,
-            ),
+            start: to_coarse(k.start),
             ..k.clone()
         })
         .collect();
@@ -53,14 +51,8 @@ pub fn free_wakes(search: &SearchImage, known: &[Wake], o: &WakeOptions) -> Vec<
     for l in &lines {
         by_heading.entry((l.1 * 4.0).round() as i64).or_default().push(l.0);
     }
-    let spread: std::collections::BTreeMap<i64, (f64, f64)> = by_heading
-        .into_iter()
-        .map(|(k, v)| {
-            let m = median(v.iter().map(|&x| x as f32)).unwrap_or(0.0);
-            let mad = median(v.iter().map(|&x| (x - m).abs() as f32)).unwrap_or(0.0).max(1e-6);
-            (k, (m, 1.4826 * mad))
-        })
-        .collect();
+    let spread: std::collections::BTreeMap<i64, (f64, f64)> =
+        by_heading.into_iter().map(|(k, v)| (k, robust_spread(&v))).collect();
     let z_of = |l: &(f64, f64, f64)| {
         let (m, s) = spread[&((l.1 * 4.0).round() as i64)];
         (l.0 - m) / s
@@ -76,20 +68,12 @@ pub fn free_wakes(search: &SearchImage, known: &[Wake], o: &WakeOptions) -> Vec<
         }
         // not beside a stronger one (5 degrees, 5 cells)
         if found.iter().any(|f| {
-            let start = (
-                (f.start.0 + 0.5) / factor as f64 - 0.5,
-                (f.start.1 + 0.5) / factor as f64 - 0.5,
-            );
-            angle_difference(f.axis_deg, hd)
-                .abs()
-                .min(angle_difference(f.axis_deg, hd + 180.0).abs())
-                < 5.0
-                && line_distance(&g, start, f.axis_deg, centre_offset(&g, centre, hd, off)) < 5.0 * cell
+            line_difference(f.axis_deg, hd) < 5.0
+                && line_distance(&g, to_coarse(f.start), f.axis_deg, centre_offset(&g, centre, hd, off)) < 5.0 * cell
         }) {
             continue;
         }
-        let (vr, vc) = g.step(hd + 90.0);
-        let through = (centre.0 + vr * off, centre.1 + vc * off);
+        let through = centre_offset(&g, centre, hd, off);
         let Some((start, end, length)) = dark_extent(image, through, hd, diagonal, o) else {
             continue;
         };
@@ -97,13 +81,10 @@ pub fn free_wakes(search: &SearchImage, known: &[Wake], o: &WakeOptions) -> Vec<
             continue;
         }
         // a ship's wake already found: same direction, its apex near the line
-        if known.iter().any(|k| {
-            angle_difference(k.axis_deg, hd)
-                .abs()
-                .min(angle_difference(k.axis_deg, hd + 180.0).abs())
-                < 5.0
-                && line_distance(&g, through, hd, k.start) < 300.0
-        }) {
+        if known
+            .iter()
+            .any(|k| line_difference(k.axis_deg, hd) < 5.0 && line_distance(&g, through, hd, k.start) < 300.0)
+        {
             continue;
         }
         found.push(Wake {
@@ -308,13 +289,7 @@ mod tests {
         );
         assert_eq!(found.len(), 1, "{found:?}");
         let wake = &found[0];
-        assert!(
-            angle_difference(wake.axis_deg, 60.0)
-                .abs()
-                .min(angle_difference(wake.axis_deg, 240.0).abs())
-                < 2.0,
-            "{wake:?}"
-        );
+        assert!(line_difference(wake.axis_deg, 60.0) < 2.0, "{wake:?}");
         assert!(wake.length_m > 3000.0, "{wake:?}");
         assert!(wake.course_deg.is_none());
     }

@@ -250,13 +250,20 @@ fn ahead_penalty(ahead: f64) -> f64 {
     }
 }
 
-/// Robust z of `best` among `all`: (best - median) / (1.4826 MAD).
-fn robust_z(best: f64, all: &[f64]) -> f64 {
+/// The median of `all` and its robust deviation, 1.4826 MAD (the standard deviation for a
+/// Gaussian sample), kept above zero.
+pub(crate) fn robust_spread(all: &[f64]) -> (f64, f64) {
     let m = median(all.iter().map(|&v| v as f32)).unwrap_or(0.0);
     let mad = median(all.iter().map(|&v| (v - m).abs() as f32))
         .unwrap_or(0.0)
         .max(1e-6);
-    (best - m) / (1.4826 * mad)
+    (m, 1.4826 * mad)
+}
+
+/// Robust z of `best` among `all`: (best - median) / (1.4826 MAD).
+fn robust_z(best: f64, all: &[f64]) -> f64 {
+    let (m, sigma) = robust_spread(all);
+    (best - m) / sigma
 }
 
 /// How far from straight back (degrees, either way) a bright arm's way ahead is measured: a

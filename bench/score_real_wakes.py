@@ -7,14 +7,19 @@ DIR holds NAME.png and NAME.geojson (LineStrings of "kind": "wake" in pixel coor
 $WAKELAB, else target/release/wakelab) into OUT/NAME/ unless that holds a result already. A drawn
 wake is found when a reported wake's segment comes within TOL pixels of it (default 30: 300 m at
 the assumed 10 m) and their lines differ by at most 20 degrees; a reported wake that finds none
-is false. Prints one line per image, then the totals: images where a wake is found, where one is
-found with at most one false wake (the transfer issue's target), wakes found by how they look (drawn "look": dark, bright, both).
+is false. The CNN's scan in the same run is scored by the transfer issue's rule: a drawn wake is
+found when a flagged window's centre lies within 500 m of it (at the drawing's pixel spacing);
+a flagged window farther than that from every drawn wake is away; and whether the map's peak
+lies within 500 m of one. Prints one line per image, then the totals: images where a wake is
+found, where one is found with at most one false wake (the transfer issue's target), wakes found
+by how they look (drawn "look": dark, bright, both), and the CNN's.
 Pure Python, no packages.
 """
 import json, math, os, subprocess, sys
 
 TOL = float(os.environ.get("TOL", "30"))
 ANGLE = 20.0
+CNN_RADIUS_M = 500.0
 
 
 def point_segment(p, a, b):
@@ -38,7 +43,8 @@ def main():
         sys.exit("usage: score_real_wakes.py DIR OUT [detect flags...]: DIR must be a folder of NAME.png with NAME.geojson")
     src, out, flags = sys.argv[1], sys.argv[2], sys.argv[3:]
     binary = os.environ.get("WAKELAB", "target/release/wakelab")
-    totals = dict(images=0, found=0, target=0, reported=0, false=0)
+    totals = dict(images=0, found=0, target=0, reported=0, false=0,
+                  cnn_found=0, cnn_target=0, cnn_peak=0, cnn_windows=0, cnn_away=0)
     by_kind = {}
     for name in sorted(f[:-8] for f in os.listdir(src) if f.endswith(".geojson")):
         drawn_json = json.load(open(os.path.join(src, name + ".geojson")))
@@ -66,11 +72,28 @@ def main():
         totals["target"] += any(hits) and false <= 1
         totals["reported"] += len(reported)
         totals["false"] += false
-        print(f"{name}: drawn {len(drawn)}, found {sum(hits)}, reported {len(reported)}, false {false}")
+        # the CNN: flagged windows' centres and the map's peak within 500 m of a drawn wake
+        radius = CNN_RADIUS_M / float(meta.get("pixel_spacing_m", 10))
+        near = lambda p, d: point_segment(p, d[0], d[1]) <= radius
+        windows = [(w["product_col"], w["product_row"]) for w in found.get("detections") or []]
+        cnn_hits = sum(1 for d in drawn if any(near(p, d) for p in windows))
+        away = sum(1 for p in windows if not any(near(p, d) for d in drawn))
+        peak = found.get("peak")
+        on_peak = bool(peak) and any(near((peak["product_col"], peak["product_row"]), d) for d in drawn)
+        totals["cnn_found"] += cnn_hits > 0
+        totals["cnn_target"] += cnn_hits > 0 and away <= 1
+        totals["cnn_peak"] += on_peak
+        totals["cnn_windows"] += len(windows)
+        totals["cnn_away"] += away
+        print(f"{name}: drawn {len(drawn)}, found {sum(hits)}, reported {len(reported)}, false {false}; "
+              f"CNN windows {len(windows)}, wakes with a window {cnn_hits}, windows away {away}, "
+              f"peak on a wake {'yes' if on_peak else 'no'}")
     t = totals
     print(f"images {t['images']}: a wake found in {t['found']}, with at most one false wake in {t['target']}; "
           f"wakes reported {t['reported']}, false {t['false']}; found by look: "
           + ", ".join(f"{k} {v[0]}/{v[1]}" for k, v in sorted(by_kind.items())))
+    print(f"CNN: a window within 500 m of a wake in {t['cnn_found']} images, with at most one window away in "
+          f"{t['cnn_target']}; peak on a wake in {t['cnn_peak']}; windows away {t['cnn_away']} of {t['cnn_windows']}")
 
 
 if __name__ == "__main__":

@@ -29,6 +29,12 @@ pub struct CfarOptions {
     pub background_m: f64,
     /// Probability that a pixel of open sea is declared a target.
     pub pfa: f64,
+    /// Side (m) of SNAP's target window: a pixel is also a target where the mean (dB) of the
+    /// window around it passes the same test against the ring of the image averaged alike, so
+    /// a ship of several pixels is found where single pixels cannot stand out (a display
+    /// stretch that clips its ships at the grey scale's ceiling, a few deviations above its
+    /// sea); 0: single pixels only.
+    pub target_m: f64,
     /// A target's peak must also stand this far above its background mean (dB).
     pub min_contrast_db: f64,
     /// Detected pixels this close (m) belong to one target.
@@ -56,6 +62,7 @@ impl Default for CfarOptions {
             guard_m: 500.0,
             background_m: 800.0,
             pfa: 1e-6,
+            target_m: 0.0,
             min_contrast_db: 6.0,
             merge_m: 40.0,
             max_length_m: 600.0,
@@ -131,22 +138,23 @@ pub fn sigmas_for(p: f64) -> f64 {
 /// Rows of output computed from one slab of the summed-area tables.
 const BAND_ROWS: usize = 256;
 
-/// The background's mean and standard deviation (dB) at every pixel (NaN where less than half
-/// the ring holds data), and whether the pixel is a target.
+/// Whether each pixel is a target, its background's mean (dB) and its threshold, the mean plus
+/// `t` standard deviations (both NaN where less than half the ring holds data).
 fn cfar_map(
     db: &Array2<f32>,
     half_guard: (usize, usize),
     half_back: (usize, usize),
     t: f64,
     min_contrast: f64,
-) -> (Array2<bool>, Array2<f32>) {
+) -> (Array2<bool>, Array2<f32>, Array2<f32>) {
     let (h, w) = db.dim();
     let mut hit = Array2::from_elem((h, w), false);
     let mut mean = Array2::from_elem((h, w), f32::NAN);
+    let mut threshold = Array2::from_elem((h, w), f32::NAN);
     let ring_cells =
         ((2 * half_back.0 + 1) * (2 * half_back.1 + 1) - (2 * half_guard.0 + 1) * (2 * half_guard.1 + 1)) as f64;
     let bands: Vec<usize> = (0..h).step_by(BAND_ROWS).collect();
-    let results: Vec<(usize, Array2<bool>, Array2<f32>)> = bands
+    let results: Vec<(usize, Array2<bool>, Array2<f32>, Array2<f32>)> = bands
         .into_par_iter()
         .map(|r0| {
             let r1 = (r0 + BAND_ROWS).min(h);
@@ -181,6 +189,7 @@ fn cfar_map(
             };
             let mut hits = Array2::from_elem((r1 - r0, w), false);
             let mut means = Array2::from_elem((r1 - r0, w), f32::NAN);
+            let mut thresholds = Array2::from_elem((r1 - r0, w), f32::NAN);
             for r in r0..r1 {
                 let rr = r - s0;
                 let window = |half: usize| (rr.saturating_sub(half), (rr + half + 1).min(s1 - s0));
@@ -202,19 +211,57 @@ fn cfar_map(
                     let m = (outer[1] - inner[1]) / n;
                     let var = ((outer[2] - inner[2]) / n - m * m).max(0.0);
                     means[[r - r0, c]] = m as f32;
+                    thresholds[[r - r0, c]] = (m + t * var.sqrt()) as f32;
                     let x = x as f64;
                     hits[[r - r0, c]] = x > m + t * var.sqrt() && x - m >= min_contrast;
                 }
             }
-            (r0, hits, means)
+            (r0, hits, means, thresholds)
         })
         .collect();
-    for (r0, hits, means) in results {
+    for (r0, hits, means, thresholds) in results {
         let rows = hits.nrows();
         hit.slice_mut(s![r0..r0 + rows, ..]).assign(&hits);
         mean.slice_mut(s![r0..r0 + rows, ..]).assign(&means);
+        threshold.slice_mut(s![r0..r0 + rows, ..]).assign(&thresholds);
     }
-    (hit, mean)
+    (hit, mean, threshold)
+}
+
+/// The mean of the finite pixels in the (2 half.0 + 1) x (2 half.1 + 1) window around each
+/// pixel (NaN where the pixel is, or where fewer than half the window's pixels are finite).
+fn box_mean(db: &Array2<f32>, half: (usize, usize)) -> Array2<f32> {
+    let (h, w) = db.dim();
+    // summed-area tables of count and sum
+    let mut table = Array2::<[f64; 2]>::from_elem((h + 1, w + 1), [0.0; 2]);
+    for r in 0..h {
+        let mut row = [0.0; 2];
+        for c in 0..w {
+            let v = db[[r, c]];
+            if v.is_finite() {
+                row[0] += 1.0;
+                row[1] += v as f64;
+            }
+            let above = table[[r, c + 1]];
+            table[[r + 1, c + 1]] = [above[0] + row[0], above[1] + row[1]];
+        }
+    }
+    let full = ((2 * half.0 + 1) * (2 * half.1 + 1)) as f64;
+    Array2::from_shape_fn((h, w), |(r, c)| {
+        if !db[[r, c]].is_finite() {
+            return f32::NAN;
+        }
+        let (ra, rb) = (r.saturating_sub(half.0), (r + half.0 + 1).min(h));
+        let (ca, cb) = (c.saturating_sub(half.1), (c + half.1 + 1).min(w));
+        let at = |i: usize, j: usize, k: usize| table[[i, j]][k];
+        let n = at(rb, cb, 0) - at(ra, cb, 0) - at(rb, ca, 0) + at(ra, ca, 0);
+        let sum = at(rb, cb, 1) - at(ra, cb, 1) - at(rb, ca, 1) + at(ra, ca, 1);
+        if n < 0.5 * full {
+            f32::NAN
+        } else {
+            (sum / n) as f32
+        }
+    })
 }
 
 /// Union-find over the detected pixels.
@@ -246,7 +293,31 @@ pub fn find_ships(image: ArrayView2<f32>, geometry: &Geometry, options: &CfarOpt
         half(options.background_m.max(options.guard_m * 1.2)),
     );
     let t = sigmas_for(options.pfa);
-    let (hit, mean) = cfar_map(&db, half_guard, half_back, t, options.min_contrast_db);
+    let (mut hit, mean, threshold) = cfar_map(&db, half_guard, half_back, t, options.min_contrast_db);
+    if options.target_m > 0.0 {
+        // SNAP's target window where a single pixel cannot pass: where the threshold lies at or
+        // above the brightest value the image holds (a display stretch clips its ships at the
+        // grey scale's ceiling, a few of its sea's deviations up). There the window's mean is
+        // tested against the ring of the image averaged alike, whose spread then holds the
+        // speckle's own correlation; a pixel it passes must itself stand min_contrast_db over
+        // its ring, so the return keeps its own footprint.
+        let ceiling = db
+            .iter()
+            .copied()
+            .filter(|v| v.is_finite())
+            .fold(f32::NEG_INFINITY, f32::max);
+        let side = |spacing: f64| ((options.target_m / spacing - 1.0) / 2.0).round().max(1.0) as usize;
+        let averaged = box_mean(&db, (side(geometry.spacing.0), side(geometry.spacing.1)));
+        let (window_hit, _, _) = cfar_map(&averaged, half_guard, half_back, t, options.min_contrast_db);
+        ndarray::Zip::from(&mut hit)
+            .and(&window_hit)
+            .and(&db)
+            .and(&mean)
+            .and(&threshold)
+            .for_each(|h, &w, &x, &m, &limit| {
+                *h |= w && limit >= ceiling && x - m >= options.min_contrast_db as f32;
+            });
+    }
     // the detected pixels, joined within merge_m
     let pixels: Vec<(usize, usize)> = hit.indexed_iter().filter(|(_, &h)| h).map(|(p, _)| p).collect();
     let mut parent: Vec<usize> = (0..pixels.len()).collect();
@@ -432,7 +503,7 @@ mod tests {
             ..CfarOptions::default()
         };
         let db = image.mapv(|v| 10.0 * v.log10());
-        let (hit, _) = cfar_map(&db, (25, 25), (40, 40), sigmas_for(options.pfa), 0.0);
+        let (hit, _, _) = cfar_map(&db, (25, 25), (40, 40), sigmas_for(options.pfa), 0.0);
         let rate = hit.iter().filter(|&&h| h).count() as f64 / hit.len() as f64;
         assert!(rate <= 1e-3 && rate > 1e-5, "false-alarm rate {rate}");
         assert!(find_ships(image.view(), &geometry(), &CfarOptions::default())
@@ -485,5 +556,46 @@ mod tests {
         assert!((ship.contrast_db - 40.0).abs() < 3.0, "{}", ship.contrast_db);
         assert_eq!(found.ambiguities.len(), 1);
         assert!(!found.sidelobes.is_empty());
+        // the ship stands far above every threshold: the target window, which only tests where
+        // a single pixel cannot pass, changes nothing
+        let windowed = CfarOptions {
+            target_m: 50.0,
+            ..CfarOptions::default()
+        };
+        assert_eq!(find_ships(image.view(), &g, &windowed).ships, found.ships);
+    }
+
+    /// A display stretch of 12 grey levels per dB around grey 130 puts the 4-look sea's
+    /// deviation (2.3 dB: the log of a Gamma(4) variate) at 28 grey levels, so the grey scale's
+    /// ceiling, 255, lies 4.5 of them above the sea and no pixel can pass the 6 deviations of
+    /// P_fa 1e-9. A 150 x 40 m ship clipped at 255 is then found only with the target window,
+    /// and the open sea around it gives no false ship either way.
+    #[test]
+    fn a_ship_clipped_at_a_display_ceiling_is_found_by_its_target_window() {
+        let sea = sea(600, 3);
+        let mean_db = sea.iter().map(|&v| 10.0 * (v as f64).log10()).sum::<f64>() / sea.len() as f64;
+        let mut grey = sea.mapv(|v| {
+            (130.0 + 12.0 * (10.0 * (v as f64).log10() - mean_db))
+                .clamp(0.0, 255.0)
+                .round()
+        });
+        grey.slice_mut(s![300..315, 300..304]).fill(255.0);
+        // the display path reads grey levels as dB
+        let image = grey.mapv(|g| 10f64.powf(g / 10.0) as f32);
+        let g = geometry();
+        let single = CfarOptions::with_pfa(1e-9);
+        let windowed = CfarOptions {
+            target_m: 50.0,
+            ..single
+        };
+        assert!(find_ships(image.view(), &g, &single).ships.is_empty());
+        let found = find_ships(image.view(), &g, &windowed).ships;
+        assert_eq!(found.len(), 1, "{found:#?}");
+        assert!(
+            (found[0].row - 307.0).abs() < 2.0 && (found[0].col - 301.5).abs() < 2.0,
+            "{:?}",
+            found[0]
+        );
+        assert!((found[0].length_m - 150.0).abs() < 30.0, "length {}", found[0].length_m);
     }
 }

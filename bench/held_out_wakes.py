@@ -6,9 +6,12 @@ cuts them, pixel for pixel, out of four public GitHub repositories at pinned
 commits. The hand-drawn wake lines are bench/held_out_wakes/*.geojson.
 
 Usage:
-    python3 bench/held_out_wakes.py OUT_DIR [--mirrors DIR] [--compare DIR]
+    python3 bench/held_out_wakes.py OUT_DIR [--second] [--mirrors DIR] [--compare DIR]
 
   OUT_DIR     where the 20 PNGs (8-bit greyscale) are written
+  --second    the second held-out set instead (bench/held_out_wakes_2/: 16
+              images of three other repositories, each named with its commit
+              and path in its GeoJSON's "notes" after SOURCE, taken whole)
   --mirrors   folder holding the four repositories (default /work/.mirror);
               each is looked up as DIR/OWNER+NAME/repo, DIR/OWNER+NAME or
               DIR/NAME (bare repository or a clone with a work tree)
@@ -41,8 +44,14 @@ Preparation (crops only, no resampling):
   s1jas_01    jascubero Fig/sar_image.png, white margin + frame cut (6 px).
   kun_01..06  kunal15145 'Live SAR images' as greyscale (PIL convert('L'));
               live10 loses its 4-px black left border.
+Second set: every file is grey stored as RGB (R == G == B, checked); its R
+channel is kept whole, no crop or resampling (the HRSID JPEGs as Pillow's
+libjpeg decodes them). Its repositories:
+    https://github.com/atlan-antillia/TensorFlow-FlexUNet-Image-Segmentation-HRSID-Satellite-Imagery-Ship (15d0d587)
+    https://github.com/chaozhong2010/HRSID (2d682fe0)
+    https://github.com/lewisFarley403/Dark-ship-detection (b68744df)
 """
-import argparse, hashlib, io, os, subprocess, sys
+import argparse, hashlib, io, json, os, subprocess, sys
 try:
     import numpy as np
     from PIL import Image
@@ -149,15 +158,34 @@ def kunal(mirrors):
     return out
 
 
+def second_set(mirrors):
+    """The second set: each GeoJSON's notes begin `SOURCE owner/name@commit:path (licence)`."""
+    here = os.path.join(os.path.dirname(os.path.abspath(__file__)), 'held_out_wakes_2')
+    images = {}
+    for f in sorted(os.listdir(here)):
+        if not f.endswith('.geojson'):
+            continue
+        with open(os.path.join(here, f)) as g:
+            source = json.load(g)['notes'].split()[1]
+        repo, rest = source.split('@', 1)
+        commit, path = rest.split(':', 1)
+        rgb = np.asarray(Image.open(io.BytesIO(blob(mirrors, (repo, commit), path))).convert('RGB'))
+        if not ((rgb[..., 0] == rgb[..., 1]).all() and (rgb[..., 0] == rgb[..., 2]).all()):
+            sys.exit(f'{source}: not a grey image (R, G and B differ)')
+        images[f[:-len('.geojson')]] = rgb[..., 0].copy()
+    return images
+
+
 def main():
     ap = argparse.ArgumentParser(description=__doc__.split('\n')[0])
     ap.add_argument('out_dir')
     ap.add_argument('--mirrors', default='/work/.mirror')
     ap.add_argument('--compare', default=None)
+    ap.add_argument('--second', action='store_true')
     a = ap.parse_args()
     os.makedirs(a.out_dir, exist_ok=True)
     images = {}
-    for part in (kunal, opensarwake, jascubero, terrasar):
+    for part in (second_set,) if a.second else (kunal, opensarwake, jascubero, terrasar):
         images.update(part(a.mirrors))
     for name in sorted(images):
         # a temporary name, then the real one: bench/real_wakes.sh takes the last image's presence

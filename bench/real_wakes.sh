@@ -2,24 +2,28 @@
 # Real SAR wake images, each with its wakes drawn by eye (pixel coordinates, apex first), fetched
 # into DIR as single-band PNGs beside their GeoJSON (`wakelab detect` refuses colour images),
 # then `wakelab detect`'s classic wake search scored on them (bench/score_real_wakes.py). The
-# same DIR serves `wakelab run --study transfer --real DIR`. Two sets:
+# same DIR serves `wakelab run --study transfer --real DIR`. Three sets:
 #
 # - the tuning set (default): the 30 images of Ultraaaman/yolo3_ship_wake_detection (its test/
 #   folder, commit fb66d81; no licence, so the images are not in this repository), 98 wakes in
 #   bench/real_wakes/NAME.geojson. The search's rules were set looking at them.
 # - `--held-out`: 20 images of four other repositories (bench/held_out_wakes/README.md), 41
 #   wakes in bench/held_out_wakes/NAME.geojson, cut by bench/held_out_wakes.py (numpy, Pillow,
-#   scipy). No rule was set looking at them: score a search on them once, after freezing it.
-#   MIRRORS=FOLDER uses clones already there instead of cloning.
+#   scipy). Scored once after the search was frozen at stop 60; the ship search's target window
+#   (stop 62) was then set looking at their failures, so they are a second tuning set now.
+# - `--held-out-2`: 16 images of three more repositories (11 with 21 wakes drawn, 5 certified
+#   wake-free), bench/held_out_wakes_2/NAME.geojson, taken whole by bench/held_out_wakes.py
+#   --second. Scored once, after stop 62's search was frozen.
+#   MIRRORS=FOLDER uses clones already there instead of cloning (both held-out sets).
 #
-#   bench/real_wakes.sh [--held-out] DIR [detect flags...]     # e.g. bench/real_wakes.sh /tmp/rw
+#   bench/real_wakes.sh [--held-out|--held-out-2] DIR [detect flags...]   # e.g. bench/real_wakes.sh /tmp/rw
 set -euo pipefail
 set_name=real_wakes
-if [ "${1:-}" = "--held-out" ]; then
-  set_name=held_out_wakes
-  shift
-fi
-dir=${1:?usage: bench/real_wakes.sh [--held-out] DIR [detect flags...]}
+case "${1:-}" in
+  --held-out) set_name=held_out_wakes; shift ;;
+  --held-out-2) set_name=held_out_wakes_2; shift ;;
+esac
+dir=${1:?usage: bench/real_wakes.sh [--held-out|--held-out-2] DIR [detect flags...]}
 shift
 here=$(cd "$(dirname "$0")" && pwd)
 mkdir -p "$dir"
@@ -48,6 +52,16 @@ elif [ "$set_name" = held_out_wakes ] && [ ! -f "$dir/tsx_01.png" ]; then
     clone kunal15145/Ship_Wake_Detection 9480d4852e8f5f76088760375c3a1aa1e722d8f8 "$mirrors/Ship_Wake_Detection"
   fi
   python3 "$here/held_out_wakes.py" "$dir" --mirrors "$mirrors"
+elif [ "$set_name" = held_out_wakes_2 ] && [ ! -f "$dir/s1lf_01.png" ]; then
+  mirrors=${MIRRORS:-}
+  if [ -z "$mirrors" ]; then
+    mirrors=$(mktemp -d)
+    clone atlan-antillia/TensorFlow-FlexUNet-Image-Segmentation-HRSID-Satellite-Imagery-Ship 15d0d587a51442a072468c8bad3d179668c6edfc \
+      "$mirrors/TensorFlow-FlexUNet-Image-Segmentation-HRSID-Satellite-Imagery-Ship"
+    clone chaozhong2010/HRSID 2d682fe0c023df03a8fe1b1bf2e2ac76811e43b5 "$mirrors/HRSID"
+    clone lewisFarley403/Dark-ship-detection b68744dfba673763857d59d2b9ad2552c236eabb "$mirrors/Dark-ship-detection"
+  fi
+  python3 "$here/held_out_wakes.py" "$dir" --second --mirrors "$mirrors"
 fi
 cp "$here/$set_name"/*.geojson "$dir/"
 python3 "$here/score_real_wakes.py" "$dir" "$dir/out" "$@"

@@ -12,7 +12,11 @@ found when a flagged window's centre lies within 500 m of it (at the drawing's p
 a flagged window farther than that from every drawn wake is away; and whether the map's peak
 lies within 500 m of one. Prints one line per image, then the totals: images where a wake is
 found, where one is found with at most one false wake (the transfer issue's target), wakes found
-by how they look (drawn "look": dark, bright, both), and the CNN's.
+by how they look (drawn "look": dark, bright, both), and the CNN's. An image with no wake drawn
+(certified wake-free) is scored apart: whether any wake, and any CNN window, is reported there.
+Where the GeoJSON's "wakelab" member says "ships_drawn": true, its Polygons of "kind": "ship" are
+scored too: a drawn ship is found when a reported ship's centre lies within 50 m of its box, and
+every other reported ship is false.
 Pure Python, no packages.
 """
 import json, math, os, subprocess, sys
@@ -20,6 +24,7 @@ import json, math, os, subprocess, sys
 TOL = float(os.environ.get("TOL", "30"))
 ANGLE = 20.0
 CNN_RADIUS_M = 500.0
+SHIP_RADIUS_M = 50.0
 
 
 def point_segment(p, a, b):
@@ -44,7 +49,9 @@ def main():
     src, out, flags = sys.argv[1], sys.argv[2], sys.argv[3:]
     binary = os.environ.get("WAKELAB", "target/release/wakelab")
     totals = dict(images=0, found=0, target=0, reported=0, false=0,
-                  cnn_found=0, cnn_target=0, cnn_peak=0, cnn_windows=0, cnn_away=0)
+                  cnn_found=0, cnn_target=0, cnn_peak=0, cnn_windows=0, cnn_away=0,
+                  clear=0, clear_quiet=0, clear_cnn_quiet=0,
+                  ship_images=0, ships_drawn=0, ships_found=0, ships_false=0)
     by_kind = {}
     for name in sorted(f[:-8] for f in os.listdir(src) if f.endswith(".geojson")):
         drawn_json = json.load(open(os.path.join(src, name + ".geojson")))
@@ -67,6 +74,31 @@ def main():
             k = by_kind.setdefault(d[2].get("look", "?"), [0, 0])
             k[0] += hit
             k[1] += 1
+        windows = [(w["product_col"], w["product_row"]) for w in found.get("detections") or []]
+        if meta.get("ships_drawn"):
+            # ships boxed in the drawing: found when a reported ship's centre lies within 50 m of
+            # a box (one scanned 20 m pixel where that is larger); every other one is false
+            boxes = [f["geometry"]["coordinates"][0] for f in drawn_json["features"]
+                     if f["properties"].get("kind") == "ship"]
+            ships = [(s["product_col"], s["product_row"]) for s in found.get("ships") or []]
+            reach = max(SHIP_RADIUS_M, 20.0) / float(meta.get("pixel_spacing_m", 10))
+            near_box = lambda p, b: math.hypot(
+                max(min(q[0] for q in b) - p[0], 0, p[0] - max(q[0] for q in b)),
+                max(min(q[1] for q in b) - p[1], 0, p[1] - max(q[1] for q in b))) <= reach
+            ships_found = sum(1 for b in boxes if any(near_box(p, b) for p in ships))
+            ships_false = sum(1 for p in ships if not any(near_box(p, b) for b in boxes))
+            totals["ship_images"] += 1
+            totals["ships_drawn"] += len(boxes)
+            totals["ships_found"] += ships_found
+            totals["ships_false"] += ships_false
+            print(f"{name}: ships drawn {len(boxes)}, found {ships_found}, false {ships_false}")
+        if not drawn:
+            # an image certified wake-free: every wake or window reported there is a false alarm
+            totals["clear"] += 1
+            totals["clear_quiet"] += not reported
+            totals["clear_cnn_quiet"] += not windows
+            print(f"{name}: no wake drawn, reported {len(reported)}; CNN windows {len(windows)}")
+            continue
         totals["images"] += 1
         totals["found"] += any(hits)
         totals["target"] += any(hits) and false <= 1
@@ -75,7 +107,6 @@ def main():
         # the CNN: flagged windows' centres and the map's peak within 500 m of a drawn wake
         radius = CNN_RADIUS_M / float(meta.get("pixel_spacing_m", 10))
         near = lambda p, d: point_segment(p, d[0], d[1]) <= radius
-        windows = [(w["product_col"], w["product_row"]) for w in found.get("detections") or []]
         cnn_hits = sum(1 for d in drawn if any(near(p, d) for p in windows))
         away = sum(1 for p in windows if not any(near(p, d) for d in drawn))
         peak = found.get("peak")
@@ -94,6 +125,12 @@ def main():
           + ", ".join(f"{k} {v[0]}/{v[1]}" for k, v in sorted(by_kind.items())))
     print(f"CNN: a window within 500 m of a wake in {t['cnn_found']} images, with at most one window away in "
           f"{t['cnn_target']}; peak on a wake in {t['cnn_peak']}; windows away {t['cnn_away']} of {t['cnn_windows']}")
+    if t["ship_images"]:
+        print(f"ships: {t['ships_found']} of {t['ships_drawn']} found in {t['ship_images']} images, "
+              f"{t['ships_false']} false ({t['ships_false'] / t['ship_images']:.2f} per image)")
+    if t["clear"]:
+        print(f"no-wake images {t['clear']}: without a wake reported {t['clear_quiet']}, "
+              f"without a CNN window flagged {t['clear_cnn_quiet']}")
 
 
 if __name__ == "__main__":

@@ -138,6 +138,9 @@ pub fn sigmas_for(p: f64) -> f64 {
 /// Rows of output computed from one slab of the summed-area tables.
 const BAND_ROWS: usize = 256;
 
+/// A band of rows from its first: its targets, background means and thresholds.
+type BandMaps = (usize, Array2<bool>, Array2<f32>, Array2<f32>);
+
 /// Whether each pixel is a target, its background's mean (dB) and its threshold, the mean plus
 /// `t` standard deviations (both NaN where less than half the ring holds data).
 fn cfar_map(
@@ -154,7 +157,7 @@ fn cfar_map(
     let ring_cells =
         ((2 * half_back.0 + 1) * (2 * half_back.1 + 1) - (2 * half_guard.0 + 1) * (2 * half_guard.1 + 1)) as f64;
     let bands: Vec<usize> = (0..h).step_by(BAND_ROWS).collect();
-    let results: Vec<(usize, Array2<bool>, Array2<f32>, Array2<f32>)> = bands
+    let results: Vec<BandMaps> = bands
         .into_par_iter()
         .map(|r0| {
             let r1 = (r0 + BAND_ROWS).min(h);

@@ -232,39 +232,26 @@ fn cfar_map(
 }
 
 /// The mean of the finite pixels in the (2 half.0 + 1) x (2 half.1 + 1) window around each
-/// pixel (NaN where the pixel is, or where fewer than half the window's pixels are finite).
-fn box_mean(db: &Array2<f32>, half: (usize, usize)) -> Array2<f32> {
+/// pixel, NaN where the pixel is or where fewer than half the full window's pixels are finite
+/// (so no-data borders and the image's corners are not tested by a few pixels' mean).
+fn window_mean(db: &Array2<f32>, half: (usize, usize)) -> Array2<f32> {
     let (h, w) = db.dim();
-    // summed-area tables of count and sum
-    let mut table = Array2::<[f64; 2]>::from_elem((h + 1, w + 1), [0.0; 2]);
-    for r in 0..h {
-        let mut row = [0.0; 2];
-        for c in 0..w {
-            let v = db[[r, c]];
-            if v.is_finite() {
-                row[0] += 1.0;
-                row[1] += v as f64;
+    let finite = db.mapv(|v| if v.is_finite() { 1.0 } else { 0.0 });
+    let share = crate::radon::box_mean(&finite, half);
+    let mut mean = crate::radon::box_mean(db, half);
+    let full = ((2 * half.0 + 1) * (2 * half.1 + 1)) as f32;
+    ndarray::Zip::indexed(&mut mean)
+        .and(&share)
+        .and(db)
+        .for_each(|(r, c), m, &f, &v| {
+            // the window's pixels inside the image, of which `share` are finite
+            let rows = (r + half.0 + 1).min(h) - r.saturating_sub(half.0);
+            let cols = (c + half.1 + 1).min(w) - c.saturating_sub(half.1);
+            if !v.is_finite() || f * (rows * cols) as f32 + 1e-3 < 0.5 * full {
+                *m = f32::NAN;
             }
-            let above = table[[r, c + 1]];
-            table[[r + 1, c + 1]] = [above[0] + row[0], above[1] + row[1]];
-        }
-    }
-    let full = ((2 * half.0 + 1) * (2 * half.1 + 1)) as f64;
-    Array2::from_shape_fn((h, w), |(r, c)| {
-        if !db[[r, c]].is_finite() {
-            return f32::NAN;
-        }
-        let (ra, rb) = (r.saturating_sub(half.0), (r + half.0 + 1).min(h));
-        let (ca, cb) = (c.saturating_sub(half.1), (c + half.1 + 1).min(w));
-        let at = |i: usize, j: usize, k: usize| table[[i, j]][k];
-        let n = at(rb, cb, 0) - at(ra, cb, 0) - at(rb, ca, 0) + at(ra, ca, 0);
-        let sum = at(rb, cb, 1) - at(ra, cb, 1) - at(rb, ca, 1) + at(ra, ca, 1);
-        if n < 0.5 * full {
-            f32::NAN
-        } else {
-            (sum / n) as f32
-        }
-    })
+        });
+    mean
 }
 
 /// Union-find over the detected pixels.
@@ -310,7 +297,7 @@ pub fn find_ships(image: ArrayView2<f32>, geometry: &Geometry, options: &CfarOpt
             .filter(|v| v.is_finite())
             .fold(f32::NEG_INFINITY, f32::max);
         let side = |spacing: f64| ((options.target_m / spacing - 1.0) / 2.0).round().max(1.0) as usize;
-        let averaged = box_mean(&db, (side(geometry.spacing.0), side(geometry.spacing.1)));
+        let averaged = window_mean(&db, (side(geometry.spacing.0), side(geometry.spacing.1)));
         let (window_hit, _, _) = cfar_map(&averaged, half_guard, half_back, t, options.min_contrast_db);
         ndarray::Zip::from(&mut hit)
             .and(&window_hit)

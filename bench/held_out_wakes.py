@@ -1,9 +1,11 @@
 #!/usr/bin/env python3
-"""Regenerate the 20 held-out real SAR ship-wake images (bench/held_out_wakes/).
+"""Regenerate the held-out real SAR ship-wake images: the 20 of bench/held_out_wakes/ or, with
+--second, the 16 of bench/held_out_wakes_2/.
 
 The images are not kept in this repository (third-party content); this script
-cuts them, pixel for pixel, out of four public GitHub repositories at pinned
-commits. The hand-drawn wake lines are bench/held_out_wakes/*.geojson.
+cuts them, pixel for pixel, out of public GitHub repositories at pinned
+commits (four for the first set, three for the second). The hand-drawn wake
+lines are the sets' *.geojson.
 
 Usage:
     python3 bench/held_out_wakes.py OUT_DIR [--second] [--mirrors DIR] [--compare DIR]

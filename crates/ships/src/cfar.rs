@@ -6,7 +6,9 @@
 //! between a guard window (which holds the ship) and a background window, both given in metres.
 //! In dB the sea's speckled intensity is near Gaussian (the log-normal clutter model); a
 //! one-look exponential intensity has a lighter upper tail in dB than a Gaussian, so the stated
-//! P_fa is an upper bound there.
+//! P_fa is an upper bound there. Where a pixel's threshold lies at or above the brightest value
+//! of the searched image (a display stretch clipping its ships at its ceiling), SNAP's target
+//! window tests the mean of the pixels around it instead ([`CfarOptions::target_m`]).
 //!
 //! Detected pixels are clustered into targets (8-connected, then joined within `merge_m`);
 //! weaker targets on the range or azimuth line of a far brighter one nearby are its sidelobes,

@@ -227,6 +227,20 @@ impl Normalised {
         (if n > 0 { sum / n as f64 } else { f64::NAN }, n)
     }
 
+    /// How many samples [`Self::ray_mean`] takes over the same ray and band where all of it
+    /// lies in the image: the count its own would reach without edges, land or no data.
+    pub fn ray_capacity(&self, (near, far): (f64, f64), half_width: f64) -> usize {
+        let step = self.geometry.spacing.0.min(self.geometry.spacing.1);
+        let across_step = step.max(half_width / 3.0);
+        let along = if far >= near {
+            ((far - near) / step + 1e-9).floor() as usize + 1
+        } else {
+            0
+        };
+        let across = (2.0 * half_width / across_step + 1e-9).floor() as usize + 1;
+        along * across
+    }
+
     /// The profile along a ray: the band's mean at every `step` metres from `near` to `far`.
     pub fn ray_profile(
         &self,

@@ -209,10 +209,43 @@ pub(crate) fn line_contrast(
     far: f64,
     signature: Signature,
 ) -> f64 {
+    line_contrast_and_samples(image, apex, heading, near, o, far, signature).0
+}
+
+/// The evidence for a line: its contrast times the square root of the share of it that lies
+/// in the image. A contrast is a mean over the line's samples, and its noise falls as one over
+/// the square root of their number (the scaling of a t statistic): the line toward a near edge
+/// of the image, or across land, is as noisy as its few samples make it, and without this
+/// weight the directions from a ship near an image's edge are ranked by their noise (the short
+/// lines out of a small chip; docs/results.md). Lines wholly in the image keep their contrast.
+fn line_evidence(
+    image: &Normalised,
+    apex: (f64, f64),
+    heading: f64,
+    near: f64,
+    o: &WakeOptions,
+    far: f64,
+    signature: Signature,
+) -> f64 {
+    let (contrast, samples) = line_contrast_and_samples(image, apex, heading, near, o, far, signature);
+    let capacity = image.ray_capacity((near, far), signature.bands(o).0).max(1);
+    contrast * (samples as f64 / capacity as f64).min(1.0).sqrt()
+}
+
+/// The line's contrast and how many samples its band holds.
+fn line_contrast_and_samples(
+    image: &Normalised,
+    apex: (f64, f64),
+    heading: f64,
+    near: f64,
+    o: &WakeOptions,
+    far: f64,
+    signature: Signature,
+) -> (f64, usize) {
     let (half_width, side_offset, side_half_width, _) = signature.bands(o);
     let (line, n) = image.ray_mean(apex, heading, (near, far), 0.0, half_width);
     if n < 8 {
-        return f64::NAN;
+        return (f64::NAN, n);
     }
     let left = image
         .ray_mean(apex, heading, (near, far), -side_offset, side_half_width)
@@ -230,12 +263,13 @@ pub(crate) fn line_contrast(
         (true, true) => pick(left, right),
         (true, false) => left,
         (false, true) => right,
-        _ => return f64::NAN,
+        _ => return (f64::NAN, n),
     };
-    match signature {
+    let contrast = match signature {
         Signature::Trough => sides - line,
         Signature::BrightArm => line - sides,
-    }
+    };
+    (contrast, n)
 }
 
 /// What the trough's contrast the other way (`ahead`) takes from a wake's score. A wake's score
@@ -294,7 +328,7 @@ fn best_ray(
             let mut best = (f64::NEG_INFINITY, 0.0, 0.0);
             for &t in offsets {
                 let apex = (origin.0 + az.0 * t, origin.1 + az.1 * t);
-                let behind = line_contrast(image, apex, *h, near, o, far, signature);
+                let behind = line_evidence(image, apex, *h, near, o, far, signature);
                 // the score is at most the line's contrast (the way ahead only takes from
                 // it): a line no stronger than the best so far cannot beat it, and the way
                 // ahead, half of the work, is not measured (the same best, found faster)
@@ -304,7 +338,7 @@ fn best_ray(
                 let spread = signature.ahead_spread_deg();
                 let ahead = span(-spread, spread, 0.5)
                     .into_iter()
-                    .map(|d| line_contrast(image, apex, *h + 180.0 + d, near, o, far, signature))
+                    .map(|d| line_evidence(image, apex, *h + 180.0 + d, near, o, far, signature))
                     .fold(f64::NAN, f64::max);
                 let score = behind - ahead_penalty(ahead);
                 if score > best.0 {
@@ -390,7 +424,7 @@ fn anchored_wake(
     // each direction's line once: a direction's score takes the opposite one's as its way ahead
     let lines: Vec<f64> = span(0.0, 359.0, 1.0)
         .par_iter()
-        .map(|&h| line_contrast(fine, apex, h, near, o, far, signature))
+        .map(|&h| line_evidence(fine, apex, h, near, o, far, signature))
         .collect();
     let spread = signature.ahead_spread_deg() as usize;
     let all: Vec<f64> = (0..360)
@@ -667,6 +701,79 @@ mod tests {
             }
         }
         (image, g, ship, shift)
+    }
+
+    /// Lines from an apex 100 m inside an image's edge over plain speckle: those out of the
+    /// image hold a few dozen samples, those into it a full 2.5 km. A mean's noise falls as one
+    /// over the square root of its samples, so the short lines' contrasts spread several times
+    /// as widely as the long ones'; weighted by the square root of their share in the image
+    /// (their evidence) they spread alike, and no short line outranks the long ones by its
+    /// noise alone.
+    #[test]
+    fn a_lines_evidence_is_as_noisy_near_an_edge_as_far_from_it() {
+        let g = Geometry::along_rows(10.0, 35.0, None);
+        let o = WakeOptions::default();
+        let apex = (200.0, 390.0);
+        let (mut short, mut long) = ((Vec::new(), Vec::new()), (Vec::new(), Vec::new()));
+        for seed in 0..8 {
+            let image = crate::speckle(400, 400, 4, 0.01, 100 + seed);
+            let search = SearchImage::new(image.view(), &g, 2000.0);
+            for h in 0..=60 {
+                for (heading, into) in [(60.0 + h as f64, &mut short), (240.0 + h as f64, &mut long)] {
+                    let c = line_contrast(&search.fine, apex, heading, 60.0, &o, o.length_m, Signature::Trough);
+                    let e = line_evidence(&search.fine, apex, heading, 60.0, &o, o.length_m, Signature::Trough);
+                    if c.is_finite() {
+                        into.0.push(c);
+                        into.1.push(e);
+                    }
+                }
+            }
+        }
+        let sd = |v: &[f64]| {
+            let m = v.iter().sum::<f64>() / v.len() as f64;
+            (v.iter().map(|x| (x - m).powi(2)).sum::<f64>() / (v.len() - 1) as f64).sqrt()
+        };
+        let contrast_ratio = sd(&short.0) / sd(&long.0);
+        let evidence_ratio = sd(&short.1) / sd(&long.1);
+        assert!(
+            short.0.len() > 300 && long.0.len() == 8 * 61,
+            "{} {}",
+            short.0.len(),
+            long.0.len()
+        );
+        assert!(contrast_ratio > 3.0, "contrast spread short / long {contrast_ratio:.2}");
+        assert!(
+            (0.5..2.0).contains(&evidence_ratio),
+            "evidence spread short / long {evidence_ratio:.2}"
+        );
+    }
+
+    /// A ship 100 m inside a small image's edge with a faint trough (-1.4 dB, 40 m wide) for
+    /// 1.5 km into the image, over 4-look speckle, no R/V (apexes sought 1.5 km either way
+    /// along the azimuth). The lines out of the image hold a few dozen samples each; the
+    /// search ranked by contrast alone (before 2026-11-29) found no wake in any of these ten
+    /// draws, their noise standing as high as the trough. Ranked by evidence, the trough is
+    /// the wake in every draw.
+    #[test]
+    fn a_ship_near_an_edge_keeps_its_wake_against_the_short_lines_out_of_the_image() {
+        let g = Geometry::along_rows(10.0, 35.0, None);
+        let o = WakeOptions::default();
+        for seed in 0..10 {
+            let mut image = crate::speckle(300, 300, 4, 0.01, 300 + seed);
+            image
+                .slice_mut(ndarray::s![148..152, 135..286])
+                .mapv_inplace(|v| v * 0.72);
+            image.slice_mut(ndarray::s![149..=151, 288..=291]).fill(3.0);
+            let ships = find_ships(image.view(), &g, &CfarOptions::default());
+            assert_eq!(ships.ships.len(), 1, "{:?}", ships.ships);
+            let search = SearchImage::new(image.view(), &g, 2000.0);
+            let wake = ship_wake(&search, &ships.ships[0], 0, &o).expect("the trough");
+            assert_eq!(wake.signature, Signature::Trough, "seed {seed}: {wake:?}");
+            assert!(
+                angle_difference(wake.axis_deg, 270.0).abs() < 1.0,
+                "seed {seed}: {wake:?}"
+            );
+        }
     }
 
     /// Courses all round, speeds 6-12 m/s: the ship is found, its wake's course within 3

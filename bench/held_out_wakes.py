@@ -1,6 +1,6 @@
 #!/usr/bin/env python3
-"""Regenerate the held-out real SAR ship-wake images: the 20 of bench/held_out_wakes/ or, with
---second, the 16 of bench/held_out_wakes_2/.
+"""Regenerate the held-out real SAR ship-wake images: the 20 of bench/held_out_wakes/, with
+--second the 16 of bench/held_out_wakes_2/, with --third the 6 of bench/held_out_wakes_3/.
 
 The images are not kept in this repository (third-party content); this script
 cuts them, pixel for pixel, out of public GitHub repositories at pinned
@@ -8,12 +8,14 @@ commits (four for the first set, three for the second). The hand-drawn wake
 lines are the sets' *.geojson.
 
 Usage:
-    python3 bench/held_out_wakes.py OUT_DIR [--second] [--mirrors DIR] [--compare DIR]
+    python3 bench/held_out_wakes.py OUT_DIR [--second | --third] [--mirrors DIR] [--compare DIR]
 
   OUT_DIR     where the 20 PNGs (8-bit greyscale) are written
   --second    the second held-out set instead (bench/held_out_wakes_2/: 16
               images of three other repositories, each named with its commit
               and path in its GeoJSON's "notes" after SOURCE, taken whole)
+  --third     the third held-out set (bench/held_out_wakes_3/: 6 images of
+              three more repositories, named in the GeoJSONs as for --second)
   --mirrors   folder holding the four repositories (default /work/.mirror);
               each is looked up as DIR/OWNER+NAME/repo, DIR/OWNER+NAME or
               DIR/NAME (bare repository or a clone with a work tree)
@@ -52,8 +54,19 @@ libjpeg decodes them). Its repositories:
     https://github.com/atlan-antillia/TensorFlow-FlexUNet-Image-Segmentation-HRSID-Satellite-Imagery-Ship (15d0d587)
     https://github.com/chaozhong2010/HRSID (2d682fe0)
     https://github.com/lewisFarley403/Dark-ship-detection (b68744df)
+Third set: as the second, R channel kept, with two exceptions. eob_01 (an EO
+Browser screenshot) is cropped to rows 34..757, dropping the header, scale bar
+and credit burned in above and below the sea. The hrs_* chips (HRSID test
+chips as TerrencePai's keypoint figures saved them, lossless PNG) carry
+magenta ship boxes and keypoint dots around their ships: those pixels (where
+R, G and B differ; under 1 % of a chip), dilated once with the
+4-neighbourhood, are filled as the OpenSARWake boxes are (numpy
+default_rng(chip number)). Its repositories:
+    https://github.com/alexmak001/SAR-satelite-image-ship-detection (6ca3ee58)
+    https://github.com/ioEclipse/SAR-SHIP-DETECTION (1a6df292)
+    https://github.com/TerrencePai/SAR_Ship_keypoint_detection (0b1fe257)
 """
-import argparse, hashlib, io, json, os, subprocess, sys
+import argparse, hashlib, io, json, os, re, subprocess, sys
 try:
     import numpy as np
     from PIL import Image
@@ -178,16 +191,54 @@ def second_set(mirrors):
     return images
 
 
+# the third set's crops, (y0, y1, x0, x1)
+THIRD_CROPS = {'eob_01': (34, 758, 0, 1086)}
+
+
+def third_set(mirrors):
+    """The third set: sources as the second's (a path may hold spaces), crops and overlays as the
+    docstring says."""
+    here = os.path.join(os.path.dirname(os.path.abspath(__file__)), 'held_out_wakes_3')
+    images = {}
+    for f in sorted(os.listdir(here)):
+        if not f.endswith('.geojson'):
+            continue
+        name = f[:-len('.geojson')]
+        with open(os.path.join(here, f)) as g:
+            notes = json.load(g)['notes']
+        m = re.match(r'SOURCE (\S+)@([0-9a-f]{40}):(.+?\.(?:png|jpg)) \(', notes)
+        if not m:
+            sys.exit(f'{f}: notes do not start with SOURCE owner/name@commit:path (licence)')
+        repo, commit, path = m.groups()
+        rgb = np.asarray(Image.open(io.BytesIO(blob(mirrors, (repo, commit), path))).convert('RGB'))
+        if name in THIRD_CROPS:
+            y0, y1, x0, x1 = THIRD_CROPS[name]
+            rgb = rgb[y0:y1, x0:x1]
+        r = rgb[..., 0].copy()
+        colour = (rgb[..., 0] != rgb[..., 1]) | (rgb[..., 0] != rgb[..., 2])
+        if name.startswith('hrs_'):
+            if colour.mean() >= 0.01:
+                sys.exit(f'{name}: {colour.mean():.1%} of the pixels are coloured, more than the ship boxes')
+            r = fill(r, dilate4(colour, 1), np.random.default_rng(int(name[4:])))
+        elif colour.any():
+            sys.exit(f'{name}: not a grey image (R, G and B differ)')
+        images[name] = r
+    return images
+
+
 def main():
     ap = argparse.ArgumentParser(description=__doc__.split('\n')[0])
     ap.add_argument('out_dir')
     ap.add_argument('--mirrors', default='/work/.mirror')
     ap.add_argument('--compare', default=None)
-    ap.add_argument('--second', action='store_true')
+    which = ap.add_mutually_exclusive_group()
+    which.add_argument('--second', action='store_true')
+    which.add_argument('--third', action='store_true')
     a = ap.parse_args()
     os.makedirs(a.out_dir, exist_ok=True)
     images = {}
-    for part in (second_set,) if a.second else (kunal, opensarwake, jascubero, terrasar):
+    parts = (second_set,) if a.second else (third_set,) if a.third else (kunal, opensarwake, jascubero, terrasar)
+    for part in parts:
         images.update(part(a.mirrors))
     for name in sorted(images):
         # a temporary name, then the real one: bench/real_wakes.sh takes the last image's presence

@@ -218,6 +218,8 @@ pub(crate) fn line_contrast(
 /// of the image, or across land, is as noisy as its few samples make it, and without this
 /// weight the directions from a ship near an image's edge are ranked by their noise (the short
 /// lines out of a small chip; docs/results.md). Lines wholly in the image keep their contrast.
+/// The line behind the apex is ranked and tested by its evidence; the way ahead is taken by
+/// its contrast (see [`best_ray`]).
 fn line_evidence(
     image: &Normalised,
     apex: (f64, f64),
@@ -228,6 +230,19 @@ fn line_evidence(
     signature: Signature,
 ) -> f64 {
     let (contrast, samples) = line_contrast_and_samples(image, apex, heading, near, o, far, signature);
+    evidence(image, contrast, samples, near, far, o, signature)
+}
+
+/// A line's evidence from its contrast and its samples.
+fn evidence(
+    image: &Normalised,
+    contrast: f64,
+    samples: usize,
+    near: f64,
+    far: f64,
+    o: &WakeOptions,
+    signature: Signature,
+) -> f64 {
     let capacity = image.ray_capacity((near, far), signature.bands(o).0).max(1);
     contrast * (samples as f64 / capacity as f64).min(1.0).sqrt()
 }
@@ -335,10 +350,15 @@ fn best_ray(
                 if behind.is_nan() || behind <= best.0 {
                     continue;
                 }
+                // the way ahead by its contrast, not its evidence: it tests whether the line
+                // runs on through the apex (a streak or a swell's trough, both ways), and a
+                // short stretch ahead inside the image says so as well as a long one; weighed
+                // down by its share, streaks from ships near an edge passed as wakes (SSDD's
+                // chips: 75 wakes reported instead of 66; docs/results.md)
                 let spread = signature.ahead_spread_deg();
                 let ahead = span(-spread, spread, 0.5)
                     .into_iter()
-                    .map(|d| line_evidence(image, apex, *h + 180.0 + d, near, o, far, signature))
+                    .map(|d| line_contrast(image, apex, *h + 180.0 + d, near, o, far, signature))
                     .fold(f64::NAN, f64::max);
                 let score = behind - ahead_penalty(ahead);
                 if score > best.0 {
@@ -422,17 +442,21 @@ fn anchored_wake(
     let contrast = line_contrast(fine, apex, axis, near, o, far, signature);
     // significance among every direction from this apex
     // each direction's line once: a direction's score takes the opposite one's as its way ahead
-    let lines: Vec<f64> = span(0.0, 359.0, 1.0)
+    // each line's evidence, and its contrast for the way ahead of the opposite one
+    let lines: Vec<(f64, f64)> = span(0.0, 359.0, 1.0)
         .par_iter()
-        .map(|&h| line_evidence(fine, apex, h, near, o, far, signature))
+        .map(|&h| {
+            let (contrast, samples) = line_contrast_and_samples(fine, apex, h, near, o, far, signature);
+            (evidence(fine, contrast, samples, near, far, o, signature), contrast)
+        })
         .collect();
     let spread = signature.ahead_spread_deg() as usize;
     let all: Vec<f64> = (0..360)
         .map(|h| {
             let ahead = (360 + 180 - spread..=360 + 180 + spread)
-                .map(|k| lines[(h + k) % 360])
+                .map(|k| lines[(h + k) % 360].1)
                 .fold(f64::NAN, f64::max);
-            lines[h] - ahead_penalty(ahead)
+            lines[h].0 - ahead_penalty(ahead)
         })
         .filter(|c| c.is_finite())
         .collect();
@@ -752,12 +776,15 @@ mod tests {
     /// 1.5 km into the image, over 4-look speckle, no R/V (apexes sought 1.5 km either way
     /// along the azimuth). The lines out of the image hold a few dozen samples each; the
     /// search ranked by contrast alone (before 2026-11-29) found no wake in any of these ten
-    /// draws, their noise standing as high as the trough. Ranked by evidence, the trough is
-    /// the wake in every draw.
+    /// draws, their noise standing as high as the trough. Ranked by evidence, the trough is the
+    /// wake in 8 of them. (In the other two the short way ahead, a few pixels to the edge, is
+    /// dark by chance and is taken from the score as it is; weighed by its share too, all ten
+    /// were found, but so were streaks through ships near edges on real chips.)
     #[test]
     fn a_ship_near_an_edge_keeps_its_wake_against_the_short_lines_out_of_the_image() {
         let g = Geometry::along_rows(10.0, 35.0, None);
         let o = WakeOptions::default();
+        let mut found = 0;
         for seed in 0..10 {
             let mut image = crate::speckle(300, 300, 4, 0.01, 300 + seed);
             image
@@ -767,13 +794,16 @@ mod tests {
             let ships = find_ships(image.view(), &g, &CfarOptions::default());
             assert_eq!(ships.ships.len(), 1, "{:?}", ships.ships);
             let search = SearchImage::new(image.view(), &g, 2000.0);
-            let wake = ship_wake(&search, &ships.ships[0], 0, &o).expect("the trough");
-            assert_eq!(wake.signature, Signature::Trough, "seed {seed}: {wake:?}");
-            assert!(
-                angle_difference(wake.axis_deg, 270.0).abs() < 1.0,
-                "seed {seed}: {wake:?}"
-            );
+            if let Some(wake) = ship_wake(&search, &ships.ships[0], 0, &o) {
+                assert_eq!(wake.signature, Signature::Trough, "seed {seed}: {wake:?}");
+                assert!(
+                    angle_difference(wake.axis_deg, 270.0).abs() < 1.0,
+                    "seed {seed}: {wake:?}"
+                );
+                found += 1;
+            }
         }
+        assert!(found >= 8, "the trough found in {found} of 10 draws");
     }
 
     /// Courses all round, speeds 6-12 m/s: the ship is found, its wake's course within 3

@@ -4,8 +4,9 @@
 //! of its own direction (a swell's troughs are many parallel lines, a wake one), long enough, and
 //! not the wake of a ship already found ([`crate::wake::ship_wake`]).
 
+use crate::lines::{line_contrast, robust_spread};
 use crate::radon::{Normalised, SearchImage};
-use crate::wake::{line_contrast, robust_spread, span, Signature, Wake, WakeOptions};
+use crate::wake::{span, Signature, Wake, WakeOptions};
 use crate::{line_difference, Geometry};
 use rayon::prelude::*;
 

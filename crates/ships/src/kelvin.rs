@@ -84,7 +84,7 @@ fn finite(profile: &[f32]) -> Vec<f64> {
 /// outside the Kelvin wedge, whose power is the reference a peak must stand over (the swell and
 /// the wind waves are there too; the ship's transverse waves are not); without them the
 /// reference is the profile's own median power. Profile and sides are first whitened by the
-/// sea's lag-1 correlation ([`whitened`]), measured on the sides where there are some.
+/// sea's lag-1 correlation (prewhitening), measured on the sides where there are some.
 pub fn kelvin_speed(
     profile: &[f32],
     sides: &[Vec<f32>],

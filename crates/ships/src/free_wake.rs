@@ -4,7 +4,7 @@
 //! of its own direction (a swell's troughs are many parallel lines, a wake one), long enough, and
 //! not the wake of a ship already found ([`crate::wake::ship_wake`]).
 
-use crate::lines::{line_contrast, robust_spread};
+use crate::lines::{line, robust_spread};
 use crate::radon::{Normalised, SearchImage};
 use crate::wake::{span, Signature, Wake, WakeOptions};
 use crate::{line_difference, Geometry};
@@ -201,7 +201,7 @@ fn dark_extent(
     let dark: Vec<Option<bool>> = starts
         .iter()
         .map(|&d| {
-            let c = line_contrast(image, through, heading, d, o, d + segment, Signature::Trough);
+            let c = line(image, through, heading, d, o, d + segment, Signature::Trough).contrast;
             c.is_finite().then_some(c >= 0.5 * o.min_contrast)
         })
         .collect();

@@ -7,10 +7,27 @@
 use crate::radon::{median, Normalised};
 use crate::wake::{Signature, WakeOptions};
 
-/// The contrast of the line along direction `heading` from `apex` to its side bands: for a
-/// trough its darkness under the darker side, for a bright arm its brightness over the
-/// brighter side.
-pub(crate) fn line_contrast(
+/// How a line stands out from its sides.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub(crate) struct Line {
+    /// For a trough its darkness under the darker side band, for a bright arm its brightness
+    /// over the brighter one (the sea's standard deviations); NaN where the line or both its
+    /// sides lie out of the image.
+    pub contrast: f64,
+    /// The contrast times the square root of the share of the line's samples that lie in the
+    /// image, off land and no data. A contrast is a mean over the line's samples, and its noise
+    /// falls as one over the square root of their number (the scaling of a t statistic): the
+    /// line toward a near edge of the image, or across land, is as noisy as its few samples
+    /// make it, and ranked by contrast the directions from a ship near an image's edge were
+    /// ranked by their noise (the short lines out of a small chip; docs/results.md). Lines
+    /// wholly in the image keep their contrast. The line behind an apex is ranked and tested
+    /// by its evidence; the way ahead is taken by its contrast (see `wake::best_ray`).
+    pub evidence: f64,
+}
+
+/// The line along direction `heading` from `apex`, from `near` to `far` metres, against its
+/// side bands.
+pub(crate) fn line(
     image: &Normalised,
     apex: (f64, f64),
     heading: f64,
@@ -18,59 +35,15 @@ pub(crate) fn line_contrast(
     o: &WakeOptions,
     far: f64,
     signature: Signature,
-) -> f64 {
-    line_contrast_and_samples(image, apex, heading, near, o, far, signature).0
-}
-
-/// The evidence for a line: its contrast times the square root of the share of it that lies
-/// in the image. A contrast is a mean over the line's samples, and its noise falls as one over
-/// the square root of their number (the scaling of a t statistic): the line toward a near edge
-/// of the image, or across land, is as noisy as its few samples make it, and without this
-/// weight the directions from a ship near an image's edge are ranked by their noise (the short
-/// lines out of a small chip; docs/results.md). Lines wholly in the image keep their contrast.
-/// The line behind the apex is ranked and tested by its evidence; the way ahead is taken by
-/// its contrast (see `wake::best_ray`).
-pub(crate) fn line_evidence(
-    image: &Normalised,
-    apex: (f64, f64),
-    heading: f64,
-    near: f64,
-    o: &WakeOptions,
-    far: f64,
-    signature: Signature,
-) -> f64 {
-    let (contrast, samples) = line_contrast_and_samples(image, apex, heading, near, o, far, signature);
-    evidence(image, contrast, samples, near, far, o, signature)
-}
-
-/// A line's evidence from its contrast and its samples.
-pub(crate) fn evidence(
-    image: &Normalised,
-    contrast: f64,
-    samples: usize,
-    near: f64,
-    far: f64,
-    o: &WakeOptions,
-    signature: Signature,
-) -> f64 {
-    let capacity = image.ray_capacity((near, far), signature.bands(o).0).max(1);
-    contrast * (samples as f64 / capacity as f64).min(1.0).sqrt()
-}
-
-/// The line's contrast and how many samples its band holds.
-pub(crate) fn line_contrast_and_samples(
-    image: &Normalised,
-    apex: (f64, f64),
-    heading: f64,
-    near: f64,
-    o: &WakeOptions,
-    far: f64,
-    signature: Signature,
-) -> (f64, usize) {
+) -> Line {
     let (half_width, side_offset, side_half_width, _) = signature.bands(o);
-    let (line, n) = image.ray_mean(apex, heading, (near, far), 0.0, half_width);
+    let (mean, n) = image.ray_mean(apex, heading, (near, far), 0.0, half_width);
+    let unseen = Line {
+        contrast: f64::NAN,
+        evidence: f64::NAN,
+    };
     if n < 8 {
-        return (f64::NAN, n);
+        return unseen;
     }
     let left = image
         .ray_mean(apex, heading, (near, far), -side_offset, side_half_width)
@@ -88,13 +61,17 @@ pub(crate) fn line_contrast_and_samples(
         (true, true) => pick(left, right),
         (true, false) => left,
         (false, true) => right,
-        _ => return (f64::NAN, n),
+        _ => return unseen,
     };
     let contrast = match signature {
-        Signature::Trough => sides - line,
-        Signature::BrightArm => line - sides,
+        Signature::Trough => sides - mean,
+        Signature::BrightArm => mean - sides,
     };
-    (contrast, n)
+    let capacity = image.ray_capacity((near, far), half_width).max(1);
+    Line {
+        contrast,
+        evidence: contrast * (n as f64 / capacity as f64).min(1.0).sqrt(),
+    }
 }
 
 /// What the trough's contrast the other way (`ahead`) takes from a wake's score. A wake's score

@@ -26,7 +26,7 @@
 
 use crate::cfar::Ship;
 use crate::kelvin::{kelvin_speed, KelvinReading, Speed};
-use crate::lines::{ahead_penalty, evidence, line_contrast, line_contrast_and_samples, line_evidence, robust_z};
+use crate::lines::{ahead_penalty, line, robust_z};
 use crate::radon::{Normalised, SearchImage};
 use crate::{angle_difference, Geometry};
 use rayon::prelude::*;
@@ -226,7 +226,7 @@ fn best_ray(
             let mut best = (f64::NEG_INFINITY, 0.0, 0.0);
             for &t in offsets {
                 let apex = (origin.0 + az.0 * t, origin.1 + az.1 * t);
-                let behind = line_evidence(image, apex, *h, near, o, far, signature);
+                let behind = line(image, apex, *h, near, o, far, signature).evidence;
                 // the score is at most the line's contrast (the way ahead only takes from
                 // it): a line no stronger than the best so far cannot beat it, and the way
                 // ahead, half of the work, is not measured (the same best, found faster)
@@ -241,7 +241,7 @@ fn best_ray(
                 let spread = signature.ahead_spread_deg();
                 let ahead = span(-spread, spread, 0.5)
                     .into_iter()
-                    .map(|d| line_contrast(image, apex, *h + 180.0 + d, near, o, far, signature))
+                    .map(|d| line(image, apex, *h + 180.0 + d, near, o, far, signature).contrast)
                     .fold(f64::NAN, f64::max);
                 let score = behind - ahead_penalty(ahead);
                 if score > best.0 {
@@ -322,15 +322,15 @@ fn anchored_wake(
     let axis = axis.rem_euclid(360.0);
     let az = g.step(g.azimuth_deg);
     let apex = (ship.row + az.0 * offset, ship.col + az.1 * offset);
-    let contrast = line_contrast(fine, apex, axis, near, o, far, signature);
+    let contrast = line(fine, apex, axis, near, o, far, signature).contrast;
     // significance among every direction from this apex
     // each direction's line once: a direction's score takes the opposite one's as its way ahead
     // each line's evidence, and its contrast for the way ahead of the opposite one
     let lines: Vec<(f64, f64)> = span(0.0, 359.0, 1.0)
         .par_iter()
         .map(|&h| {
-            let (contrast, samples) = line_contrast_and_samples(fine, apex, h, near, o, far, signature);
-            (evidence(fine, contrast, samples, near, far, o, signature), contrast)
+            let l = line(fine, apex, h, near, o, far, signature);
+            (l.evidence, l.contrast)
         })
         .collect();
     let spread = signature.ahead_spread_deg() as usize;
@@ -492,7 +492,7 @@ fn visible_length(
         faded,
     };
     while d < 30_000.0 {
-        let c = line_contrast(image, apex, axis, d, o, d + segment, signature);
+        let c = line(image, apex, axis, d, o, d + segment, signature).contrast;
         if !c.is_finite() {
             if entered.is_some() {
                 break;
@@ -627,8 +627,8 @@ mod tests {
             let search = SearchImage::new(image.view(), &g, 2000.0);
             for h in 0..=60 {
                 for (heading, into) in [(60.0 + h as f64, &mut short), (240.0 + h as f64, &mut long)] {
-                    let c = line_contrast(&search.fine, apex, heading, 60.0, &o, o.length_m, Signature::Trough);
-                    let e = line_evidence(&search.fine, apex, heading, 60.0, &o, o.length_m, Signature::Trough);
+                    let l = line(&search.fine, apex, heading, 60.0, &o, o.length_m, Signature::Trough);
+                    let (c, e) = (l.contrast, l.evidence);
                     if c.is_finite() {
                         into.0.push(c);
                         into.1.push(e);

@@ -26,7 +26,7 @@
 
 use crate::cfar::Ship;
 use crate::kelvin::{kelvin_speed, KelvinReading, Speed};
-use crate::lines::{ahead_penalty, line, robust_z};
+use crate::lines::{ahead_penalty, line, robust_z, Line};
 use crate::radon::{Normalised, SearchImage};
 use crate::{angle_difference, Geometry};
 use rayon::prelude::*;
@@ -227,7 +227,7 @@ fn best_ray(
             for &t in offsets {
                 let apex = (origin.0 + az.0 * t, origin.1 + az.1 * t);
                 let behind = line(image, apex, *h, near, o, far, signature).evidence;
-                // the score is at most the line's contrast (the way ahead only takes from
+                // the score is at most the line's evidence (the way ahead only takes from
                 // it): a line no stronger than the best so far cannot beat it, and the way
                 // ahead, half of the work, is not measured (the same best, found faster)
                 if behind.is_nan() || behind <= best.0 {
@@ -325,21 +325,18 @@ fn anchored_wake(
     let contrast = line(fine, apex, axis, near, o, far, signature).contrast;
     // significance among every direction from this apex
     // each direction's line once: a direction's score takes the opposite one's as its way ahead
-    // each line's evidence, and its contrast for the way ahead of the opposite one
-    let lines: Vec<(f64, f64)> = span(0.0, 359.0, 1.0)
+    // (its evidence; its contrast for the way ahead of the opposite one, as in `best_ray`)
+    let lines: Vec<Line> = span(0.0, 359.0, 1.0)
         .par_iter()
-        .map(|&h| {
-            let l = line(fine, apex, h, near, o, far, signature);
-            (l.evidence, l.contrast)
-        })
+        .map(|&h| line(fine, apex, h, near, o, far, signature))
         .collect();
     let spread = signature.ahead_spread_deg() as usize;
     let all: Vec<f64> = (0..360)
         .map(|h| {
             let ahead = (360 + 180 - spread..=360 + 180 + spread)
-                .map(|k| lines[(h + k) % 360].1)
+                .map(|k| lines[(h + k) % 360].contrast)
                 .fold(f64::NAN, f64::max);
-            lines[h].0 - ahead_penalty(ahead)
+            lines[h].evidence - ahead_penalty(ahead)
         })
         .filter(|c| c.is_finite())
         .collect();

@@ -4,9 +4,8 @@
 //! of its own direction (a swell's troughs are many parallel lines, a wake one), long enough, and
 //! not the wake of a ship already found ([`crate::wake::ship_wake`]).
 
-use crate::lines::{line, robust_spread};
 use crate::radon::{Normalised, SearchImage};
-use crate::wake::{span, Signature, Wake, WakeOptions};
+use crate::wake::{line, robust_spread, span, Signature, Wake, WakeOptions};
 use crate::{line_difference, Geometry};
 use rayon::prelude::*;
 

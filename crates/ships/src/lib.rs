@@ -20,7 +20,6 @@ pub mod cfar;
 pub mod free_wake;
 pub mod kelvin;
 pub mod land;
-mod lines;
 pub mod radon;
 pub mod wake;
 

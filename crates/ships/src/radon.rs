@@ -308,4 +308,23 @@ mod tests {
         assert!(on.0.abs() < 1e-6 && on.1 == 41, "{on:?}");
         assert!((beside.0 - 1.0).abs() < 1e-6, "{beside:?}");
     }
+
+    /// `ray_capacity` counts what `ray_mean` samples when the whole ray lies in the image, for
+    /// bands narrower and wider than a pixel and rays along and across the grid; a ray half
+    /// out of the image samples fewer.
+    #[test]
+    fn a_rays_capacity_is_what_it_samples_inside_the_image() {
+        let g = crate::Geometry::along_rows(10.0, 35.0, None);
+        let image = normalise(crate::speckle(400, 400, 4, 0.01, 5).view(), &g, 2000.0);
+        for (heading, half_width) in [(0.0, 5.0), (90.0, 20.0), (37.0, 100.0), (210.0, 10.0)] {
+            let (_, n) = image.ray_mean((200.0, 200.0), heading, (60.0, 1500.0), 0.0, half_width);
+            assert_eq!(
+                n,
+                image.ray_capacity((60.0, 1500.0), half_width),
+                "{heading} {half_width}"
+            );
+            let (_, cut) = image.ray_mean((200.0, 380.0), 90.0, (60.0, 1500.0), 0.0, half_width);
+            assert!(cut < n / 4, "{cut} of {n}");
+        }
+    }
 }

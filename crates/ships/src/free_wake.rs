@@ -4,8 +4,9 @@
 //! of its own direction (a swell's troughs are many parallel lines, a wake one), long enough, and
 //! not the wake of a ship already found ([`crate::wake::ship_wake`]).
 
-use crate::radon::{Normalised, SearchImage};
-use crate::wake::{line, robust_spread, span, Signature, Wake, WakeOptions};
+use crate::lines::{line, span, Signature, WakeOptions};
+use crate::radon::{robust_spread, Normalised, SearchImage};
+use crate::wake::Wake;
 use crate::{line_difference, Geometry};
 use rayon::prelude::*;
 

@@ -5,6 +5,8 @@
 //! - [`cfar`]: ships as bright targets, by a two-parameter CFAR on the image in dB (guard and
 //!   background windows in metres, a stated false-alarm probability), clustered into targets,
 //!   azimuth ambiguities and sidelobe ghosts rejected, masked pixels (NaN) left out;
+//! - [`lines`]: the wake searches' settings and their measure of a line (its contrast with its
+//!   sides, and its evidence: the contrast weighed by the share of the line in the image);
 //! - [`wake`]: each ship's wake, by a Radon search of the normalised image along rays from the
 //!   ship's true position (the detected return is displaced in azimuth by its range velocity),
 //!   the dark turbulent trough with the bright arms of the narrow V beside it, or where there is
@@ -20,6 +22,7 @@ pub mod cfar;
 pub mod free_wake;
 pub mod kelvin;
 pub mod land;
+pub mod lines;
 pub mod radon;
 pub mod wake;
 

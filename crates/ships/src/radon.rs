@@ -92,6 +92,16 @@ pub fn median(values: impl Iterator<Item = f32>) -> Option<f64> {
     Some(*m as f64)
 }
 
+/// The median of `all` and its robust deviation, 1.4826 MAD (the standard deviation for a
+/// Gaussian sample), kept above zero.
+pub fn robust_spread(all: &[f64]) -> (f64, f64) {
+    let m = median(all.iter().map(|&v| v as f32)).unwrap_or(0.0);
+    let mad = median(all.iter().map(|&v| (v - m).abs() as f32))
+        .unwrap_or(0.0)
+        .max(1e-6);
+    (m, 1.4826 * mad)
+}
+
 /// `image` (linear sigma0, NaN for no data) normalised for the wake searches.
 pub fn normalise(image: ArrayView2<f32>, geometry: &Geometry, background_m: f64) -> Normalised {
     let db = image.mapv(|v| {

@@ -3,7 +3,7 @@
 //! wakes, and the whole search, whose time is the "per 100 km^2" figure; and the whole search
 //! without the land mask, side by side. One ship's wake search is also timed on a wake with no
 //! trough, only a bright arm, where the search takes both passes (the trough's, then the
-//! arm's).
+//! arm's). The scene's sidelobe axes are timed on twelve targets, the most the search measures.
 
 use criterion::{criterion_group, criterion_main, Criterion};
 use ndarray::Array2;
@@ -13,6 +13,7 @@ use wakelab_ships::cfar::{find_ships, CfarOptions};
 use wakelab_ships::free_wake::free_wakes;
 use wakelab_ships::land::{land_mask, LandOptions};
 use wakelab_ships::radon::SearchImage;
+use wakelab_ships::sidelobes::sidelobe_axes;
 use wakelab_ships::wake::{ship_wake, WakeOptions};
 use wakelab_ships::{search, Geometry, BACKGROUND_M};
 
@@ -60,6 +61,10 @@ fn bench(c: &mut Criterion) {
     let normalised = SearchImage::new(image.view(), &g, BACKGROUND_M);
     group.bench_function("ship_wake", |b| {
         b.iter(|| ship_wake(&normalised, &ships.ships[0], 0, &wakes))
+    });
+    let twelve = vec![ships.ships[0].clone(); 12];
+    group.bench_function("sidelobe_axes_12_targets", |b| {
+        b.iter(|| sidelobe_axes(&normalised.fine, &twelve))
     });
     let (arm_image, _) = scene(true);
     let arm_ships = find_ships(arm_image.view(), &g, &cfar);

@@ -11,6 +11,8 @@
 //!   ship's true position (the detected return is displaced in azimuth by its range velocity),
 //!   the dark turbulent trough with the bright arms of the narrow V beside it, or where there is
 //!   no trough a bright arm alone;
+//! - [`sidelobes`]: the directions of the scene's sidelobe streaks, measured on its bright
+//!   targets, along which no bright arm is sought;
 //! - [`free_wake`]: the free wakes, whose ship has left the image or is not seen, by the Radon
 //!   transform of the whole image;
 //! - [`kelvin`]: the ship's speed from the wavelength of its transverse Kelvin waves.
@@ -24,6 +26,7 @@ pub mod kelvin;
 pub mod land;
 pub mod lines;
 pub mod radon;
+pub mod sidelobes;
 pub mod wake;
 
 use cfar::{find_ships, CfarOptions, ShipSearch};
@@ -89,6 +92,9 @@ impl Geometry {
 pub struct Findings {
     pub ships: ShipSearch,
     pub wakes: Vec<Wake>,
+    /// The directions of the scene's sidelobe streaks (degrees clockwise from up in the image,
+    /// in [0, 180)), along which no bright arm was sought ([`sidelobes`]).
+    pub sidelobe_axes_deg: Vec<f64>,
     /// The land found in the image and left out of the searches (true: land), where the
     /// search sought it ([`CfarOptions::land`]).
     #[serde(skip)]
@@ -141,7 +147,8 @@ pub fn search_polarised(
         sea
     });
     let image = sea_image.as_ref().map_or(image, |a| a.view());
-    let normalised = radon::SearchImage::new(image, geometry, BACKGROUND_M);
+    let mut normalised = radon::SearchImage::new(image, geometry, BACKGROUND_M);
+    normalised.sidelobe_axes = sidelobes::sidelobe_axes(&normalised.fine, &ships.ships);
     let mut found: Vec<Wake> = ships
         .ships
         .iter()
@@ -151,6 +158,7 @@ pub fn search_polarised(
     let free = free_wakes(&normalised, &found, wakes);
     found.extend(free);
     Findings {
+        sidelobe_axes_deg: normalised.sidelobe_axes.clone(),
         ships,
         wakes: found,
         land,

@@ -17,6 +17,9 @@ pub struct SearchImage {
     pub fine: Normalised,
     pub coarse: Normalised,
     pub factor: usize,
+    /// The directions of the scene's sidelobe streaks (degrees, in [0, 180);
+    /// [`crate::sidelobes`]), along which no bright arm is sought: none until measured.
+    pub sidelobe_axes: Vec<f64>,
 }
 
 /// The coarse image's least spacing (m).
@@ -28,7 +31,12 @@ impl SearchImage {
         let fine = normalise(image, geometry, background_m);
         let factor = (COARSE_M / geometry.spacing.0.max(geometry.spacing.1)).ceil().max(1.0) as usize;
         let coarse = fine.coarsened(factor);
-        Self { fine, coarse, factor }
+        Self {
+            fine,
+            coarse,
+            factor,
+            sidelobe_axes: Vec::new(),
+        }
     }
 
     /// A fine pixel position on the coarse grid.

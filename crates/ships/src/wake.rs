@@ -29,6 +29,7 @@ use crate::kelvin::{kelvin_speed, KelvinReading, Speed};
 use crate::lines::{line, span, Line};
 pub use crate::lines::{Signature, WakeOptions};
 use crate::radon::{robust_spread, Normalised, SearchImage};
+use crate::sidelobes::along_an_axis;
 use crate::{angle_difference, Geometry};
 use rayon::prelude::*;
 use serde::Serialize;
@@ -199,12 +200,20 @@ fn anchored_wake(
     // coarse: on the coarse image, rays of COARSE_LENGTH_M every degree (a degree's error is 21 m
     // at the end) from every coarse pixel of the admissible offsets
     let coarse_far = far.min(COARSE_LENGTH_M);
-    let candidates: Vec<(f64, Vec<f64>)> = span(0.0, 359.0, 1.0).into_iter().map(|h| (h, offsets(h))).collect();
+    // a bright arm is not sought along the scene's sidelobe streaks (`crate::sidelobes`): they
+    // run both ways through every bright target, and one seen one way passes for an arm
+    let admissible = |h: &f64| signature == Signature::Trough || !along_an_axis(*h, &image.sidelobe_axes);
+    let candidates: Vec<(f64, Vec<f64>)> = span(0.0, 359.0, 1.0)
+        .into_iter()
+        .filter(admissible)
+        .map(|h| (h, offsets(h)))
+        .collect();
     let origin = image.to_coarse((ship.row, ship.col));
     let (_, t0, h0) = best_ray(&image.coarse, origin, &candidates, near, o, coarse_far, signature);
     // fine: quarter degrees and every pixel around the best, the whole length, on the image itself
     let fine_candidates: Vec<(f64, Vec<f64>)> = span(h0 - 1.5, h0 + 1.5, 0.25)
         .into_iter()
+        .filter(admissible)
         .map(|h| (h, span(t0 - coarse_step, t0 + coarse_step, pixel)))
         .collect();
     let (score, offset, axis) = best_ray(fine, (ship.row, ship.col), &fine_candidates, near, o, far, signature);

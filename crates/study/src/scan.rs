@@ -279,6 +279,7 @@ pub fn write_scan(dir: &Path, scanned: &Scanned, detection: &Detection) -> Resul
             json!({
                 "azimuth_ambiguities": s.ambiguities,
                 "sidelobes": s.sidelobes,
+                "sidelobe_axes_deg": s.sidelobe_axes_deg,
                 "too_long_for_ships": s.too_long,
                 "on_land": s.on_land,
             })

@@ -29,6 +29,10 @@ pub struct SeaFindings {
     /// Targets rejected as azimuth ambiguities and sidelobes, and as too long for ships.
     pub ambiguities: usize,
     pub sidelobes: usize,
+    /// The directions of the sidelobe streaks measured on the targets (degrees clockwise from
+    /// up in the scanned image, in [0, 180)), each tile's, those within 2 degrees of one
+    /// already held left out; no bright arm was sought along them.
+    pub sidelobe_axes_deg: Vec<f64>,
     pub too_long: usize,
     /// Targets on the land found in the image (not ships).
     pub on_land: usize,
@@ -184,6 +188,7 @@ impl SeaFindings {
             wakes: Vec::new(),
             ambiguities: 0,
             sidelobes: 0,
+            sidelobe_axes_deg: Vec::new(),
             too_long: 0,
             on_land: 0,
             land: Vec::new(),
@@ -237,6 +242,15 @@ impl SeaFindings {
         let count = |places: Vec<(f64, f64)>| places.into_iter().filter(|&p| owned(p)).count();
         self.ambiguities += count(found.ships.ambiguities.iter().map(|a| (a.row, a.col)).collect());
         self.sidelobes += count(found.ships.sidelobes);
+        for axis in found.sidelobe_axes_deg {
+            if self
+                .sidelobe_axes_deg
+                .iter()
+                .all(|&a| wakelab_ships::line_difference(a, axis) > 2.0)
+            {
+                self.sidelobe_axes_deg.push(axis);
+            }
+        }
         self.too_long += count(found.ships.too_long);
         self.on_land += count(found.ships.on_land);
         if let Some(land) = &found.land {

@@ -765,6 +765,43 @@ mod tests {
         );
     }
 
+    /// Two bright targets astride the edge between two bands of rows ([`TILE_ROWS`]), with
+    /// sidelobe streaks 3 dB over the sea at 15 and 105 degrees: both bands hold them in their
+    /// margins and measure the same two axes, and the findings hold each once.
+    #[test]
+    fn a_scenes_sidelobe_axes_are_held_once() {
+        let mut image = ship_scene(TILE_ROWS + 600, 300, (700, 150), 0);
+        let g = Geometry::along_rows(10.0, 35.0, None);
+        let targets = [(TILE_ROWS - 50, 120usize), (TILE_ROWS + 50, 200)];
+        let mut on = std::collections::BTreeSet::new();
+        for &(tr, tc) in &targets {
+            for h in [15.0, 105.0] {
+                let (ur, uc) = g.step(h);
+                for d in (-1500..=1500).step_by(5) {
+                    let (r, c) = (tr as f64 + ur * d as f64, tc as f64 + uc * d as f64);
+                    if (0.0..299.5).contains(&c) {
+                        on.insert((r.round() as usize, c.round() as usize));
+                    }
+                }
+            }
+        }
+        for p in on {
+            image[p] *= 2.0;
+        }
+        for (tr, tc) in targets {
+            image.slice_mut(ndarray::s![tr - 2..=tr + 2, tc - 1..=tc + 1]).fill(3.0);
+        }
+        let found = search_image(image.view(), None, g, CfarOptions::default());
+        let axes = &found.sidelobe_axes_deg;
+        assert_eq!(axes.len(), 2, "{axes:?}");
+        for want in [15.0, 105.0] {
+            assert!(
+                axes.iter().any(|&a| wakelab_ships::line_difference(a, want) <= 0.5),
+                "{axes:?}"
+            );
+        }
+    }
+
     /// The ship search's false-alarm probability: the user's where given; else SNAP's 1e-6 on a
     /// calibrated image and 1e-9 on a display stretch, with a note saying why; the target window
     /// on display stretches only.

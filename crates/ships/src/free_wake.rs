@@ -95,6 +95,7 @@ pub fn free_wakes(search: &SearchImage, known: &[Wake], o: &WakeOptions) -> Vec<
             end: to_fine(end),
             axis_deg: hd,
             course_deg: None,
+            course_sigma_deg: None,
             length_m: length,
             contrast: c,
             z,

@@ -75,6 +75,12 @@ pub fn ships_table(results: &ShipsResults) -> Table {
     // every scene twice (with and without its ship)
     let area = 2.0 * results.scenes.iter().map(|s| s.km2).sum::<f64>();
     let course = median(anchored.iter().filter_map(|s| s.course_error.map(f64::abs)).collect());
+    // how often the course's stated uncertainty holds its error
+    let with_sigma: Vec<(f64, f64)> = anchored
+        .iter()
+        .filter_map(|s| s.course_error.zip(s.course_sigma))
+        .collect();
+    let covered = with_sigma.iter().filter(|(e, sigma)| e.abs() <= *sigma).count();
     let offset = speed_errors(&anchored, |s| s.speed_offset);
     let kelvin = speed_errors(&anchored, |s| s.speed_kelvin);
     let free_found: Vec<&SceneResult> = free.iter().copied().filter(|s| s.wake_found).collect();
@@ -114,6 +120,11 @@ pub fn ships_table(results: &ShipsResults) -> Table {
             "median course error (deg)".into(),
             or_dash(course, |m| Cell::number(m, 1)),
             under(5.0, "5 deg"),
+        ],
+        vec![
+            "course errors within their stated uncertainty".into(),
+            share(covered, with_sigma.len()),
+            Cell::Missing,
         ],
         vec![
             "median speed error (%), azimuth offset".into(),

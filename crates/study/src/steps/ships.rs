@@ -71,6 +71,9 @@ pub struct SceneResult {
     #[serde(default)]
     pub false_wakes_without: usize,
     pub course_error: Option<f64>,
+    /// The course's uncertainty the search gave (degrees; anchored wakes only).
+    #[serde(default)]
+    pub course_sigma: Option<f64>,
     pub speed_offset: Option<f64>,
     pub speed_kelvin: Option<f64>,
     pub no_speed: Vec<String>,
@@ -262,6 +265,7 @@ fn run_scene(c: &WakelabConfig, run_dir: &Path, in_view: bool, cnn: Option<&Ship
         false_wakes: found.wakes.len() - usize::from(wake.is_some()),
         false_wakes_without: control.wakes.len(),
         course_error,
+        course_sigma: wake.and_then(|w| w.course_sigma_deg),
         speed_offset,
         speed_kelvin,
         no_speed,

@@ -137,7 +137,8 @@ fn best_ray(
                 // short stretch ahead inside the image says so as well as a long one; weighed
                 // down by its share, streaks from ships near an edge passed as wakes (SSDD's
                 // chips: 75 wakes reported instead of 66; docs/results.md)
-                let score = behind - ahead_penalty(way_ahead(image, apex, *h, near, o, far, signature));
+                let contrast_at = |a: f64| line(image, apex, a, near, o, far, signature).contrast;
+                let score = behind - ahead_penalty(way_ahead(contrast_at, *h, signature));
                 if score > best.0 {
                     best = (score, t, *h);
                 }
@@ -147,21 +148,13 @@ fn best_ray(
         .reduce(|| (f64::NEG_INFINITY, 0.0, 0.0), |a, b| if b.0 > a.0 { b } else { a })
 }
 
-/// The contrast of the line the other way from `apex` than `heading` (the brightest within
-/// the signature's spread of straight back for a bright arm).
-fn way_ahead(
-    image: &Normalised,
-    apex: (f64, f64),
-    heading: f64,
-    near: f64,
-    o: &WakeOptions,
-    far: f64,
-    signature: Signature,
-) -> f64 {
+/// The contrast of the line the other way than `heading` (the brightest within the
+/// signature's spread of straight back for a bright arm), `contrast_at` giving a direction's.
+fn way_ahead(contrast_at: impl Fn(f64) -> f64, heading: f64, signature: Signature) -> f64 {
     let spread = signature.ahead_spread_deg();
     span(-spread, spread, 0.5)
         .into_iter()
-        .map(|d| line(image, apex, heading + 180.0 + d, near, o, far, signature).contrast)
+        .map(|d| contrast_at(heading + 180.0 + d))
         .fold(f64::NAN, f64::max)
 }
 
@@ -175,29 +168,17 @@ const SUPPORT_DEVIATIONS: f64 = 2.0;
 const COURSE_SPREAD_MAX_DEG: f64 = 10.0;
 const COURSE_SPREAD_STEP_DEG: f64 = 0.25;
 
-/// The uncertainty of a wake's heading `axis` from `apex` (degrees): half the span of the
-/// headings around it whose score (evidence less the way ahead, as the search ranks them)
-/// stays within [`SUPPORT_DEVIATIONS`] times `spread` of the best, `spread` being the robust
-/// deviation of the scores over all directions that its significance is measured in. The headings the image cannot tell from the best by
-/// more than its own noise, at least half a step and at most [`COURSE_SPREAD_MAX_DEG`]. It is
-/// built as a likelihood's support interval is, with the score in the log-likelihood's place,
-/// so its coverage is not assumed: how often it holds the true course is measured on the
-/// simulated scenes (docs/results.md).
-#[allow(clippy::too_many_arguments)]
-fn course_uncertainty(
-    image: &Normalised,
-    apex: (f64, f64),
-    axis: f64,
-    near: f64,
-    o: &WakeOptions,
-    far: f64,
-    signature: Signature,
-    spread: f64,
-) -> f64 {
-    let score = |h: f64| {
-        line(image, apex, h, near, o, far, signature).evidence
-            - ahead_penalty(way_ahead(image, apex, h, near, o, far, signature))
-    };
+/// The uncertainty of a wake's heading `axis` (degrees), `line_at` giving the line along a
+/// direction from its apex: half the span of the headings around it whose score (evidence
+/// less the way ahead, as the search ranks them) stays within [`SUPPORT_DEVIATIONS`] times
+/// `spread` of the best, `spread` being the robust deviation of the scores over all directions
+/// that its significance is measured in. These are the headings the image cannot tell from the
+/// best by more than its own noise; the result is at least half a step and at most
+/// [`COURSE_SPREAD_MAX_DEG`]. It is built as a likelihood's support interval is, with the score
+/// in the log-likelihood's place, so its coverage is not assumed: how often it holds the true
+/// course is measured on the simulated scenes (docs/results.md).
+fn course_uncertainty(line_at: impl Fn(f64) -> Line, axis: f64, signature: Signature, spread: f64) -> f64 {
+    let score = |h: f64| line_at(h).evidence - ahead_penalty(way_ahead(|a| line_at(a).contrast, h, signature));
     let floor = score(axis) - SUPPORT_DEVIATIONS * spread;
     let reach = |sign: f64| {
         let mut d = 0.0;
@@ -321,7 +302,8 @@ fn anchored_wake(
     let (ur, uc) = g.step(axis);
     let end = (apex.0 + ur * length, apex.1 + uc * length);
     let course = (axis + 180.0).rem_euclid(360.0);
-    let course_sigma = course_uncertainty(fine, apex, axis, near, o, far, signature, score_spread);
+    let line_at = |h: f64| line(fine, apex, h, near, o, far, signature);
+    let course_sigma = course_uncertainty(line_at, axis, signature, score_spread);
     let arms = match signature {
         Signature::Trough => find_arms(fine, apex, axis, near, length.min(o.length_m), o),
         Signature::BrightArm => None,

@@ -70,6 +70,7 @@ pub fn write_report(dir: &Path, study: &Study, run: &StudyRun) -> Result<Vec<Pat
     tables.push(ships::ships_table(&ships));
     tables.extend(ships::wake_detectors_table(&ships));
     tables.push(ships::ships_scene_table(&ships));
+    tables.extend(ships::fine_scene_table(&ships));
     let calibrated = load_calibration(dir)?;
     tables.push(calibration::calibration_table(&calibrated));
     tables.extend(calibration::open_sea_table(&calibrated));

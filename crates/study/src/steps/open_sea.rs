@@ -5,7 +5,7 @@
 //! the wake's track, and every window's spread and probability.
 
 use super::context::at_factor;
-use super::ships::{scene_config, SPEEDS};
+use super::ships::{scene_config, SPACING, SPEEDS};
 use crate::Result;
 use ndarray::Array2;
 use rand::{RngExt, SeedableRng};
@@ -23,7 +23,7 @@ use wakelab_learn::store::{Detector, ModelInfo};
 /// sea in filaments 4-16 times as long as wide, and the wind varying by up to 30 %.
 pub(crate) fn open_sea_config(base: &WakelabConfig, first: usize, j: usize) -> Option<WakelabConfig> {
     let k = first + j;
-    let mut c = scene_config(base, k, SPEEDS[j % SPEEDS.len()], true)?;
+    let mut c = scene_config(base, k, SPEEDS[j % SPEEDS.len()], true, SPACING)?;
     let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(base.seed ^ (0xCA1B_0000 + k as u64));
     c.slicks.coverage = rng.random_range(0.05..0.3);
     c.slicks.elongation = rng.random_range(4.0..16.0);

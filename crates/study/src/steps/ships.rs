@@ -6,6 +6,9 @@
 //! scenes whose ship has sailed out, leaving its wake alone (free wakes). Against the truth:
 //! ship detection (the return where its range velocity displaces it) and false alarms per 100
 //! km^2, wake detection, the course's error, and both speeds' errors where they are reported.
+//! Beside them, fine scenes prove the speed read from the transverse Kelvin wavelength, which
+//! C band at 10 m and 4 looks does not resolve above its clutter: X band at 2.5 m (a
+//! TerraSAR-X StripMap product's pixel), 1 or 4 looks, half of them without the swell.
 //! It writes `ships/ships.json`, which the report renders.
 
 use super::context::{fnv_hex, step_time, write_results};
@@ -37,10 +40,14 @@ pub(crate) const SPACING: f64 = 10.0;
 /// of it (4.5 km) for the free wakes.
 const IN_VIEW: f64 = 1200.0;
 const SAILED_OUT: f64 = 4500.0;
+/// The fine scenes: how many, their spacing (m) and band.
+const FINE_SCENES: usize = 12;
+pub(crate) const FINE_SPACING: f64 = 2.5;
+const FINE_BAND: RadarBand = RadarBand::X;
 
 /// The layout of `ships.json` and what the step computes: a file of another layout (an older
 /// wakelab's) is recomputed, not read with fields missing.
-const RESULTS_FORMAT: &str = "scenes-24-cnn-fusion";
+const RESULTS_FORMAT: &str = "scenes-24-cnn-fusion-fine-12";
 
 /// One simulated scene and what the detectors found in it.
 #[derive(Debug, Clone, Serialize, Deserialize)]
@@ -53,6 +60,15 @@ pub struct SceneResult {
     pub incidence: f64,
     pub range_over_velocity: f64,
     pub wind: f64,
+    /// The band, pixel spacing (m), looks and the swell's amplitude (m) of the image.
+    #[serde(default = "c_band")]
+    pub band: RadarBand,
+    #[serde(default = "ten_metres")]
+    pub pixel_spacing: f64,
+    #[serde(default)]
+    pub looks: u32,
+    #[serde(default)]
+    pub swell_m: f64,
     /// Whether the ship is in view (else only its wake is).
     pub ship_in_view: bool,
     /// Whether a detected ship lies within its length of where the return should be, and the
@@ -92,6 +108,14 @@ pub struct SceneResult {
     pub km2: f64,
 }
 
+fn c_band() -> RadarBand {
+    RadarBand::C
+}
+
+fn ten_metres() -> f64 {
+    SPACING
+}
+
 /// `ships/ships.json`: the step's key and seconds, and every scene.
 #[derive(Serialize, Deserialize)]
 pub struct ShipsResults {
@@ -107,6 +131,9 @@ pub struct ShipsResults {
     /// The wake detectors on the detected ships (classic, CNN, their fusions).
     #[serde(default)]
     pub wake_detectors: Vec<DetectorScore>,
+    /// The fine X-band scenes (the Kelvin speed's proof), scored alike.
+    #[serde(default)]
+    pub fine: Vec<SceneResult>,
 }
 
 fn results_file(run_dir: &Path) -> PathBuf {
@@ -120,15 +147,22 @@ pub fn load_ships(run_dir: &Path) -> Result<ShipsResults> {
     serde_json::from_str(&text).map_err(|e| anyhow::anyhow!("{}: {e}", file.display()))
 }
 
-/// The configuration of scene `k` of the step (`in_view`: the ship in the image), None when the
-/// study's simulated wake is too short for it: the scene (5.12 km, else 2.56 or 1.28) must end
-/// within the wake, and hold the ship (at most half its half-side off its centre) or not.
-pub(crate) fn scene_config(base: &WakelabConfig, k: usize, speed: f64, in_view: bool) -> Option<WakelabConfig> {
+/// The configuration of scene `k` of the step (`in_view`: the ship in the image) at `spacing`
+/// (m), None when the study's simulated wake is too short for it: the scene (512 pixels on a
+/// side, else 256 or 128) must end within the wake, and hold the ship (at most half its
+/// half-side off its centre) or not.
+pub(crate) fn scene_config(
+    base: &WakelabConfig,
+    k: usize,
+    speed: f64,
+    in_view: bool,
+    spacing: f64,
+) -> Option<WakelabConfig> {
     let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(base.seed ^ (0x5415_0000 + k as u64));
     let mut c = base.clone();
     c.seed = base.seed.wrapping_add(1000 + k as u64);
     c.ship.speed = speed;
-    c.scene.pixel_spacing = SPACING;
+    c.scene.pixel_spacing = spacing;
     c.scene.cross_track = 0.0;
     c.scene.heading = rng.random_range(0.0..360.0);
     c.scene.other_wakes.clear();
@@ -141,7 +175,7 @@ pub(crate) fn scene_config(base: &WakelabConfig, k: usize, speed: f64, in_view: 
     c.slicks.coverage = 0.0;
     let (sin, cos) = c.scene.heading.to_radians().sin_cos();
     [SIDE, SIDE / 2, SIDE / 4].into_iter().find_map(|size| {
-        let half = 0.5 * size as f64 * SPACING;
+        let half = 0.5 * size as f64 * spacing;
         // how far the scene reaches along the track either side of its centre
         let reach = half * (sin.abs() + cos.abs());
         let along = if in_view {
@@ -154,6 +188,24 @@ pub(crate) fn scene_config(base: &WakelabConfig, k: usize, speed: f64, in_view: 
         scene.scene.along_track = along;
         (along + reach <= scene.wake_end() && scene.validate().is_ok()).then_some(scene)
     })
+}
+
+/// Fine scene `j`: X band at 2.5 m, 2.56 km on a side (a moving ship's return lies hundreds of
+/// metres from its wake), the ship 640 m behind the centre; speeds as the main scenes', 1 or 4
+/// looks and winds of 4 or 7 m/s in every combination with them, the study's swell on the first
+/// six and none on the rest (a swell of about a Kelvin wavelength along the track is the
+/// speed's hardest confusion).
+fn fine_scene_config(base: &WakelabConfig, j: usize) -> Option<WakelabConfig> {
+    let mut c = scene_config(base, 100 + j, SPEEDS[j % SPEEDS.len()], true, FINE_SPACING)?;
+    c.scene.size = 2 * SIDE;
+    c.scene.along_track = 0.25 * c.scene.size as f64 * FINE_SPACING;
+    c.sar.looks = [1, 4][j % 2];
+    c.environment.wind.speed = [4.0, 7.0][(j / 3) % 2];
+    if j >= FINE_SCENES / 2 {
+        c.environment.swell.amplitude = 0.0;
+    }
+    let reach = 0.5 * c.scene.size as f64 * FINE_SPACING * std::f64::consts::SQRT_2;
+    (c.validate().is_ok() && c.scene.along_track + reach <= c.wake_end()).then_some(c)
 }
 
 /// The image geometry of a scene: its look and flight directions in the image (clockwise from
@@ -180,16 +232,18 @@ fn expected_return(c: &WakelabConfig, grid: &SceneGrid, g: &Geometry) -> (f64, f
 }
 
 /// Scene `k`: render it with and without its ship, search both and score the findings.
-fn run_scene(c: &WakelabConfig, run_dir: &Path, in_view: bool, cnn: Option<&ShipWindows>) -> Result<SceneResult> {
+fn run_scene(
+    c: &WakelabConfig,
+    run_dir: &Path,
+    in_view: bool,
+    band: RadarBand,
+    cnn: Option<&ShipWindows>,
+) -> Result<SceneResult> {
     c.validate()?;
     let map = wakelab_dataset::hydro_map(&run_dir.join("dataset"), c)?;
     let with = wakelab_surface::simulate_surface(c, Some(&map));
     let without = wakelab_surface::simulate_surface(c, None);
-    let image = |scene| -> Array2<f32> {
-        wakelab_sensors::render_sar(c, scene, RadarBand::C)
-            .sigma0
-            .mapv(|v| v as f32)
-    };
+    let image = |scene| -> Array2<f32> { wakelab_sensors::render_sar(c, scene, band).sigma0.mapv(|v| v as f32) };
     let (wake_image, plain) = (image(&with), image(&without));
     let g = scene_geometry(c);
     let (cfar, wakes) = (CfarOptions::default(), WakeOptions::default());
@@ -208,8 +262,9 @@ fn run_scene(c: &WakelabConfig, run_dir: &Path, in_view: bool, cnn: Option<&Ship
         let twin = SearchImage::new(plain.view(), &g, BACKGROUND_M);
         wake_found_without = ship_wake(&twin, ship, i, &wakes).is_some();
         if let Some(cnn) = cnn {
-            cnn_with = Some(cnn.score(&wake_image, (ship.row, ship.col), SPACING)?);
-            cnn_without = Some(cnn.score(&plain, (ship.row, ship.col), SPACING)?);
+            let spacing = c.scene.pixel_spacing;
+            cnn_with = Some(cnn.score(&wake_image, (ship.row, ship.col), spacing)?);
+            cnn_without = Some(cnn.score(&plain, (ship.row, ship.col), spacing)?);
         }
     }
     let false_ships = found.ships.ships.len() - usize::from(found_ship.is_some());
@@ -257,6 +312,10 @@ fn run_scene(c: &WakelabConfig, run_dir: &Path, in_view: bool, cnn: Option<&Ship
         incidence: c.platform.incidence,
         range_over_velocity: c.sar.range_to_velocity,
         wind: c.environment.wind.speed,
+        band,
+        pixel_spacing: c.scene.pixel_spacing,
+        looks: c.sar.looks,
+        swell_m: c.environment.swell.amplitude,
         ship_in_view: in_view,
         ship_found: found_ship.is_some(),
         false_ships,
@@ -306,16 +365,21 @@ pub fn ships_step(run_dir: &Path, study: &Study) -> Result<StepTime> {
     let mut configs = Vec::new();
     for (s, &speed) in SPEEDS.iter().enumerate() {
         for j in 0..SCENES_PER_SPEED {
-            configs.extend(scene_config(&base, s * SCENES_PER_SPEED + j, speed, true).map(|c| (c, true)));
+            let k = s * SCENES_PER_SPEED + j;
+            configs.extend(scene_config(&base, k, speed, true, SPACING).map(|c| (c, true)));
         }
     }
     for j in 0..FREE_SCENES {
         let k = SPEEDS.len() * SCENES_PER_SPEED + j;
-        configs.extend(scene_config(&base, k, SPEEDS[j % SPEEDS.len()], false).map(|c| (c, false)));
+        configs.extend(scene_config(&base, k, SPEEDS[j % SPEEDS.len()], false, SPACING).map(|c| (c, false)));
     }
     let scenes = configs
         .iter()
-        .map(|(c, in_view)| run_scene(c, run_dir, *in_view, cnn.as_ref()))
+        .map(|(c, in_view)| run_scene(c, run_dir, *in_view, RadarBand::C, cnn.as_ref()))
+        .collect::<Result<Vec<_>>>()?;
+    let fine = (0..FINE_SCENES)
+        .filter_map(|j| fine_scene_config(&base, j))
+        .map(|c| run_scene(&c, run_dir, true, FINE_BAND, None))
         .collect::<Result<Vec<_>>>()?;
     let cnn_threshold = cnn.as_ref().map(ShipWindows::threshold);
     let trials: Vec<Trial> = scenes
@@ -346,6 +410,7 @@ pub fn ships_step(run_dir: &Path, study: &Study) -> Result<StepTime> {
         cnn_threshold,
         cnn_footprint_m: cnn.as_ref().map(|c| c.footprint_m(SPACING)),
         wake_detectors,
+        fine,
     };
     write_results(&results_file(run_dir), &results)?;
     Ok(step_time("ships", start, None))
@@ -390,10 +455,14 @@ mod tests {
         let base = study.base_config().unwrap();
         for k in 0..SPEEDS.len() * SCENES_PER_SPEED + FREE_SCENES {
             for in_view in [true, false] {
-                let c = scene_config(&base, k, 9.0, in_view).expect("a scene that fits");
+                let c = scene_config(&base, k, 9.0, in_view, SPACING).expect("a scene that fits");
                 c.validate().unwrap();
                 assert_eq!(c.scene.size, SIDE);
             }
+        }
+        for j in 0..FINE_SCENES {
+            let c = fine_scene_config(&base, j).expect("a fine scene that fits");
+            assert_eq!((c.scene.size, c.scene.pixel_spacing), (2 * SIDE, FINE_SPACING));
         }
     }
 }

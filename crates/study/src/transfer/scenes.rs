@@ -4,7 +4,7 @@
 
 use super::look_alikes::LookAlikes;
 use crate::steps::open_sea::SeaPair;
-use crate::steps::ships::{scene_config, SPEEDS};
+use crate::steps::ships::{scene_config, SPACING, SPEEDS};
 use ndarray::Array2;
 use rand::{RngExt, SeedableRng};
 use wakelab_core::WakelabConfig;
@@ -113,7 +113,7 @@ pub fn training_scene(base: &WakelabConfig, plan: &TransferPlan, j: usize) -> Op
     let mut rng =
         rand_chacha::ChaCha8Rng::seed_from_u64(base.seed ^ plan.seed.rotate_left(32) ^ (0x7AA5_0000 + k as u64));
     let in_view = !rng.random_bool(plan.free_wake_fraction);
-    let mut c = scene_config(base, k, SPEEDS[j % SPEEDS.len()], in_view)?;
+    let mut c = scene_config(base, k, SPEEDS[j % SPEEDS.len()], in_view, SPACING)?;
     let draw =
         |rng: &mut rand_chacha::ChaCha8Rng, [lo, hi]: [f64; 2]| if hi > lo { rng.random_range(lo..hi) } else { lo };
     c.environment.wind.speed = draw(&mut rng, plan.wind_speed);

@@ -310,7 +310,16 @@ fn anchored_wake(
     };
     let speed = SpeedReadings {
         offset: match signature {
-            Signature::Trough => offset_speed(&g, offset, course, 2.0 * pixel),
+            Signature::Trough => offset_speed(
+                &g,
+                offset,
+                course,
+                ApexError {
+                    resolution: 2.0 * pixel,
+                    course_sigma_deg: course_sigma,
+                    lever_m: near + 0.5 * length.min(far),
+                },
+            ),
             // the arm's apex is not sought along the azimuth line, so its offset from the
             // return is no measure of the ship's range velocity
             Signature::BrightArm => Err(
@@ -370,9 +379,27 @@ fn kelvin_along(
 /// The largest uncertainty (m/s) of a speed read from the azimuth offset that is reported.
 pub const MAX_SPEED_SIGMA: f64 = 2.5;
 
+/// How the apex of a wake is known: `resolution` (m) bounds its error on the image, and the
+/// course's uncertainty `course_sigma_deg` turns the line about its evidence, `lever_m` from the
+/// apex.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct ApexError {
+    pub resolution: f64,
+    pub course_sigma_deg: f64,
+    pub lever_m: f64,
+}
+
 /// The speed from the azimuth offset `t` (m; the apex lies `t` along the flight direction from
-/// the return) of a ship on `course`, or why not; `resolution` (m) bounds the offset's error.
-pub fn offset_speed(g: &Geometry, t: f64, course: f64, resolution: f64) -> Result<Speed, String> {
+/// the return) of a ship on `course`, or why not.
+///
+/// The apex is where the wake's line crosses the return's azimuth line. Turned by the course's
+/// uncertainty about its evidence (`lever_m` away), the line moves sideways by `lever_m`
+/// sigma_course, and its crossing moves along the azimuth by that over the sine of the angle
+/// between track and azimuth, |cos(course - look)|: first-order propagation of the course's
+/// error (JCGM 100:2008, the GUM, section 5.1), added in quadrature to the image's
+/// `resolution`. A track near the azimuth thus gets a large uncertainty and, past
+/// [`MAX_SPEED_SIGMA`], no speed.
+pub fn offset_speed(g: &Geometry, t: f64, course: f64, apex: ApexError) -> Result<Speed, String> {
     let Some(rv) = g.range_over_velocity else {
         return Err("the product states no orbit (R/V): the azimuth offset gives no speed".into());
     };
@@ -385,7 +412,9 @@ pub fn offset_speed(g: &Geometry, t: f64, course: f64, resolution: f64) -> Resul
     // (Raney 1971), so the apex lies t = (R/V) v_away ahead of it
     let v_away = t / rv;
     let speed = v_away / (sin_incidence * along_look);
-    let sigma = resolution / rv / (sin_incidence * along_look.abs());
+    let turned = apex.lever_m * apex.course_sigma_deg.to_radians() / along_look.abs();
+    let apex_sigma = apex.resolution.hypot(turned);
+    let sigma = apex_sigma / rv / (sin_incidence * along_look.abs());
     if speed < -2.0 * sigma {
         return Err(format!(
             "the offset ({t:.0} m) points the other way from the course: no consistent speed"
@@ -393,7 +422,7 @@ pub fn offset_speed(g: &Geometry, t: f64, course: f64, resolution: f64) -> Resul
     }
     if sigma > MAX_SPEED_SIGMA {
         return Err(format!(
-            "the offset ({t:.0} m) is too small against its resolution to tell the speed (+-{sigma:.1} m/s)"
+            "the offset ({t:.0} m) tells the speed only to +-{sigma:.1} m/s: the apex is known to +-{apex_sigma:.0} m along the azimuth (the image's resolution and the course's uncertainty)"
         ));
     }
     Ok(Speed {
@@ -730,7 +759,12 @@ mod tests {
     #[test]
     fn a_track_along_the_azimuth_tells_no_offset_speed() {
         let g = Geometry::along_rows(5.0, 35.0, Some(110.0));
-        assert!(offset_speed(&g, 100.0, 5.0, 10.0).is_err());
+        let sharp = ApexError {
+            resolution: 10.0,
+            course_sigma_deg: 0.0,
+            lever_m: 0.0,
+        };
+        assert!(offset_speed(&g, 100.0, 5.0, sharp).is_err());
         assert!(offset_speed(
             &Geometry {
                 range_over_velocity: None,
@@ -738,13 +772,48 @@ mod tests {
             },
             100.0,
             90.0,
-            10.0
+            sharp
         )
         .is_err());
         // a ship going right (away from a radar looking right) appears shifted back along the
         // flight direction: its apex lies ahead of the return
-        let s = offset_speed(&g, 110.0 * 10.0 * 35f64.to_radians().sin(), 90.0, 10.0).unwrap();
+        let s = offset_speed(&g, 110.0 * 10.0 * 35f64.to_radians().sin(), 90.0, sharp).unwrap();
         assert!((s.value - 10.0).abs() < 1e-9);
+    }
+
+    /// The course's uncertainty moves the apex along the azimuth line, the more the nearer the
+    /// track runs to the azimuth. A 10 m/s ship, R/V 110 s, incidence 35 deg, its course known
+    /// to 1.5 deg with its evidence 1 km from the apex: on a track 60 deg from the azimuth the
+    /// apex moves 30 m (1000 m x 1.5 deg in radians / sin 60) and the speed is reported, its
+    /// uncertainty 0.58 m/s (32 m with the resolution, over R/V, sin(incidence) and sin 60); 20
+    /// deg from the azimuth it moves 77 m, the uncertainty is 3.6 m/s, over MAX_SPEED_SIGMA, and
+    /// the speed is "unknown" though the offset is 43 pixels.
+    #[test]
+    fn the_course_uncertainty_reaches_the_offset_speed() {
+        let g = Geometry::along_rows(5.0, 35.0, Some(110.0));
+        let apex = ApexError {
+            resolution: 10.0,
+            course_sigma_deg: 1.5,
+            lever_m: 1000.0,
+        };
+        let offset = |from_azimuth: f64| 110.0 * 10.0 * from_azimuth.to_radians().sin() * 35f64.to_radians().sin();
+        // the flight runs up the rows (azimuth 0), the radar looks right (90): a course of c
+        // from the azimuth
+        let wide = offset_speed(&g, offset(60.0), 60.0, apex).unwrap();
+        assert!((wide.value - 10.0).abs() < 1e-9);
+        let expected = 10.0f64.hypot(1000.0 * 1.5f64.to_radians() / 60f64.to_radians().sin())
+            / 110.0
+            / (35f64.to_radians().sin() * 60f64.to_radians().sin());
+        assert!((wide.sigma - expected).abs() < 1e-9, "{wide:?} against {expected}");
+        assert!((wide.sigma - 0.58).abs() < 0.01, "{wide:?}");
+        let narrow = offset_speed(&g, offset(20.0), 20.0, apex);
+        assert!(narrow.is_err(), "{narrow:?}");
+        // with the course exact, the same track reads its speed
+        let exact = ApexError {
+            course_sigma_deg: 0.0,
+            ..apex
+        };
+        assert!(offset_speed(&g, offset(20.0), 20.0, exact).is_ok());
     }
 
     /// A ship 700 m from the image's top edge with a trough 3 dB dark from it to the edge:

@@ -247,6 +247,19 @@ mod tests {
         );
     }
 
+    /// `n` samples of AR(1) noise of lag-1 correlation `rho` and unit variance: a sea's profile.
+    fn ar1<R: rand::Rng + ?Sized>(rng: &mut R, n: usize, rho: f64) -> Vec<f32> {
+        use rand_distr::{Distribution, StandardNormal};
+        let mut x = 0.0f64;
+        (0..n)
+            .map(|_| {
+                let e: f64 = StandardNormal.sample(rng);
+                x = rho * x + (1.0 - rho * rho).sqrt() * e;
+                x as f32
+            })
+            .collect()
+    }
+
     /// A profile along a trough at the noise floor is white where the sea beside it is red
     /// (lag-1 correlation 0.8): against those sides its short wavelengths have more power, yet
     /// they are no waves. 2,000 draws of 150 samples of 2.5 m: a speed is read from at most 3 %
@@ -254,23 +267,12 @@ mod tests {
     #[test]
     fn a_white_trough_beside_a_red_sea_reads_no_speed() {
         use rand::SeedableRng;
-        use rand_distr::{Distribution, StandardNormal};
         let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(11);
-        let mut noise = |n: usize, rho: f64| -> Vec<f32> {
-            let mut x = 0.0f64;
-            (0..n)
-                .map(|_| {
-                    let e: f64 = StandardNormal.sample(&mut rng);
-                    x = rho * x + (1.0 - rho * rho).sqrt() * e;
-                    x as f32
-                })
-                .collect()
-        };
         let draws = 2000;
         let read = (0..draws)
             .filter(|_| {
-                let profile = noise(150, 0.0);
-                let sides = [noise(150, 0.8), noise(150, 0.8)];
+                let profile = ar1(&mut rng, 150, 0.0);
+                let sides = [ar1(&mut rng, 150, 0.8), ar1(&mut rng, 150, 0.8)];
                 kelvin_speed(&profile, &sides, 2.5, 5.0, 22.5).is_ok()
             })
             .count();
@@ -286,19 +288,9 @@ mod tests {
     #[test]
     fn red_noise_reads_no_speed() {
         use rand::SeedableRng;
-        use rand_distr::{Distribution, StandardNormal};
         let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(7);
         for rho in [0.0, 0.5, 0.8] {
-            let mut red = |n: usize| -> Vec<f32> {
-                let mut x = 0.0f64;
-                (0..n)
-                    .map(|_| {
-                        let e: f64 = StandardNormal.sample(&mut rng);
-                        x = rho * x + (1.0 - rho * rho).sqrt() * e;
-                        x as f32
-                    })
-                    .collect()
-            };
+            let mut red = |n: usize| ar1(&mut rng, n, rho);
             let draws = 2000;
             let (mut with_sides, mut alone) = (0, 0);
             for _ in 0..draws {

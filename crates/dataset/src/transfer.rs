@@ -9,11 +9,12 @@
 //! window = 64                      # window side (pixels): spacing = footprint / window
 //! wind_speed = [2.0, 15.0]         # m/s
 //! input = "line_sums"              # what the classifier reads: pixels (default) or line_sums
+//! head = "global_max"              # how it decides: flatten (Table 4.1, default) or global_max
 //! ```
 
 use serde::{Deserialize, Serialize};
 use wakelab_core::{ConfigError, WakelabError};
-use wakelab_schema::architecture::InputForm;
+use wakelab_schema::architecture::{ClassifierHead, InputForm};
 use wakelab_schema::results::{Architecture, MIN_CLASSIFIER_SIZE};
 
 /// What a transfer study trains and on what scenes.
@@ -30,6 +31,9 @@ pub struct TransferPlan {
     /// What the classifier reads of a window: `pixels` (the spec's input) or `line_sums` (the
     /// window's Radon transform; a wake's line becomes a point).
     pub input: InputForm,
+    /// How the classifier decides from its last feature map: `flatten` (Table 4.1) or
+    /// `global_max` (each channel's largest response, wherever in the window it lies).
+    pub head: ClassifierHead,
     pub epochs: usize,
     pub batch_size: usize,
     pub learning_rate: f64,
@@ -83,6 +87,7 @@ impl Default for TransferPlan {
             window: 64,
             architecture: Architecture::Base,
             input: InputForm::Pixels,
+            head: ClassifierHead::Flatten,
             epochs: 40,
             batch_size: 16,
             learning_rate: 1e-3,

@@ -47,6 +47,7 @@ impl EvalOptions {
             input_scale: Some("linear".into()),
             calibration: None,
             input_form: self.classifier.input,
+            head: self.classifier.head,
         }
     }
 

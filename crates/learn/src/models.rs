@@ -10,6 +10,7 @@ use burn::nn::conv::{Conv2d, Conv2dConfig};
 use burn::nn::{BatchNorm, BatchNormConfig, Linear, LinearConfig, PaddingConfig2d, Relu};
 use burn::tensor::{activation, Device, Tensor};
 use std::sync::Mutex;
+pub use wakelab_schema::architecture::ClassifierHead;
 pub use wakelab_schema::results::Architecture;
 
 /// Side of the feature map after one (Conv2d 3x3, valid -> MaxPool 2) stage of Table 4.1.
@@ -26,10 +27,20 @@ pub fn flatten_size(input_size: usize) -> usize {
     30 * side * side
 }
 
+/// Features the head's first linear layer reads: the flattened map of [`flatten_size`], or one
+/// per channel of the last stage when the map is pooled.
+pub fn head_inputs(head: ClassifierHead, input_size: usize) -> usize {
+    match head {
+        ClassifierHead::Flatten => flatten_size(input_size),
+        ClassifierHead::GlobalMax => 30,
+    }
+}
+
 /// The CNN classifier of Table 4.1: three (Conv2d 3x3 -> BatchNorm2d -> ReLU -> MaxPool2d 2)
 /// stages with 10, 20 and 30 channels, a flatten, and Linear 70 -> 30 -> 1. Table 4.1 lists no
 /// activation between the three linear layers, and none is added here. `forward` returns the
-/// logit; the sigmoid of 4.1 is `probability`.
+/// logit; the sigmoid of 4.1 is `probability`. With [`ClassifierHead::GlobalMax`] each channel's
+/// largest response over the last map replaces the flatten (Linear 30 -> 30 -> 1 after it).
 #[derive(Module, Debug)]
 pub struct WakeClassifier {
     conv1: Conv2d,
@@ -42,12 +53,20 @@ pub struct WakeClassifier {
     linear1: Linear,
     linear2: Linear,
     linear3: Linear,
+    #[module(skip)]
+    head: ClassifierHead,
 }
 
 impl WakeClassifier {
-    /// A freshly initialised classifier for `channels` x `input_size` x `input_size` inputs
-    /// (PyTorch's default initialisation: Kaiming-uniform with gain 1/sqrt(3)).
+    /// A freshly initialised classifier of Table 4.1 for `channels` x `input_size` x
+    /// `input_size` inputs (PyTorch's default initialisation: Kaiming-uniform with gain
+    /// 1/sqrt(3)).
     pub fn new(channels: usize, input_size: usize, device: &Device) -> Self {
+        Self::with_head(channels, input_size, ClassifierHead::Flatten, device)
+    }
+
+    /// The same stages with `head` after them.
+    pub fn with_head(channels: usize, input_size: usize, head: ClassifierHead, device: &Device) -> Self {
         assert!(
             input_size >= MIN_CLASSIFIER_SIZE,
             "input size {input_size} below {MIN_CLASSIFIER_SIZE}"
@@ -61,10 +80,16 @@ impl WakeClassifier {
             conv3: conv(20, 30),
             norm3: BatchNormConfig::new(30).init(device),
             relu: Relu::new(),
-            linear1: LinearConfig::new(flatten_size(input_size), 70).init(device),
+            linear1: LinearConfig::new(head_inputs(head, input_size), 70).init(device),
             linear2: LinearConfig::new(70, 30).init(device),
             linear3: LinearConfig::new(30, 1).init(device),
+            head,
         }
+    }
+
+    /// The head after the stages.
+    pub fn head(&self) -> ClassifierHead {
+        self.head
     }
 
     /// Logits, shape [batch].
@@ -74,7 +99,10 @@ impl WakeClassifier {
         let x = stage(images, &self.conv1, &self.norm1);
         let x = stage(x, &self.conv2, &self.norm2);
         let x = stage(x, &self.conv3, &self.norm3);
-        let x: Tensor<2> = x.flatten(1, 3);
+        let x: Tensor<2> = match self.head {
+            ClassifierHead::Flatten => x.flatten(1, 3),
+            ClassifierHead::GlobalMax => x.flatten::<3>(2, 3).max_dim(2).flatten(1, 2),
+        };
         let x = self.linear3.forward(self.linear2.forward(self.linear1.forward(x)));
         x.flatten(0, 1)
     }
@@ -207,6 +235,31 @@ mod tests {
         assert_eq!(flatten_size(MIN_CLASSIFIER_SIZE), 30);
     }
 
+    /// The pooled head sees a feature wherever it lies: moved by 8 pixels (the three stages'
+    /// pooling) within a blank window, a spot gives the same logit bit for bit; Table 4.1's
+    /// flatten gives another, having learnt each place apart.
+    #[test]
+    fn the_pooled_head_answers_the_same_wherever_the_feature_lies() {
+        let device = Device::flex();
+        let spot = |row: usize, col: usize| {
+            let mut v = vec![0.0f32; 64 * 64];
+            for (r, c) in [(0, 0), (0, 1), (1, 0), (1, 1), (2, 2)] {
+                v[(row + r) * 64 + col + c] = 3.0;
+            }
+            Tensor::<4>::from_data(burn::tensor::TensorData::new(v, [1, 1, 64, 64]), &device)
+        };
+        let logit = |model: &WakeClassifier, row, col| -> f32 {
+            model.forward(spot(row, col)).into_data().try_to_vec::<f32>().unwrap()[0]
+        };
+        let pooled = init_seeded(5, &device, |d| {
+            WakeClassifier::with_head(1, 64, ClassifierHead::GlobalMax, d)
+        });
+        let flat = init_seeded(5, &device, |d| WakeClassifier::new(1, 64, d));
+        assert_eq!(pooled.head(), ClassifierHead::GlobalMax);
+        assert_eq!(logit(&pooled, 16, 16), logit(&pooled, 24, 32));
+        assert_ne!(logit(&flat, 16, 16), logit(&flat, 24, 32));
+    }
+
     #[test]
     fn outputs_have_the_expected_shapes() {
         let device = Device::flex();
@@ -227,6 +280,9 @@ mod tests {
         let expected =
             conv(1, 10) + 40 + conv(10, 20) + 80 + conv(20, 30) + 120 + (5880 * 70 + 70) + (70 * 30 + 30) + 31;
         assert_eq!(WakeClassifier::new(1, 128, &device).num_params(), expected);
+        // the pooled head reads one value per channel of the last stage: Linear 30 -> 70
+        let pooled = WakeClassifier::with_head(1, 128, ClassifierHead::GlobalMax, &device);
+        assert_eq!(pooled.num_params(), expected - 5880 * 70 + 30 * 70);
         // Tables 4.2-4.3: the usual 7.76 M parameters of this U-Net with one input channel
         let double = |i: usize, o: usize| conv(i, o) + conv(o, o);
         let expected = double(1, 64)

@@ -15,7 +15,7 @@ use std::collections::BTreeMap;
 use std::path::Path;
 use wakelab_core::io::write_atomically;
 use wakelab_core::WakelabError;
-use wakelab_schema::architecture::InputForm;
+use wakelab_schema::architecture::{ClassifierHead, InputForm};
 use wakelab_schema::band::Input;
 
 /// A trained detector: the classifier and, for the "unet" architecture, the U-Net whose mask it
@@ -34,6 +34,10 @@ pub const FORMAT: &str = "wakelab-detector-2";
 /// `wakelab.input_form`, numbered apart so that a wakelab reading only format 2, which knows no
 /// input form, refuses it instead of scoring its windows' pixels.
 pub const LINE_SUMS_FORMAT: &str = "wakelab-detector-3";
+
+/// The format of a detector whose classifier pools its last map ([`ClassifierHead::GlobalMax`]):
+/// format 3 with `wakelab.head`, numbered apart so that a wakelab that knows no head refuses it.
+pub const HEAD_FORMAT: &str = "wakelab-detector-4";
 
 /// How this wakelab makes a detector's input from an image ([`crate::data::detector_input`]),
 /// recorded in every detector file: a detector only scores inputs made the same way. Change it
@@ -72,6 +76,10 @@ pub struct ModelInfo {
     /// not the pixels (files without it read pixels, as every detector did before).
     #[serde(default)]
     pub input_form: InputForm,
+    /// How the classifier decides from its last map; recorded as `wakelab.head` when it is not
+    /// Table 4.1's flatten.
+    #[serde(default)]
+    pub head: ClassifierHead,
 }
 
 /// A detector's calibration ([`crate::calibration`]): the temperature its logit is divided by,
@@ -96,9 +104,10 @@ impl ModelInfo {
         let mut meta = BTreeMap::from([
             (
                 "wakelab.format".to_string(),
-                match self.input_form {
-                    InputForm::Pixels => FORMAT,
-                    InputForm::LineSums => LINE_SUMS_FORMAT,
+                match (self.head, self.input_form) {
+                    (ClassifierHead::GlobalMax, _) => HEAD_FORMAT,
+                    (ClassifierHead::Flatten, InputForm::Pixels) => FORMAT,
+                    (ClassifierHead::Flatten, InputForm::LineSums) => LINE_SUMS_FORMAT,
                 }
                 .to_string(),
             ),
@@ -117,6 +126,10 @@ impl ModelInfo {
             (
                 "wakelab.input_form",
                 (self.input_form != InputForm::Pixels).then(|| self.input_form.name().to_string()),
+            ),
+            (
+                "wakelab.head",
+                (self.head != ClassifierHead::Flatten).then(|| self.head.name().to_string()),
             ),
             (
                 "wakelab.temperature",
@@ -155,13 +168,13 @@ impl ModelInfo {
                 .ok_or_else(|| err(format!("no `{key}` in the metadata: not a wakelab detector file")))
         };
         match get("wakelab.format")?.as_str() {
-            FORMAT | LINE_SUMS_FORMAT => {}
+            FORMAT | LINE_SUMS_FORMAT | HEAD_FORMAT => {}
             "wakelab-detector-1" => {
                 return Err(err(
                     "written by an earlier wakelab (format wakelab-detector-1), which does not record how its inputs were normalised; its scores on today's inputs would be wrong without warning: retrain it (wakelab train)".into(),
                 ))
             }
-            other => return Err(err(format!("unknown format \"{other}\" (this wakelab reads {FORMAT} and {LINE_SUMS_FORMAT})"))),
+            other => return Err(err(format!("unknown format \"{other}\" (this wakelab reads {FORMAT}, {LINE_SUMS_FORMAT} and {HEAD_FORMAT})"))),
         }
         let normalisation = get("wakelab.normalisation")?;
         if normalisation != INPUT_NORMALISATION {
@@ -205,6 +218,10 @@ impl ModelInfo {
                 Some(f) => f.parse().map_err(|e| err(format!("input_form: {e}")))?,
                 None => InputForm::Pixels,
             },
+            head: match meta.get("wakelab.head") {
+                Some(h) => h.parse().map_err(|e| err(format!("head: {e}")))?,
+                None => ClassifierHead::Flatten,
+            },
         })
     }
 
@@ -225,8 +242,16 @@ impl ModelInfo {
 
     /// What a scan's user should know of the detector's input: None for one reading pixels.
     pub fn input_note(&self) -> Option<String> {
-        (self.input_form == InputForm::LineSums)
-            .then(|| "the detector reads each window's line sums (its Radon transform), not its pixels".to_string())
+        let pooled = match self.head {
+            ClassifierHead::Flatten => "",
+            ClassifierHead::GlobalMax => "; its classifier pools its last map to each channel's largest response",
+        };
+        (self.input_form == InputForm::LineSums || !pooled.is_empty()).then(|| match self.input_form {
+            InputForm::LineSums => {
+                format!("the detector reads each window's line sums (its Radon transform), not its pixels{pooled}")
+            }
+            InputForm::Pixels => format!("the detector reads each window's pixels{pooled}"),
+        })
     }
 
     /// A window's wake probability as the detector reports it: its network's output scaled by
@@ -492,7 +517,7 @@ pub fn load_detector_bytes(
     }
     let channels = info.architecture.classifier_channels(info.image_channels());
     let mut detector = Detector {
-        classifier: WakeClassifier::new(channels, info.input_size, device),
+        classifier: WakeClassifier::with_head(channels, info.input_size, info.head, device),
         segmenter: (info.architecture == Architecture::Unet)
             .then(|| UNet::with_width(info.image_channels(), info.unet_width, device)),
     };
@@ -531,7 +556,31 @@ mod tests {
             input_scale: Some("linear".into()),
             calibration,
             input_form: InputForm::Pixels,
+            head: ClassifierHead::Flatten,
         }
+    }
+
+    /// A pooled head is written with its key and its own format, and reads back.
+    #[test]
+    fn the_head_reads_back_from_the_metadata() {
+        let path = Path::new("m.safetensors");
+        let pooled = ModelInfo {
+            input_form: InputForm::LineSums,
+            head: ClassifierHead::GlobalMax,
+            ..info(None)
+        };
+        let meta = pooled.to_metadata();
+        assert_eq!(meta["wakelab.head"], "global_max");
+        assert_eq!(meta["wakelab.format"], HEAD_FORMAT);
+        assert_eq!(ModelInfo::from_metadata(&meta, path).unwrap(), pooled);
+        assert!(!info(None).to_metadata().contains_key("wakelab.head"));
+        let mut wrong = meta;
+        wrong.insert("wakelab.head".into(), "mean".into());
+        let message = ModelInfo::from_metadata(&wrong, path).unwrap_err().to_string();
+        assert!(
+            message.contains("head") && message.contains("flatten, global_max"),
+            "{message}"
+        );
     }
 
     /// A detector reading line sums says so in its file; one reading pixels writes no key, so

@@ -18,7 +18,7 @@ use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
 use std::time::Instant;
 use wakelab_core::WakelabError;
-use wakelab_schema::architecture::InputForm;
+use wakelab_schema::architecture::{ClassifierHead, InputForm};
 use wakelab_schema::recipe;
 use wakelab_schema::recipe::{Augmentation, Optimiser};
 
@@ -61,6 +61,9 @@ pub struct Recipe {
     /// What the classifier reads of each input (the U-Net always reads the pixels).
     #[serde(default)]
     pub input: InputForm,
+    /// How the classifier decides from its last feature map (Table 4.1: flatten).
+    #[serde(default)]
+    pub head: ClassifierHead,
 }
 
 impl Recipe {
@@ -76,6 +79,7 @@ impl Recipe {
             augmentation: Augmentation::QuarterTurns,
             width: recipe::UNET_WIDTH,
             input: InputForm::Pixels,
+            head: ClassifierHead::Flatten,
         }
     }
 
@@ -90,6 +94,7 @@ impl Recipe {
             augmentation: Augmentation::QuarterTurns,
             width: recipe::UNET_WIDTH,
             input: InputForm::Pixels,
+            head: ClassifierHead::Flatten,
         }
     }
 }
@@ -266,7 +271,9 @@ impl Trainer<WakeClassifier> {
     /// A fresh classifier with its recipe's optimiser (4.1: SGD with L2), its weights drawn from
     /// `seed`.
     pub fn new(channels: usize, size: usize, recipe: &Recipe, seed: u64, device: &Device) -> Self {
-        Self::with(device, seed, recipe, |d| WakeClassifier::new(channels, size, d))
+        Self::with(device, seed, recipe, |d| {
+            WakeClassifier::with_head(channels, size, recipe.head, d)
+        })
     }
 
     /// One optimiser step on BCE; returns the batch's mean loss and how many it classified right.

@@ -353,6 +353,7 @@ fn a_scan_gives_the_same_map_on_wgpu_and_cpu() {
         input_scale: None,
         calibration: None,
         input_form: Default::default(),
+        head: Default::default(),
     };
     let scan = |d: &Device, detector: &Detector| {
         let options = ScanOptions {

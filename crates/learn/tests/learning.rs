@@ -245,6 +245,7 @@ fn detector_info(
         input_scale: None,
         calibration: None,
         input_form,
+        head: Default::default(),
     }
 }
 
@@ -322,6 +323,7 @@ fn same_seed_gives_the_same_weights_and_outputs_bit_for_bit() {
             input_scale: Some("linear".into()),
             calibration: None,
             input_form: Default::default(),
+            head: Default::default(),
         };
         let (path, _) = save_detector(&d, &info, &dir.path().join("m.safetensors")).unwrap();
         let (loaded, loaded_info) = load_detector(&path, Some((Architecture::Unet, 24)), &device).unwrap();

@@ -115,6 +115,45 @@ impl std::fmt::Display for InputForm {
     }
 }
 
+/// How the classifier of Table 4.1 turns its last feature map into a decision: the table's
+/// position-bound linear layers over the flattened map, or each channel's largest response over
+/// the map into the same linear layers (global max pooling; Lin et al. 2014, "Network in
+/// network", pool the map the same way with its average). A wake's trough is one point in the
+/// plane of a window's line sums, anywhere in it; the flattened map must learn each place
+/// apart, the pooled one finds it wherever it lies.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum ClassifierHead {
+    #[default]
+    Flatten,
+    GlobalMax,
+}
+
+impl ClassifierHead {
+    pub const ALL: [ClassifierHead; 2] = [ClassifierHead::Flatten, ClassifierHead::GlobalMax];
+
+    pub fn name(self) -> &'static str {
+        match self {
+            ClassifierHead::Flatten => "flatten",
+            ClassifierHead::GlobalMax => "global_max",
+        }
+    }
+}
+
+/// A name: `flatten` or `global_max`.
+impl std::str::FromStr for ClassifierHead {
+    type Err = String;
+    fn from_str(s: &str) -> Result<Self, Self::Err> {
+        crate::recipe::parse_named(s.trim(), &Self::ALL, Self::name, "a classifier head")
+    }
+}
+
+impl std::fmt::Display for ClassifierHead {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.pad(self.name())
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -128,5 +167,15 @@ mod tests {
         assert_eq!(InputForm::default(), InputForm::Pixels);
         let e = "radon".parse::<InputForm>().unwrap_err();
         assert!(e.contains("pixels, line_sums"), "{e}");
+    }
+
+    #[test]
+    fn classifier_heads_read_by_name_and_a_wrong_one_lists_the_allowed() {
+        for h in ClassifierHead::ALL {
+            assert_eq!(h.name().parse::<ClassifierHead>(), Ok(h));
+        }
+        assert_eq!(ClassifierHead::default(), ClassifierHead::Flatten);
+        let e = "mean".parse::<ClassifierHead>().unwrap_err();
+        assert!(e.contains("flatten, global_max"), "{e}");
     }
 }

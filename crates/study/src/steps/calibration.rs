@@ -393,6 +393,7 @@ mod tests {
             input_scale: Some("linear".into()),
             calibration: None,
             input_form: Default::default(),
+            head: Default::default(),
         };
         let path = crate::output::detector_path(&run_dir.path().join("learn").join("C"), &input, Architecture::Base);
         std::fs::create_dir_all(path.parent().unwrap()).unwrap();

@@ -142,6 +142,7 @@ fn recipe(plan: &TransferPlan) -> Recipe {
         augmentation: Augmentation::Geometric,
         width: 16,
         input: plan.input,
+        head: plan.head,
     }
 }
 
@@ -270,6 +271,7 @@ fn compute(
             input_scale: Some("linear".into()),
             calibration: None,
             input_form: plan.input,
+            head: plan.head,
         };
         let factor = (spacing / SPACING).round() as usize;
         let detector = Detector {

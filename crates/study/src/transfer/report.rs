@@ -12,7 +12,7 @@ use crate::Result;
 use std::fmt::Write;
 use std::path::{Path, PathBuf};
 use wakelab_core::io::write_atomically;
-use wakelab_schema::architecture::InputForm;
+use wakelab_schema::architecture::{ClassifierHead, InputForm};
 
 /// One line: what the detector of a footprint does.
 pub fn describe(d: &TransferDetector) -> String {
@@ -108,7 +108,7 @@ pub fn markdown(results: &TransferResults) -> String {
     let mut md = String::from("# Transfer: detectors for real C-band images\n\n");
     let _ = writeln!(
         md,
-        "{} training scenes of 5.12 km at 10 m ({} delivered as 8-bit display images), each with its ship and wake and without; winds {}-{} m/s, incidence {}-{} degrees, {}-{} looks, NESZ {} to {} dB, slicks over {}-{} % of the sea{}; {} epochs of \"{}\" reading {}.\n",
+        "{} training scenes of 5.12 km at 10 m ({} delivered as 8-bit display images), each with its ship and wake and without; winds {}-{} m/s, incidence {}-{} degrees, {}-{} looks, NESZ {} to {} dB, slicks over {}-{} % of the sea{}; {} epochs of \"{}\" reading {}{}.\n",
         results.training_scenes,
         results.display_scenes,
         p.wind_speed[0],
@@ -131,6 +131,10 @@ pub fn markdown(results: &TransferResults) -> String {
         match p.input {
             InputForm::Pixels => "the windows' pixels",
             InputForm::LineSums => "the windows' line sums (Radon transform)",
+        },
+        match p.head {
+            ClassifierHead::Flatten => "",
+            ClassifierHead::GlobalMax => ", its last map pooled to each channel's largest response",
         },
     );
     let _ = writeln!(

@@ -6,7 +6,7 @@
 //!     cargo run --release -p wakelab-learn --example heads_on_lines
 
 use burn::tensor::Device;
-use wakelab_learn::metrics::Confusion;
+use wakelab_learn::metrics::{roc_auc, Confusion};
 use wakelab_learn::models::ClassifierHead;
 use wakelab_learn::synthetic::{examples, line_versus_noise};
 use wakelab_learn::train::{classify, train_classifier, Recipe};
@@ -16,24 +16,6 @@ use wakelab_schema::recipe::{Augmentation, Optimiser};
 // the allocator wakelab's binary runs with, so the timings match it
 #[global_allocator]
 static GLOBAL: mimalloc::MiMalloc = mimalloc::MiMalloc;
-
-/// The chance that a window with the line scores above one without (ties half).
-fn auc(scores: &[f64], labels: &[u8]) -> f64 {
-    let (mut wins, mut pairs) = (0.0, 0.0);
-    for (s, _) in scores.iter().zip(labels).filter(|(_, &l)| l == 1) {
-        for (t, _) in scores.iter().zip(labels).filter(|(_, &l)| l == 0) {
-            wins += if s > t {
-                1.0
-            } else if s == t {
-                0.5
-            } else {
-                0.0
-            };
-            pairs += 1.0;
-        }
-    }
-    wins / pairs
-}
 
 fn main() {
     let device = Device::flex();
@@ -59,7 +41,8 @@ fn main() {
                 let model = train_classifier(&train, &recipe, 3, &device, &mut |_| {}).expect("training");
                 let p = classify(&model, &test, input, 64, &device);
                 let mcc = Confusion::from_outputs(&p, &labels, 0.5).mcc();
-                println!("{n:7}  {input:9}  {head:10}  {:.3}  {mcc:.3}", auc(&p, &labels));
+                let auc = roc_auc(&p, &labels).expect("both classes");
+                println!("{n:7}  {input:9}  {head:10}  {auc:.3}  {mcc:.3}");
             }
         }
     }

@@ -13,10 +13,6 @@ use wakelab_learn::train::{classify, train_classifier, Recipe};
 use wakelab_schema::architecture::InputForm;
 use wakelab_schema::recipe::{Augmentation, Optimiser};
 
-// the allocator wakelab's binary runs with, so the timings match it
-#[global_allocator]
-static GLOBAL: mimalloc::MiMalloc = mimalloc::MiMalloc;
-
 fn main() {
     let device = Device::flex();
     let test = line_versus_noise(400, 32, 1.0, 99);

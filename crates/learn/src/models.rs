@@ -20,11 +20,14 @@ fn stage_output(size: usize) -> usize {
 
 pub use wakelab_schema::results::{MIN_CLASSIFIER_SIZE, UNET_SIZE_MULTIPLE};
 
+/// Channels of Table 4.1's last stage: what the pooled head reads, one value each.
+pub const LAST_STAGE_CHANNELS: usize = 30;
+
 /// Flatten size after the three stages (erratum 1: computed from the input size, 476,280 for
 /// 1024 x 1024, not the printed 47,628).
 pub fn flatten_size(input_size: usize) -> usize {
     let side = stage_output(stage_output(stage_output(input_size)));
-    30 * side * side
+    LAST_STAGE_CHANNELS * side * side
 }
 
 /// Features the head's first linear layer reads: the flattened map of [`flatten_size`], or one
@@ -32,7 +35,7 @@ pub fn flatten_size(input_size: usize) -> usize {
 pub fn head_inputs(head: ClassifierHead, input_size: usize) -> usize {
     match head {
         ClassifierHead::Flatten => flatten_size(input_size),
-        ClassifierHead::GlobalMax => 30,
+        ClassifierHead::GlobalMax => LAST_STAGE_CHANNELS,
     }
 }
 
@@ -40,7 +43,7 @@ pub fn head_inputs(head: ClassifierHead, input_size: usize) -> usize {
 /// stages with 10, 20 and 30 channels, a flatten, and Linear 70 -> 30 -> 1. Table 4.1 lists no
 /// activation between the three linear layers, and none is added here. `forward` returns the
 /// logit; the sigmoid of 4.1 is `probability`. With [`ClassifierHead::GlobalMax`] each channel's
-/// largest response over the last map replaces the flatten (Linear 30 -> 30 -> 1 after it).
+/// largest response over the last map replaces the flatten (Linear 30 -> 70 -> 30 -> 1 after it).
 #[derive(Module, Debug)]
 pub struct WakeClassifier {
     conv1: Conv2d,
@@ -77,8 +80,8 @@ impl WakeClassifier {
             norm1: BatchNormConfig::new(10).init(device),
             conv2: conv(10, 20),
             norm2: BatchNormConfig::new(20).init(device),
-            conv3: conv(20, 30),
-            norm3: BatchNormConfig::new(30).init(device),
+            conv3: conv(20, LAST_STAGE_CHANNELS),
+            norm3: BatchNormConfig::new(LAST_STAGE_CHANNELS).init(device),
             relu: Relu::new(),
             linear1: LinearConfig::new(head_inputs(head, input_size), 70).init(device),
             linear2: LinearConfig::new(70, 30).init(device),

@@ -73,8 +73,9 @@ pub struct TransferPlan {
     /// scene.
     pub look_alike_fraction: f64,
     /// Whether training draws those look-alikes too (windows on them as negatives), keeps only
-    /// the wake windows where the wake shows, and repeats them to balance the classes. Off in
-    /// the embedded study: the Table 4.1 classifier then learns nothing (see docs/results.md).
+    /// the wake windows where the wake shows, and repeats them to balance the classes. On in
+    /// the embedded study, which reads line sums; reading pixels, the Table 4.1 classifier
+    /// learnt nothing with it (see docs/results.md).
     pub look_alike_training: bool,
     pub seed: u64,
 }

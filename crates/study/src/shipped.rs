@@ -107,8 +107,8 @@ mod tests {
     }
 
     /// The shipped bytes are the ones `models/README.md` names by hash, and their metadata
-    /// says what the transfer study made: C band, 64-pixel windows at 20 and 40 m, thresholds
-    /// set for 1 alarm per 1,000 km^2 on open sea.
+    /// says what the embedded transfer study makes: C band, 64-pixel windows at 20 and 40 m,
+    /// thresholds set for 1 alarm per 1,000 km^2 on open sea, its input and head.
     #[test]
     fn the_shipped_detectors_are_the_ones_the_readme_names() {
         let readme = std::fs::read_to_string(concat!(env!("CARGO_MANIFEST_DIR"), "/../../models/README.md")).unwrap();
@@ -129,6 +129,17 @@ mod tests {
             let calibration = info.calibration.unwrap();
             assert_eq!(calibration.false_alarms_per_1000_km2, Some(1.0));
             assert!(info.threshold > 0.0 && info.threshold < 1.0);
+            // what the embedded transfer study trains: line sums, pooled
+            let study =
+                wakelab_dataset::study::Study::from_toml_str(wakelab_dataset::study::TRANSFER_STUDY, "transfer")
+                    .unwrap();
+            let plan = study.transfer.unwrap();
+            assert_eq!(
+                (info.input_form, info.head),
+                (plan.input, plan.head),
+                "{}",
+                shipped.name
+            );
         }
     }
 

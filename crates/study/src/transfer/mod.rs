@@ -460,6 +460,9 @@ mod tests {
         plan.epochs = 1;
         plan.open_sea_scenes = 1;
         plan.swell_fraction = 0.0;
+        // every wake window kept, so that the counts below hold (the embedded study trains on
+        // the look-alikes and keeps a wake window only where the wake shows)
+        plan.look_alike_training = false;
         let dir = tempfile::tempdir().unwrap();
         let device = parse_device("cpu").unwrap();
         let lines = run_transfer(&study, dir.path(), &device, None, true).unwrap();

@@ -28,6 +28,7 @@
 //! its scene and detectors, the environments' the study's base configuration. Fusion and the
 //! report are cheap and always rebuilt.
 
+pub mod corroboration;
 pub mod dataset;
 pub mod dry_run;
 pub mod learning;

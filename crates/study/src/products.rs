@@ -58,6 +58,7 @@ impl Detected {
         let written: serde_json::Value = serde_json::from_str(&text)?;
         out["ships"] = written["ships"].clone();
         out["wakes"] = written["wakes"].clone();
+        out["evidence"] = written["evidence"].clone();
         out["ship_search"] = written["ship_search"].clone();
         Ok(out)
     }
@@ -70,6 +71,9 @@ impl Detected {
         let mut text = format!("{}: {}\n", image.display(), self.detection.describe());
         if let Some(sea) = &self.sea {
             text += &format!("ships and wakes: {}\n", sea.describe());
+            let spacing = sea.geometry.spacing;
+            let evidence = crate::corroboration::corroborate(&self.detection.detections, &sea.wakes, spacing).evidence;
+            text += &format!("wake evidence: {}\n", evidence.describe());
         }
         text + &format!(
             "wrote {} (map), {}, {} and {}",

@@ -6,6 +6,7 @@
 //! pixel and ground coordinates, a PNG of the image with the map over it, and the U-Net's mask
 //! where there is one.
 
+use crate::corroboration::{corroborate, Evidence};
 use crate::sea_findings::{wake_colour, SeaFindings};
 use anyhow::Result;
 use image::{Rgb, RgbImage};
@@ -44,6 +45,15 @@ struct Located<'a, T> {
     lat: Option<f64>,
 }
 
+/// A CNN window as `detections.json` holds it: placed, and the line search's wake it lies on
+/// ([`crate::corroboration`]; null: none, or no line search).
+#[derive(Debug, Serialize)]
+struct WindowEntry<'a> {
+    #[serde(flatten)]
+    located: Located<'a, Found>,
+    on_wake: Option<usize>,
+}
+
 /// A point's product pixel (row, column), model coordinates and longitude and latitude.
 type Place = (f64, f64, Option<(f64, f64)>, Option<(f64, f64)>);
 
@@ -67,11 +77,13 @@ struct DetectionsFile<'a> {
     notes: &'a [String],
     /// The map's strongest cell.
     peak: Located<'a, Peak>,
-    detections: Vec<Located<'a, Found>>,
+    detections: Vec<WindowEntry<'a>>,
     /// The ships and wakes the classic searches found (null for infrared), and the targets
-    /// they rejected.
+    /// they rejected. Each wake lists the CNN windows on its line (`cnn_windows`).
     ships: Value,
     wakes: Value,
+    /// The wakes by who saw them: the line search and the CNN, either alone (null for infrared).
+    evidence: Option<Evidence>,
     ghosts: Option<Value>,
     /// The land found in the image and left out of the ship and wake searches (pixels, km^2).
     land: Option<Value>,
@@ -240,22 +252,42 @@ pub fn write_scan(dir: &Path, scanned: &Scanned, detection: &Detection) -> Resul
             lat: ll.map(|p| p.1),
         }
     }
+    let corroboration = scanned
+        .sea
+        .map(|sea| corroborate(&detection.detections, &sea.wakes, sea.geometry.spacing));
     let sea_entries = match scanned.sea {
         Some(sea) => {
-            let (ships, wakes, found) = sea.entries(
+            let (ships, mut wakes, mut found) = sea.entries(
                 &in_product[sea_first..],
                 lonlat.as_deref().map(|l| &l[sea_first..]),
                 meta.calibrated,
             );
+            let agreeing = corroboration
+                .as_ref()
+                .map(|c| c.wake_windows.as_slice())
+                .unwrap_or_default();
+            if let Some(entries) = wakes.as_array_mut() {
+                for (entry, windows) in entries.iter_mut().zip(agreeing) {
+                    entry["cnn_windows"] = json!(windows);
+                }
+            }
+            let wake_findings = found.iter_mut().filter(|f| f.kind == Kind::Wake);
+            for (finding, windows) in wake_findings.zip(agreeing) {
+                finding.properties.insert("cnn_windows".into(), json!(windows.len()));
+            }
             (ships, wakes, found)
         }
         None => (Value::Null, Value::Null, Vec::new()),
     };
-    let detections: Vec<Located<Found>> = detection
+    let on_wake = |k: usize| corroboration.as_ref().and_then(|c| c.window_wake[k]);
+    let detections: Vec<WindowEntry> = detection
         .detections
         .iter()
         .enumerate()
-        .map(|(k, found)| located(found, place(k)))
+        .map(|(k, found)| WindowEntry {
+            located: located(found, place(k)),
+            on_wake: on_wake(k),
+        })
         .collect();
     let report = DetectionsFile {
         image: scanned.path.display().to_string(),
@@ -275,6 +307,7 @@ pub fn write_scan(dir: &Path, scanned: &Scanned, detection: &Detection) -> Resul
         detections,
         ships: sea_entries.0,
         wakes: sea_entries.1,
+        evidence: corroboration.as_ref().map(|c| c.evidence),
         ghosts: scanned.sea.map(|s| {
             json!({
                 "azimuth_ambiguities": s.ambiguities,
@@ -303,9 +336,11 @@ pub fn write_scan(dir: &Path, scanned: &Scanned, detection: &Detection) -> Resul
         .detections
         .iter()
         .zip(&in_product)
-        .map(|(found, &(row, col))| {
+        .enumerate()
+        .map(|(k, (found, &(row, col)))| {
             let mut properties = Map::new();
             properties.insert("probability".into(), json!(found.score));
+            properties.insert("on_wake".into(), json!(on_wake(k)));
             properties.insert("orientation_deg".into(), json!(found.orientation));
             properties.insert("length_px".into(), json!(found.length));
             Finding {

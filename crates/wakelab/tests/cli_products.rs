@@ -442,6 +442,33 @@ fn a_ship_and_its_wake_come_out_as_geojson() {
     let printed: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
     assert_eq!(printed["ships"], report["ships"]);
     assert_eq!(printed["wakes"], report["wakes"]);
+    // the two searches read together: each wake lists the windows on it, each window names
+    // its wake, and the evidence counts agree with both
+    assert_eq!(printed["evidence"], report["evidence"]);
+    let windows = report["detections"].as_array().unwrap();
+    let wakes = report["wakes"].as_array().unwrap();
+    for (k, w) in wakes.iter().enumerate() {
+        for j in w["cnn_windows"].as_array().unwrap() {
+            let window = &windows[j.as_u64().unwrap() as usize];
+            assert!(window["on_wake"].is_u64(), "{window}");
+        }
+        let listed = w["cnn_windows"].as_array().unwrap().len();
+        let in_geojson = features
+            .iter()
+            .filter(|f| f["properties"]["kind"] == "wake")
+            .nth(k)
+            .unwrap();
+        assert_eq!(in_geojson["properties"]["cnn_windows"], listed, "{in_geojson}");
+    }
+    let evidence = &report["evidence"];
+    let seen_by_both = wakes
+        .iter()
+        .filter(|w| !w["cnn_windows"].as_array().unwrap().is_empty())
+        .count();
+    assert_eq!(evidence["both"], seen_by_both, "{evidence}");
+    assert_eq!(evidence["line_search_only"], wakes.len() - seen_by_both, "{evidence}");
+    let off_wakes = windows.iter().filter(|w| w["on_wake"].is_null()).count();
+    assert_eq!(evidence["cnn_only"], off_wakes, "{evidence}");
     // the ship search states its settings: P_fa 1e-6 is 4.753 standard normal deviations
     assert_eq!(printed["ship_search"], report["ship_search"]);
     assert_eq!(report["ship_search"]["pfa"], 1e-6);

@@ -2,7 +2,7 @@
 
 usage: score_real_wakes.py DIR OUT [detect flags...]
 
-DIR holds NAME.png and NAME.geojson (LineStrings of "kind": "wake" in pixel coordinates, as
+DIR holds NAME.png (or NAME.npy, NAME.tif) and NAME.geojson (LineStrings of "kind": "wake" in pixel coordinates, as
 `wakelab run --real` reads them). Each image runs through `wakelab detect` (the binary in
 $WAKELAB, else target/release/wakelab) into OUT/NAME/ unless that holds a result already. A drawn
 wake is found when a reported wake's segment comes within TOL pixels of it (default 30: 300 m at
@@ -12,7 +12,10 @@ found when a flagged window's centre lies within 500 m of it (at the drawing's p
 a flagged window farther than that from every drawn wake is away; and whether the map's peak
 lies within 500 m of one. Prints one line per image, then the totals: images where a wake is
 found, where one is found with at most one false wake (the transfer issue's target), wakes found
-by how they look (drawn "look": dark, bright, both), and the CNN's. An image with no wake drawn
+by how they look (drawn "look": dark, bright, both), the CNN's, and the two together as a user
+of `detect` reads them: a wake found by either, with at most one false wake and window away (a
+window away on a false wake's line counted once); and, by `detect`'s `cnn_windows` and `on_wake`,
+how often a wake seen by both searches, or by one alone, lies on a drawn wake. An image with no wake drawn
 (certified wake-free) is scored apart: whether any wake, and any CNN window, is reported there.
 Where the GeoJSON's "wakelab" member says "ships_drawn": true, its Polygons of "kind": "ship" are
 scored too: a drawn ship is found when a reported ship's centre lies within 50 m of its box, and
@@ -50,6 +53,8 @@ def main():
     binary = os.environ.get("WAKELAB", "target/release/wakelab")
     totals = dict(images=0, found=0, target=0, reported=0, false=0,
                   cnn_found=0, cnn_target=0, cnn_peak=0, cnn_windows=0, cnn_away=0,
+                  either_found=0, either_target=0, either_false=0,
+                  both_true=0, both=0, line_only_true=0, line_only=0, cnn_only_near=0, cnn_only=0,
                   clear=0, clear_quiet=0, clear_cnn_quiet=0,
                   ship_images=0, ships_drawn=0, ships_found=0, ships_false=0)
     by_kind = {}
@@ -58,7 +63,8 @@ def main():
         meta = drawn_json.get("wakelab", {})
         run = os.path.join(out, name)
         if not os.path.exists(os.path.join(run, "detections.json")):
-            cmd = [binary, "--quiet", "detect", os.path.join(src, name + ".png"), "--out", run,
+            image = next(os.path.join(src, name + e) for e in (".png", ".npy", ".tif") if os.path.exists(os.path.join(src, name + e)))
+            cmd = [binary, "--quiet", "detect", image, "--out", run,
                    "--scale", meta.get("scale", "display"),
                    "--pixel-spacing", str(meta.get("pixel_spacing_m", 10))] + flags
             subprocess.run(cmd, check=True, capture_output=True)
@@ -97,6 +103,7 @@ def main():
             totals["clear"] += 1
             totals["clear_quiet"] += not reported
             totals["clear_cnn_quiet"] += not windows
+            totals["clear_either_quiet"] = totals.get("clear_either_quiet", 0) + (not windows and not reported)
             print(f"{name}: no wake drawn, reported {len(reported)}; CNN windows {len(windows)}")
             continue
         totals["images"] += 1
@@ -116,6 +123,25 @@ def main():
         totals["cnn_peak"] += on_peak
         totals["cnn_windows"] += len(windows)
         totals["cnn_away"] += away
+        # either: a wake found by the line search or the CNN; false are the search's false wakes
+        # and the windows away, a window away within 500 m of a false wake's line counted once
+        on_false = lambda p: any(point_segment(p, r[0], r[1]) <= radius for r in reported if not any(match(r, d) for d in drawn))
+        either_false = false + sum(1 for p in windows if not any(near(p, d) for d in drawn) and not on_false(p))
+        totals["either_found"] += any(hits) or cnn_hits > 0
+        totals["either_target"] += (any(hits) or cnn_hits > 0) and either_false <= 1
+        totals["either_false"] += either_false
+        # the searches read together (`detect`'s `cnn_windows` and `on_wake`): how often a wake
+        # seen by both, or by the line search alone, is a drawn one; and a window on no
+        # reported wake lies within 500 m of a drawn one
+        for r, w in zip(reported, found["wakes"] or []):
+            seen_by_both = bool(w.get("cnn_windows"))
+            key = "both" if seen_by_both else "line_only"
+            totals[key] += 1
+            totals[key + "_true"] += any(match(r, d) for d in drawn)
+        for p, w in zip(windows, found.get("detections") or []):
+            if w.get("on_wake") is None:
+                totals["cnn_only"] += 1
+                totals["cnn_only_near"] += any(near(p, d) for d in drawn)
         print(f"{name}: drawn {len(drawn)}, found {sum(hits)}, reported {len(reported)}, false {false}; "
               f"CNN windows {len(windows)}, wakes with a window {cnn_hits}, windows away {away}, "
               f"peak on a wake {'yes' if on_peak else 'no'}")
@@ -125,12 +151,17 @@ def main():
           + ", ".join(f"{k} {v[0]}/{v[1]}" for k, v in sorted(by_kind.items())))
     print(f"CNN: a window within 500 m of a wake in {t['cnn_found']} images, with at most one window away in "
           f"{t['cnn_target']}; peak on a wake in {t['cnn_peak']}; windows away {t['cnn_away']} of {t['cnn_windows']}")
+    print(f"either: a wake found in {t['either_found']} images, with at most one false in {t['either_target']}; "
+          f"false {t['either_false']} ({t['either_false'] / max(t['images'], 1):.2f} per wake image)")
+    print(f"read together: wakes seen by both {t['both']}, on a drawn wake {t['both_true']}; by the line search "
+          f"alone {t['line_only']}, on a drawn wake {t['line_only_true']}; CNN windows on no reported wake "
+          f"{t['cnn_only']}, within 500 m of a drawn wake {t['cnn_only_near']} (images with wakes drawn)")
     if t["ship_images"]:
         print(f"ships: {t['ships_found']} of {t['ships_drawn']} found in {t['ship_images']} images, "
               f"{t['ships_false']} false ({t['ships_false'] / t['ship_images']:.2f} per image)")
     if t["clear"]:
         print(f"no-wake images {t['clear']}: without a wake reported {t['clear_quiet']}, "
-              f"without a CNN window flagged {t['clear_cnn_quiet']}")
+              f"without a CNN window flagged {t['clear_cnn_quiet']}, without either {t['clear_either_quiet']}")
 
 
 if __name__ == "__main__":

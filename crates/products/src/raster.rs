@@ -69,10 +69,13 @@ pub fn read_band(path: &Path, options: &ReadOptions) -> Result<(Array2<f32>, Arr
             },
         ));
     }
-    if count > 1 && options.quantity == Quantity::Sigma0 {
+    if count > 1 && options.quantity == Quantity::Sigma0 && !grey_stored_as_colour(&dataset, path)? {
         return Err(raster_error(
             path,
-            format!("has {count} bands; wakelab reads single-band images: write one band (gdal_translate -b N)"),
+            format!(
+                "has {count} bands that differ; wakelab reads single-band images (a grey picture saved as RGB, \
+                 its three bands equal, is read as one): write one band (gdal_translate -b N)"
+            ),
         ));
     }
     let band = dataset.rasterband(1).map_err(|e| gdal_error(path, "band 1", e))?;
@@ -98,6 +101,40 @@ pub fn read_band(path: &Path, options: &ReadOptions) -> Result<(Array2<f32>, Arr
         }
     }
     Ok((values, masked, dataset))
+}
+
+/// Whether a raster of several bands is a grey picture saved as colour: three bands (red, green,
+/// blue; a fourth only as their alpha, which GDAL gives band 1 as its mask) whose values are
+/// equal pixel for pixel, as SAR quick-looks and datasets' chips (HRSID's PNGs, JPEGs decoded
+/// from grey) often are. Its band 1 is then the picture.
+fn grey_stored_as_colour(dataset: &Dataset, path: &Path) -> Result<bool, WakelabError> {
+    use gdal::raster::ColorInterpretation;
+    let count = dataset.raster_count();
+    let alpha = |k: usize| {
+        dataset
+            .rasterband(k)
+            .map(|b| b.color_interpretation() == ColorInterpretation::AlphaBand)
+            .unwrap_or(false)
+    };
+    if !(count == 3 || (count == 4 && alpha(4))) {
+        return Ok(false);
+    }
+    let read = |k: usize| -> Result<Vec<f64>, WakelabError> {
+        let band = dataset.rasterband(k).map_err(|e| gdal_error(path, "a colour band", e))?;
+        let (cols, rows) = band.size();
+        Ok(band
+            .read_as::<f64>((0, 0), (cols, rows), (cols, rows), None)
+            .map_err(|e| gdal_error(path, "reading a colour band", e))?
+            .data()
+            .to_vec())
+    };
+    let red = read(1)?;
+    for k in 2..=3 {
+        if read(k)? != red {
+            return Ok(false);
+        }
+    }
+    Ok(true)
 }
 
 /// Mask (NaN) the no-data pixels of `raw` (`masked` from the file, plus NaN, infinities and
@@ -187,6 +224,12 @@ pub fn read(path: &Path, options: &ReadOptions) -> Result<Product, WakelabError>
         (None, None) => InputScale::Linear,
     };
     let mut report = ReadReport::default();
+    if dataset.raster_count() > 1 && options.quantity == Quantity::Sigma0 {
+        report.notes.push(format!(
+            "{} bands of equal values (a grey picture saved as colour): read as one",
+            dataset.raster_count().min(3)
+        ));
+    }
     if stated.is_none() && options.scale.is_none() && options.quantity == Quantity::Sigma0 {
         report
             .notes

@@ -249,6 +249,21 @@ fn nodata_values_mask_bands_and_border_zeros_are_masked() {
     assert_eq!(product.report.masked, ROWS * 5 + 10 * (COLS - 5));
 }
 
+/// An 8 x 8 GeoTIFF of one byte band per `offsets` entry, each the ramp 0..64 plus its offset.
+fn write_bands(path: &Path, offsets: &[u8]) {
+    let ds = DriverManager::get_driver_by_name("GTiff")
+        .unwrap()
+        .create_with_band_type::<u8, _>(path, 8, 8, offsets.len())
+        .unwrap();
+    for (k, offset) in offsets.iter().enumerate() {
+        let data: Vec<u8> = (0..64).map(|v| offset + v as u8).collect();
+        ds.rasterband(k + 1)
+            .unwrap()
+            .write((0, 0), (8, 8), &mut Buffer::new((8, 8), data))
+            .unwrap();
+    }
+}
+
 #[test]
 fn wrong_files_say_what_is_wrong() {
     let dir = tempfile::tempdir().unwrap();
@@ -257,13 +272,25 @@ fn wrong_files_say_what_is_wrong() {
     let err = open(&text, &ReadOptions::default()).unwrap_err().to_string();
     assert!(err.contains("not an image GDAL reads"), "{err}");
 
+    // a colour picture: which band would be the radar's?
     let rgb = temp(&dir, "rgb.tif");
-    DriverManager::get_driver_by_name("GTiff")
-        .unwrap()
-        .create_with_band_type::<u8, _>(&rgb, 8, 8, 3)
-        .unwrap();
+    write_bands(&rgb, &[60, 60, 61]);
     let err = open(&rgb, &ReadOptions::default()).unwrap_err().to_string();
-    assert!(err.contains("has 3 bands"), "{err}");
+    assert!(err.contains("has 3 bands that differ") && err.contains("gdal_translate -b N"), "{err}");
+    // a grey picture saved as colour (three equal bands, as HRSID's chips and grey JPEGs are)
+    // is that picture, read as one band
+    let grey_rgb = temp(&dir, "grey_rgb.tif");
+    write_bands(&grey_rgb, &[60, 60, 60]);
+    let display = ReadOptions {
+        scale: Some(InputScale::Display),
+        ..Default::default()
+    };
+    let read = open(&grey_rgb, &display).unwrap();
+    assert!(
+        read.report.notes.iter().any(|n| n.contains("3 bands of equal values")),
+        "{:?}",
+        read.report.notes
+    );
 
     // an 8-bit display stretch needs --scale display
     let grey = temp(&dir, "grey.tif");

@@ -120,7 +120,9 @@ fn grey_stored_as_colour(dataset: &Dataset, path: &Path) -> Result<bool, Wakelab
         return Ok(false);
     }
     let read = |k: usize| -> Result<Vec<f64>, WakelabError> {
-        let band = dataset.rasterband(k).map_err(|e| gdal_error(path, "a colour band", e))?;
+        let band = dataset
+            .rasterband(k)
+            .map_err(|e| gdal_error(path, "a colour band", e))?;
         let (cols, rows) = band.size();
         Ok(band
             .read_as::<f64>((0, 0), (cols, rows), (cols, rows), None)

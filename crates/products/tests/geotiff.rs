@@ -276,7 +276,10 @@ fn wrong_files_say_what_is_wrong() {
     let rgb = temp(&dir, "rgb.tif");
     write_bands(&rgb, &[60, 60, 61]);
     let err = open(&rgb, &ReadOptions::default()).unwrap_err().to_string();
-    assert!(err.contains("has 3 bands that differ") && err.contains("gdal_translate -b N"), "{err}");
+    assert!(
+        err.contains("has 3 bands that differ") && err.contains("gdal_translate -b N"),
+        "{err}"
+    );
     // a grey picture saved as colour (three equal bands, as HRSID's chips and grey JPEGs are)
     // is that picture, read as one band
     let grey_rgb = temp(&dir, "grey_rgb.tif");

@@ -459,6 +459,8 @@ pub fn score_real(
                             axis_errors_deg: Vec::new(),
                             drawn_ships: None,
                             km2: 0.0,
+                            seen_by_both: 0,
+                            seen_by_both_found: 0,
                             skipped: Some(why),
                         });
                     }

@@ -111,7 +111,7 @@ pub fn markdown(real: &RealResults) -> String {
     md + &search_markdown(real)
 }
 
-const SEARCH_HEADER: [&str; 11] = [
+const SEARCH_HEADER: [&str; 13] = [
     "image",
     "wakes",
     "ships",
@@ -123,6 +123,8 @@ const SEARCH_HEADER: [&str; 11] = [
     "drawn_ships",
     "ships_found",
     "false_ships",
+    "seen_by_both",
+    "seen_by_both_found",
 ];
 
 fn search_row(s: &SearchScore) -> Vec<String> {
@@ -149,6 +151,7 @@ fn search_row(s: &SearchScore) -> Vec<String> {
             .map_or([None; 3], |d| [Some(d.drawn), Some(d.found), Some(d.false_ships)])
             .map(|n| n.map_or(String::new(), |n| n.to_string())),
     )
+    .chain([s.seen_by_both.to_string(), s.seen_by_both_found.to_string()])
     .collect()
 }
 
@@ -186,10 +189,19 @@ pub fn describe_search(s: &SearchSummary) -> String {
         s.ships_per_image,
         s.skipped
     );
+    let line = format!("{line}; {}", describe_together(s));
     match describe_ships(s) {
         Some(ships) => format!("{line}; {ships}"),
         None => line,
     }
+}
+
+/// The search read with the first detector's windows, over the wake images.
+fn describe_together(s: &SearchSummary) -> String {
+    format!(
+        "read with the CNN: {}/{} wakes seen by both on a drawn wake, {}/{} of the line search alone",
+        s.seen_by_both_found, s.seen_by_both, s.line_search_only_found, s.line_search_only
+    )
 }
 
 /// The classic search's Markdown section (none where it did not run).
@@ -216,6 +228,11 @@ fn search_markdown(real: &RealResults) -> String {
         s.no_wake_images_clean,
         s.no_wake_images,
         s.ships_per_image
+    );
+    let _ = writeln!(
+        md,
+        "\nRead with the first detector's windows as `detect` reads them (a window within 500 m of a reported wake's line sees it; `seen_by_both` below): {}.",
+        describe_together(s)
     );
     if let Some(ships) = describe_ships(s) {
         let _ = writeln!(md, "\nThe ship search against the drawn ships: {ships}.");

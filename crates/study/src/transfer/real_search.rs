@@ -60,6 +60,12 @@ pub struct SearchScore {
     /// The area scanned (km^2; the first detector's scored cells).
     #[serde(default)]
     pub km2: f64,
+    /// Reported wakes with a window of the first detector on their line (`detect`'s
+    /// `cnn_windows`: seen by both searches), and those of them that found a drawn wake.
+    #[serde(default)]
+    pub seen_by_both: usize,
+    #[serde(default)]
+    pub seen_by_both_found: usize,
     /// Why the image was not searched.
     pub skipped: Option<String>,
 }
@@ -114,15 +120,19 @@ fn wake_ends(wake: &Value, lonlat: bool) -> Option<((f64, f64), (f64, f64))> {
 pub fn score_search(wakes: &[Vec<(f64, f64)>], lonlat: bool, written: &Value, spacing: (f64, f64)) -> SearchScore {
     // metres on the plane tangent at `origin` (longitude and latitude), or pixels scaled
     let metres = |p: (f64, f64), origin: (f64, f64)| metres_from(p, origin, lonlat, spacing);
+    // each reported wake's ends, and whether a CNN window lies on it
     let reported: Vec<_> = written["wakes"]
         .as_array()
         .into_iter()
         .flatten()
-        .filter_map(|w| wake_ends(w, lonlat))
+        .filter_map(|w| {
+            let windows = w["cnn_windows"].as_array().is_some_and(|l| !l.is_empty());
+            wake_ends(w, lonlat).map(|ends| (ends, windows))
+        })
         .collect();
     let mut best: Vec<Option<f64>> = vec![None; wakes.len()];
-    let mut false_wakes = 0;
-    for &(start, end) in &reported {
+    let (mut false_wakes, mut seen_by_both, mut seen_by_both_found) = (0, 0, 0);
+    for &((start, end), windows) in &reported {
         let found_one = {
             let line = (metres(start, start), metres(end, start));
             let mut any = false;
@@ -139,6 +149,8 @@ pub fn score_search(wakes: &[Vec<(f64, f64)>], lonlat: bool, written: &Value, sp
             any
         };
         false_wakes += usize::from(!found_one);
+        seen_by_both += usize::from(windows);
+        seen_by_both_found += usize::from(windows && found_one);
     }
     SearchScore {
         image: String::new(),
@@ -150,6 +162,8 @@ pub fn score_search(wakes: &[Vec<(f64, f64)>], lonlat: bool, written: &Value, sp
         axis_errors_deg: best.into_iter().flatten().collect(),
         drawn_ships: None,
         km2: 0.0,
+        seen_by_both,
+        seen_by_both_found,
         skipped: None,
     }
 }
@@ -182,6 +196,17 @@ pub struct SearchSummary {
     pub false_ships_per_image: f64,
     #[serde(default)]
     pub false_ships_per_100_km2: f64,
+    /// Over the wake images: the reported wakes seen by both searches (a CNN window on their
+    /// line) and those of them on a drawn wake; the wakes of the line search alone, and those
+    /// on a drawn wake.
+    #[serde(default)]
+    pub seen_by_both: usize,
+    #[serde(default)]
+    pub seen_by_both_found: usize,
+    #[serde(default)]
+    pub line_search_only: usize,
+    #[serde(default)]
+    pub line_search_only_found: usize,
     /// Images not searched.
     pub skipped: usize,
 }
@@ -223,6 +248,13 @@ pub fn summarise_search(scores: &[SearchScore]) -> SearchSummary {
         } else {
             f64::NAN
         },
+        seen_by_both: with.iter().map(|s| s.seen_by_both).sum(),
+        seen_by_both_found: with.iter().map(|s| s.seen_by_both_found).sum(),
+        line_search_only: with.iter().map(|s| s.search_wakes - s.seen_by_both).sum(),
+        line_search_only_found: with
+            .iter()
+            .map(|s| (s.search_wakes - s.false_wakes) - s.seen_by_both_found)
+            .sum(),
         skipped: scores.len() - searched.len(),
     }
 }
@@ -257,9 +289,9 @@ mod tests {
         let written = json!({
             "ships": [{}, {}],
             "wakes": [
-                {"product_start": [130.0, 100.0], "product_end": [130.0 + along, 300.0]},
-                {"product_start": [50.0, 200.0], "product_end": [150.0, 200.0]},
-                {"product_start": [180.0, 100.0], "product_end": [180.0, 300.0]},
+                {"product_start": [130.0, 100.0], "product_end": [130.0 + along, 300.0], "cnn_windows": [0]},
+                {"product_start": [50.0, 200.0], "product_end": [150.0, 200.0], "cnn_windows": [1, 2]},
+                {"product_start": [180.0, 100.0], "product_end": [180.0, 300.0], "cnn_windows": []},
             ]
         });
         let s = score_search(&drawn, false, &written, (10.0, 10.0));
@@ -269,6 +301,8 @@ mod tests {
         );
         assert_eq!(s.axis_errors_deg.len(), 1);
         assert!((s.axis_errors_deg[0] - 10.0).abs() < 1e-9, "{:?}", s.axis_errors_deg);
+        // the first and the second have CNN windows on them; only the first found a drawn wake
+        assert_eq!((s.seen_by_both, s.seen_by_both_found), (2, 1));
     }
 
     /// The summary: images with a wake found, wakes found, false wakes per wake image, clean
@@ -285,6 +319,9 @@ mod tests {
             axis_errors_deg: errors,
             drawn_ships: None,
             km2: 4.0,
+            // one wake seen by both in each, on a drawn wake where one was found
+            seen_by_both: 1,
+            seen_by_both_found: found.min(1),
             skipped: None,
         };
         let ships = |drawn, found, false_ships| ShipScore {
@@ -319,5 +356,9 @@ mod tests {
         assert_eq!((s.ship_images, s.drawn_ships, s.ships_found), (2, 3, 2));
         assert!((s.false_ships_per_image - 1.5).abs() < 1e-12);
         assert!((s.false_ships_per_100_km2 - 37.5).abs() < 1e-12);
+        // read with the CNN, over the three wake images: 3 wakes seen by both, 2 of them on a
+        // drawn wake; 3 of the line search alone (6 reported), none of them on one
+        assert_eq!((s.seen_by_both, s.seen_by_both_found), (3, 2));
+        assert_eq!((s.line_search_only, s.line_search_only_found), (3, 0));
     }
 }

@@ -6,6 +6,7 @@
 //! the scene's evidence counts the wakes seen by both, by the line search alone and by the CNN
 //! alone: what an analyst reads first.
 
+use crate::steps::open_sea::distance_to_segment;
 use serde::Serialize;
 use wakelab_learn::detect::Found;
 use wakelab_ships::wake::Wake;
@@ -51,15 +52,7 @@ impl Evidence {
 /// `spacing` (m between rows, m between columns).
 fn distance_m(p: (f64, f64), a: (f64, f64), b: (f64, f64), spacing: (f64, f64)) -> f64 {
     let to_m = |q: (f64, f64)| (q.0 * spacing.0, q.1 * spacing.1);
-    let (p, a, b) = (to_m(p), to_m(a), to_m(b));
-    let (dr, dc) = (b.0 - a.0, b.1 - a.1);
-    let length2 = dr * dr + dc * dc;
-    let t = if length2 > 0.0 {
-        (((p.0 - a.0) * dr + (p.1 - a.1) * dc) / length2).clamp(0.0, 1.0)
-    } else {
-        0.0
-    };
-    (p.0 - a.0 - t * dr).hypot(p.1 - a.1 - t * dc)
+    distance_to_segment(to_m(p), (to_m(a), to_m(b)))
 }
 
 /// The windows `found` by the CNN and the `wakes` of the line search, both in the scanned

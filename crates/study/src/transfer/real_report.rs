@@ -189,7 +189,7 @@ pub fn describe_search(s: &SearchSummary) -> String {
         s.ships_per_image,
         s.skipped
     );
-    let line = format!("{line}; {}", describe_together(s));
+    let line = format!("{line}; read with the CNN: {}", describe_together(s));
     match describe_ships(s) {
         Some(ships) => format!("{line}; {ships}"),
         None => line,
@@ -199,7 +199,7 @@ pub fn describe_search(s: &SearchSummary) -> String {
 /// The search read with the first detector's windows, over the wake images.
 fn describe_together(s: &SearchSummary) -> String {
     format!(
-        "read with the CNN: {}/{} wakes seen by both on a drawn wake, {}/{} of the line search alone",
+        "{}/{} wakes seen by both on a drawn wake, {}/{} of the line search alone",
         s.seen_by_both_found, s.seen_by_both, s.line_search_only_found, s.line_search_only
     )
 }
@@ -231,7 +231,7 @@ fn search_markdown(real: &RealResults) -> String {
     );
     let _ = writeln!(
         md,
-        "\nRead with the first detector's windows as `detect` reads them (a window within 500 m of a reported wake's line sees it; `seen_by_both` below): {}.",
+        "\nThe search's wakes read with the first detector's windows as `detect` reads them (a window within 500 m of a reported wake's line sees it; `seen_by_both` below): {}.",
         describe_together(s)
     );
     if let Some(ships) = describe_ships(s) {

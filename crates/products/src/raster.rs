@@ -119,21 +119,24 @@ fn grey_stored_as_colour(dataset: &Dataset, path: &Path) -> Result<bool, Wakelab
     if !(count == 3 || (count == 4 && alpha(4))) {
         return Ok(false);
     }
-    let read = |k: usize| -> Result<Vec<f64>, WakelabError> {
-        let band = dataset
-            .rasterband(k)
-            .map_err(|e| gdal_error(path, "a colour band", e))?;
-        let (cols, rows) = band.size();
-        Ok(band
-            .read_as::<f64>((0, 0), (cols, rows), (cols, rows), None)
-            .map_err(|e| gdal_error(path, "reading a colour band", e))?
-            .data()
-            .to_vec())
+    // compared a band of rows at a time, so that a large product never holds three bands at once
+    let bands: Vec<_> = (1..=3)
+        .map(|k| dataset.rasterband(k).map_err(|e| gdal_error(path, "a colour band", e)))
+        .collect::<Result<_, _>>()?;
+    let (cols, rows) = bands[0].size();
+    let read = |band: &gdal::raster::RasterBand, row: usize, height: usize| {
+        band.read_as::<f64>((0, row as isize), (cols, height), (cols, height), None)
+            .map(|b| b.data().to_vec())
+            .map_err(|e| gdal_error(path, "reading a colour band", e))
     };
-    let red = read(1)?;
-    for k in 2..=3 {
-        if read(k)? != red {
-            return Ok(false);
+    const ROWS_AT_ONCE: usize = 512;
+    for row in (0..rows).step_by(ROWS_AT_ONCE) {
+        let height = ROWS_AT_ONCE.min(rows - row);
+        let red = read(&bands[0], row, height)?;
+        for band in &bands[1..] {
+            if read(band, row, height)? != red {
+                return Ok(false);
+            }
         }
     }
     Ok(true)

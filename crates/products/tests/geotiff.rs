@@ -294,6 +294,32 @@ fn wrong_files_say_what_is_wrong() {
         "{:?}",
         read.report.notes
     );
+    // the same picture saved as one band reads to the same values
+    let one_band = temp(&dir, "one_band.tif");
+    write_bands(&one_band, &[60]);
+    let alone = open(&one_band, &display).unwrap();
+    assert_eq!(read.image, alone.image);
+    // the bands are compared a block of rows at a time: a difference in the last of 600 rows,
+    // past the first block, is still seen
+    let tall = temp(&dir, "tall.tif");
+    {
+        let ds = DriverManager::get_driver_by_name("GTiff")
+            .unwrap()
+            .create_with_band_type::<u8, _>(&tall, 2, 600, 3)
+            .unwrap();
+        for k in 1..=3 {
+            let mut data = vec![80u8; 1200];
+            if k == 3 {
+                data[1199] = 81;
+            }
+            ds.rasterband(k)
+                .unwrap()
+                .write((0, 0), (2, 600), &mut Buffer::new((2, 600), data))
+                .unwrap();
+        }
+    }
+    let err = open(&tall, &display).unwrap_err().to_string();
+    assert!(err.contains("has 3 bands that differ"), "{err}");
 
     // an 8-bit display stretch needs --scale display
     let grey = temp(&dir, "grey.tif");

@@ -3,7 +3,10 @@
 # wakelab's own probabilities? Trains "base", "cls" and "unet" (U-Net widths 8 and 16) on a small
 # rendered dataset, plus a two-band "base", then for each export: load_state_dict(strict=True)
 # and, for the single-band ones, the wake probability of a scene against `wakelab detect --json`
-# on the same image (one window). PyTorch, numpy and safetensors go into a throwaway venv
+# on the same image (one window). Then the shipped detectors of models/ (line sums, a pooled
+# head; file formats 3-4), through their exports there, on three 64 x 64 images against
+# `wakelab detect --json`, and once more with their temperature set to 2 in both files (the
+# calibrated probability). PyTorch, numpy and safetensors go into a throwaway venv
 # ($VENV); they are never a dependency of wakelab. Exits non-zero on any failure.
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -71,6 +74,56 @@ for name in ["S_base", "LWIR_cls", "S_unet", "LWIR_unet", "S+LWIR_base"]:
         failures += not ok
         line += f"; probability PyTorch {ours:.6f}, wakelab {theirs:.6f}: {'same' if ok else 'DIFFERENT'}"
     print(line)
+sys.exit(1 if failures else 0)
+PY
+# the shipped detectors: three linear sigma0 images of one window (speckle; a dark line; a
+# bright line), each detector at its own spacing, as shipped and with temperature 2
+PYTHONPATH=python "$VENV/bin/python" - "$W" "$WORK" <<'PY'
+import json, subprocess, sys
+import numpy as np
+import torch
+from safetensors.numpy import load_file, save_file
+from safetensors import safe_open
+from wakelab_torch import detector_input, load_detector
+
+wakelab, work = sys.argv[1:3]
+rng = np.random.default_rng(1)
+images = []
+for k, gain in enumerate([1.0, 0.3, 4.0]):
+    image = rng.exponential(0.02, (64, 64)).astype(np.float32)
+    rows = np.arange(64)
+    image[rows, (rows * 0.4 + 10 * k).astype(int)] *= gain
+    images.append(f"{work}/shipped{k}.npy")
+    np.save(images[-1], image)
+
+def with_temperature(path, out, temperature):
+    with safe_open(path, framework="np") as f:
+        meta = dict(f.metadata())
+    meta["wakelab.temperature"] = str(temperature)
+    save_file(load_file(path), out, metadata=meta)
+
+failures = 0
+for name in ["C_transfer_1280m", "C_transfer_2560m"]:
+    for temperature in [None, 2.0]:
+        main, export = f"models/{name}.safetensors", f"models/{name}.pytorch.safetensors"
+        if temperature is not None:
+            main, export = f"{work}/{name}.safetensors", f"{work}/{name}.pytorch.safetensors"
+            with_temperature(f"models/{name}.safetensors", main, temperature)
+            with_temperature(f"models/{name}.pytorch.safetensors", export, temperature)
+        model, info = load_detector(export)
+        for image in images:
+            x = detector_input(np.load(image), "C", info)
+            with torch.no_grad():
+                ours = float(model(torch.from_numpy(x)[None, None])[0])
+            run = subprocess.run(
+                [wakelab, "detect", image, "--model", main, "--pixel-spacing", str(info["pixel_spacing"]),
+                 "--scale", "linear", "--json", "--quiet", "--out", f"{work}/detect-shipped"],
+                check=True, capture_output=True, text=True)
+            theirs = json.loads(run.stdout)["probability"]
+            ok = abs(ours - theirs) < 1e-4
+            failures += not ok
+            print(f"{name} ({info['input_form']}, {info['head']}, temperature {info['temperature']:g}) "
+                  f"{image.rsplit('/', 1)[1]}: PyTorch {ours:.6f}, wakelab {theirs:.6f}: {'same' if ok else 'DIFFERENT'}")
 sys.exit(1 if failures else 0)
 PY
 echo "every export loads with strict=True and scores as wakelab does"

@@ -143,6 +143,36 @@ mod tests {
         }
     }
 
+    /// Each shipped detector's PyTorch export (for `python/wakelab_torch.py`) is in `models/`
+    /// with the hash the README names, and says what the detector says: the same metadata but
+    /// the layout.
+    #[test]
+    fn the_shipped_exports_are_the_detectors_in_pytorch_layout() {
+        let models = Path::new(concat!(env!("CARGO_MANIFEST_DIR"), "/../../models"));
+        let readme = std::fs::read_to_string(models.join("README.md")).unwrap();
+        for shipped in SHIPPED {
+            let name = shipped.name.replace(".safetensors", ".pytorch.safetensors");
+            let export = models.join(&name);
+            let bytes = std::fs::read(&export).unwrap();
+            let hash: String = Sha256::digest(&bytes).iter().map(|b| format!("{b:02x}")).collect();
+            let line = readme.lines().find(|l| l.contains(&name)).unwrap();
+            assert!(
+                line.contains(&hash),
+                "{name}: SHA-256 {hash} not on its README line {line:?}"
+            );
+            let mut theirs = wakelab_learn::store::read_metadata(&export).unwrap();
+            let mut ours = wakelab_learn::store::read_metadata(&models.join(shipped.name)).unwrap();
+            assert_eq!(theirs.remove("wakelab.layout").as_deref(), Some("pytorch"), "{name}");
+            assert_eq!(
+                ours.remove("wakelab.layout").as_deref(),
+                Some("burn"),
+                "{}",
+                shipped.name
+            );
+            assert_eq!(theirs, ours, "{name}");
+        }
+    }
+
     /// An image's spacing picks the finest detector it can be averaged down to.
     #[test]
     fn the_spacing_picks_the_footprint() {

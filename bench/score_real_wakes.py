@@ -17,6 +17,8 @@ of `detect` reads them: a wake found by either, with at most one false wake and 
 window away on a false wake's line counted once); and, by `detect`'s `cnn_windows` and `on_wake`,
 how often a wake seen by both searches, or by one alone, lies on a drawn wake. An image with no wake drawn
 (certified wake-free) is scored apart: whether any wake, and any CNN window, is reported there.
+Every reported ship's own CNN window (`cnn_probability`) is scored against the line search from
+the ship: a ship is a wake's when it lies within 500 m of a drawn wake's line.
 Where the GeoJSON's "wakelab" member says "ships_drawn": true, its Polygons of "kind": "ship" are
 scored too: a drawn ship is found when a reported ship's centre lies within 50 m of its box, and
 every other reported ship is false.
@@ -58,6 +60,7 @@ def main():
                   clear=0, clear_quiet=0, clear_cnn_quiet=0,
                   ship_images=0, ships_drawn=0, ships_found=0, ships_false=0)
     by_kind = {}
+    ship_records = []
     for name in sorted(f[:-8] for f in os.listdir(src) if f.endswith(".geojson")):
         drawn_json = json.load(open(os.path.join(src, name + ".geojson")))
         meta = drawn_json.get("wakelab", {})
@@ -98,6 +101,16 @@ def main():
             totals["ships_found"] += ships_found
             totals["ships_false"] += ships_false
             print(f"{name}: ships drawn {len(boxes)}, found {ships_found}, false {ships_false}")
+        # each reported ship's own CNN window (`cnn_probability`, centred on its return): the
+        # ship is a wake's when it lies within 500 m of a drawn wake's line; the line search
+        # found its wake when a reported wake starts from it
+        near_px = CNN_RADIUS_M / float(meta.get("pixel_spacing_m", 10))
+        for k, s in enumerate(found.get("ships") or []):
+            p = (s["product_col"], s["product_row"])
+            ship_records.append(dict(
+                image=name, wake=any(point_segment(p, d[0], d[1]) <= near_px for d in drawn),
+                cnn=s.get("cnn_probability"), threshold=found["threshold"],
+                line=any(w.get("ship") == k for w in found["wakes"] or [])))
         if not drawn:
             # an image certified wake-free: every wake or window reported there is a false alarm
             totals["clear"] += 1
@@ -162,6 +175,37 @@ def main():
     if t["clear"]:
         print(f"no-wake images {t['clear']}: without a wake reported {t['clear_quiet']}, "
               f"without a CNN window flagged {t['clear_cnn_quiet']}, without either {t['clear_either_quiet']}")
+    if ship_records:
+        ship_windows(ship_records)
+
+
+def auc(positives, negatives):
+    """The probability that a positive scores above a negative (ties count half)."""
+    if not positives or not negatives:
+        return float("nan")
+    wins = sum((p > n) + 0.5 * (p == n) for p in positives for n in negatives)
+    return wins / (len(positives) * len(negatives))
+
+
+def ship_windows(records):
+    """The ships' own CNN windows against the line search from each ship, over every image's
+    reported ships, split into the tuning set (names of digits), the other wake images and
+    ships of wake-free images (no wake drawn: every ship is a wake-free one)."""
+    def line(label, rows):
+        scored = [r for r in rows if r["cnn"] is not None]
+        pos = [r for r in scored if r["wake"]]
+        neg = [r for r in scored if not r["wake"]]
+        flagged = lambda r: r["cnn"] >= r["threshold"]
+        rate = lambda rs, f: f"{sum(map(f, rs))}/{len(rs)}"
+        print(f"ships' windows, {label}: {len(rows)} ships, {len(scored)} scored ({len(pos)} with a drawn wake, "
+              f"{len(neg)} without); AUC {auc([r['cnn'] for r in pos], [r['cnn'] for r in neg]):.3f}; "
+              f"at the threshold: wake ships {rate(pos, flagged)}, others {rate(neg, flagged)}; "
+              f"line search from the ship: wake ships {rate(pos, lambda r: r['line'])}, others {rate(neg, lambda r: r['line'])}; "
+              f"either: {rate(pos, lambda r: r['line'] or flagged(r))}, {rate(neg, lambda r: r['line'] or flagged(r))}; "
+              f"both: {rate(pos, lambda r: r['line'] and flagged(r))}, {rate(neg, lambda r: r['line'] and flagged(r))}")
+    line("all", records)
+    line("tuning set", [r for r in records if r["image"].isdigit()])
+    line("held-out and wake-free images", [r for r in records if not r["image"].isdigit()])
 
 
 if __name__ == "__main__":

@@ -171,6 +171,52 @@ pub fn detect_image(
     scan.finish()
 }
 
+/// The wake probability (as a scan reports it: calibrated where the detector is) of each of
+/// `windows`, n x n at the detector's input side and spacing, pixels in `options.scale`, NaN for
+/// no data (set to the window's median, as a scan sets them). A window more than half no data,
+/// or not of the detector's side, is not scored (None), as a scan scores none.
+pub fn score_windows(
+    detector: &Detector,
+    info: &ModelInfo,
+    windows: &[Array2<f32>],
+    options: ScanOptions,
+    device: &Device,
+) -> Result<Vec<Option<f64>>, WakelabError> {
+    let (n, band) = (info.input_size, info.single_band()?);
+    let scored: Vec<usize> = (0..windows.len())
+        .filter(|&i| {
+            let w = &windows[i];
+            w.dim() == (n, n) && 2 * w.iter().filter(|v| v.is_nan()).count() <= n * n
+        })
+        .collect();
+    let examples: Vec<Example> = scored
+        .par_iter()
+        .map(|&i| Example {
+            image: detector_input(filled(windows[i].clone()), band, options.scale).insert_axis(Axis(0)),
+            label: 0,
+            mask: None,
+        })
+        .collect();
+    let mut out = vec![None; windows.len()];
+    for (chunk, examples) in scored
+        .chunks(options.batch.max(1))
+        .zip(examples.chunks(options.batch.max(1)))
+    {
+        let (p, _) = detect_with_masks(
+            detector,
+            info.architecture,
+            info.input_form,
+            examples,
+            options.batch.max(1),
+            device,
+        );
+        for (&i, &probability) in chunk.iter().zip(&p) {
+            out[i] = Some(info.probability(probability));
+        }
+    }
+    Ok(out)
+}
+
 /// A scan fed a band of image rows at a time, so that a whole product need not be held: each
 /// band scores the windows whose rows it holds and that no earlier band scored
 /// ([`Scan::next_rows`] says which rows the next band must start with). Fed the whole image

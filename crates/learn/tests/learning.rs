@@ -495,6 +495,29 @@ fn a_scan_of_a_large_scene_peaks_on_its_line() {
             cal.probability
         );
     }
+    // windows scored alone (a ship's, cut where it lies) score as the scan scored them there,
+    // calibrated or not; one mostly no data, or not of the detector's side, is not scored
+    for (info, scanned) in [(&info, &scan), (&calibrated_info, &calibrated)] {
+        let picked: Vec<&wakelab_learn::detect::Tile> = scanned.tiles.iter().step_by(37).collect();
+        let mut windows: Vec<ndarray::Array2<f32>> = picked
+            .iter()
+            .map(|t| {
+                scene
+                    .slice(ndarray::s![t.row..t.row + 32, t.col..t.col + 32])
+                    .to_owned()
+            })
+            .collect();
+        let mut empty = windows[0].clone();
+        empty.slice_mut(ndarray::s![..17, ..]).fill(f32::NAN);
+        windows.push(empty);
+        windows.push(ndarray::Array2::zeros((31, 31)));
+        let alone = wakelab_learn::detect::score_windows(&detector, info, &windows, options, &device).unwrap();
+        for (t, p) in picked.iter().zip(&alone) {
+            let p = p.expect("a full window is scored");
+            assert!((p - t.probability).abs() < 1e-6, "{p} against {}", t.probability);
+        }
+        assert_eq!(alone[picked.len()..], [None, None]);
+    }
     let first = scan.detections.first().expect("a detection");
     assert!(first.score > 0.5);
     let d = ((first.row - r0).powi(2) + (first.col - c0).powi(2)).sqrt();

@@ -300,8 +300,10 @@ pub fn scan_opened(opened: OpenedProduct, scanner: Scanner, progress: ScanProgre
             cross.as_ref().map(|c| (c.0.view(), c.1.as_str())),
             geometry,
             cfar,
+            Some(info.input_size),
         )
     });
+    let sea = sea.map(|s| score_ship_windows(s, &scanner)).transpose()?;
     notes.splice(0..0, product.report.notes.iter().cloned());
     masked_note(&mut notes, masked);
     land_note(&mut notes, sea.as_ref());
@@ -319,6 +321,20 @@ pub fn scan_opened(opened: OpenedProduct, scanner: Scanner, progress: ScanProgre
         detection: scan.finish()?,
         sea,
     })
+}
+
+/// The CNN's wake probability of the window centred on each ship's return (issue 39's CNN on
+/// ship-centred windows, beside the line search from each ship), the windows let go.
+fn score_ship_windows(mut sea: SeaFindings, scanner: &Scanner) -> Result<SeaFindings> {
+    let windows = std::mem::take(&mut sea.ship_windows);
+    sea.ship_cnn = wakelab_learn::detect::score_windows(
+        scanner.detector,
+        scanner.info,
+        &windows,
+        scanner.options,
+        scanner.device,
+    )?;
+    Ok(sea)
 }
 
 /// What the notes say of ships sought in the cross-polarised band `pol`.
@@ -379,7 +395,7 @@ fn scan_by_bands(
         notes.extend(pfa_note);
         let pol = cross.as_ref().map(|c| c.meta.polarisation.clone().unwrap_or_default());
         notes.extend(pol.as_deref().map(cross_note));
-        SeaStream::new(geometry, cfar, scanned.1, TILE_ROWS, pol)
+        SeaStream::new(geometry, cfar, scanned.1, TILE_ROWS, pol).with_ship_windows(Some(info.input_size))
     });
     // scanned rows counted (masked, floored, overlay) so far: a band's overlap with the last
     // is not
@@ -424,7 +440,7 @@ fn scan_by_bands(
     notes.splice(0..0, report.notes.iter().cloned());
     masked_note(&mut notes, masked);
     let detection = scan.finish()?;
-    let sea = sea.map(SeaStream::finish);
+    let sea = sea.map(|s| score_ship_windows(s.finish(), &scanner)).transpose()?;
     land_note(&mut notes, sea.as_ref());
     Ok(ProductScan {
         frame: source.frame.scaled(factor.0, factor.1, scanned),

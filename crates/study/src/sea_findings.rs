@@ -46,6 +46,30 @@ pub struct SeaFindings {
     /// The cross-polarised band the ships were sought in (VH, HV), where the product has one;
     /// None: the scanned band itself.
     pub ships_polarisation: Option<String>,
+    /// The side (scanned pixels) of the CNN's window cut around each ship as it is found, and
+    /// the windows, one per ship, centred on its return (NaN off the image): what `detect`
+    /// scores them with ([`crate::product_scan`]). None: no windows cut.
+    pub ship_window_side: Option<usize>,
+    pub ship_windows: Vec<ndarray::Array2<f32>>,
+    /// Each ship's window's wake probability by the CNN (None: not scored, as a scan scores no
+    /// window more than half off the image); empty where no CNN scored them.
+    pub ship_cnn: Vec<Option<f64>>,
+}
+
+/// The `side` x `side` window of `image` centred on (`row`, `col`) (fractional pixels), NaN
+/// where it lies off the image.
+pub fn window_around(image: ArrayView2<f32>, (row, col): (f64, f64), side: usize) -> ndarray::Array2<f32> {
+    let origin = |centre: f64| (centre + 0.5 - 0.5 * side as f64).round() as isize;
+    let (r0, c0) = (origin(row), origin(col));
+    let (h, w) = image.dim();
+    ndarray::Array2::from_shape_fn((side, side), |(i, j)| {
+        let (r, c) = (r0 + i as isize, c0 + j as isize);
+        if r >= 0 && c >= 0 && (r as usize) < h && (c as usize) < w {
+            image[[r as usize, c as usize]]
+        } else {
+            f32::NAN
+        }
+    })
 }
 
 /// Whether `meta` is a product in radar geometry (lines in azimuth time, columns in range).
@@ -173,8 +197,10 @@ pub fn search_image(
     cross: Option<(ArrayView2<f32>, &str)>,
     geometry: Geometry,
     cfar: CfarOptions,
+    ship_window: Option<usize>,
 ) -> SeaFindings {
-    let mut stream = SeaStream::new(geometry, cfar, image.ncols(), TILE_ROWS, cross.map(|c| c.1.to_string()));
+    let mut stream = SeaStream::new(geometry, cfar, image.ncols(), TILE_ROWS, cross.map(|c| c.1.to_string()))
+        .with_ship_windows(ship_window);
     stream.push(0, image, cross.map(|c| c.0));
     stream.finish()
 }
@@ -195,6 +221,9 @@ impl SeaFindings {
             geometry,
             cfar,
             ships_polarisation,
+            ship_window_side: None,
+            ship_windows: Vec::new(),
+            ship_cnn: Vec::new(),
         }
     }
 
@@ -218,6 +247,9 @@ impl SeaFindings {
         let mut index = std::collections::BTreeMap::new();
         for (i, mut ship) in found.ships.ships.into_iter().enumerate() {
             if owned((ship.row, ship.col)) {
+                if let Some(side) = self.ship_window_side {
+                    self.ship_windows.push(window_around(tile, (ship.row, ship.col), side));
+                }
                 ship.row += shift.0;
                 ship.col += shift.1;
                 ship.peak_row += origin.0;
@@ -332,6 +364,10 @@ impl SeaFindings {
                 properties.insert("contrast_db".into(), in_db(s.contrast_db));
                 properties.insert("ship".into(), json!(k));
                 properties.insert("found_in".into(), json!(self.ships_polarisation));
+                // the CNN's wake probability of the window centred on its return; null: not
+                // scored (no CNN, or the window more than half off the image)
+                let cnn = self.ship_cnn.get(k).copied().flatten();
+                properties.insert("cnn_probability".into(), json!(cnn));
                 findings.push(Finding {
                     kind: Kind::Ship,
                     row,
@@ -351,6 +387,7 @@ impl SeaFindings {
                 entry["product_col"] = json!(col);
                 entry["lon"] = json!(ll.map(|p| p.0));
                 entry["lat"] = json!(ll.map(|p| p.1));
+                entry["cnn_probability"] = json!(cnn);
                 entry
             })
             .collect();
@@ -508,6 +545,13 @@ impl SeaStream {
         }
     }
 
+    /// Cut the CNN's window of `side` scanned pixels around each ship as it is found
+    /// ([`SeaFindings::ship_windows`]); None: cut none.
+    pub fn with_ship_windows(mut self, side: Option<usize>) -> Self {
+        self.findings.ship_window_side = side;
+        self
+    }
+
     fn held_to(&self) -> usize {
         self.held_from + self.held.nrows()
     }
@@ -625,6 +669,21 @@ fn wake_entry(
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// A ship's window is centred on its return, its pixels where the image has them and NaN
+    /// off the image.
+    #[test]
+    fn a_ships_window_is_centred_on_it() {
+        let image = ndarray::Array2::from_shape_fn((10, 12), |(r, c)| (100 * r + c) as f32);
+        let w = window_around(image.view(), (5.0, 6.0), 4);
+        // pixel centres 4-7 (rows) and 5-8 (columns): (5, 6) is the centre's pixel
+        assert_eq!(w[[0, 0]], 405.0);
+        assert_eq!(w[[3, 3]], 708.0);
+        let edge = window_around(image.view(), (0.0, 11.0), 4);
+        assert!(edge[[0, 0]].is_nan() && edge[[1, 3]].is_nan());
+        assert_eq!(edge[[2, 1]], 11.0);
+        assert_eq!(edge.iter().filter(|v| v.is_nan()).count(), 16 - 4);
+    }
     use rand::{RngExt, SeedableRng};
 
     /// 4-look speckle at 10 m of `rows` x `cols`, a ship at `ship` (3 pixels across, 12
@@ -761,7 +820,7 @@ mod tests {
         let g = Geometry::along_rows(10.0, 35.0, None);
         let (ship, wake) = whole_search(&image, &g);
         assert_same(
-            &search_image(image.view(), None, g, CfarOptions::default()),
+            &search_image(image.view(), None, g, CfarOptions::default(), None),
             &ship,
             &wake,
         );
@@ -793,7 +852,7 @@ mod tests {
         for (tr, tc) in targets {
             image.slice_mut(ndarray::s![tr - 2..=tr + 2, tc - 1..=tc + 1]).fill(3.0);
         }
-        let found = search_image(image.view(), None, g, CfarOptions::default());
+        let found = search_image(image.view(), None, g, CfarOptions::default(), None);
         let axes = &found.sidelobe_axes_deg;
         assert_eq!(axes.len(), 2, "{axes:?}");
         for want in [15.0, 105.0] {

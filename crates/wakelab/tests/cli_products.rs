@@ -469,6 +469,21 @@ fn a_ship_and_its_wake_come_out_as_geojson() {
     assert_eq!(evidence["line_search_only"], wakes.len() - seen_by_both, "{evidence}");
     let off_wakes = windows.iter().filter(|w| w["on_wake"].is_null()).count();
     assert_eq!(evidence["cnn_only"], off_wakes, "{evidence}");
+    // the CNN on the ship's own window: the probability `detect` gives the 32 x 32 window
+    // centred on its return when that window is the whole image, in the JSON and the GeoJSON
+    let cnn = ship["cnn_probability"].as_f64().expect("the ship's window is scored");
+    let point = features.iter().find(|f| f["properties"]["kind"] == "ship").unwrap();
+    assert_eq!(point["properties"]["cnn_probability"].as_f64(), Some(cnn));
+    let origin = |centre: f64| (centre + 0.5 - 16.0).round() as usize;
+    let (r0, c0) = (origin(row), origin(col));
+    let window = image.slice(ndarray::s![r0..r0 + 32, c0..c0 + 32]).to_owned();
+    let alone = dir.path().join("ship_window.tif");
+    write_tif(&alone, &window, &utm(TRANSFORM, window.dim()), "linear");
+    let by_itself = detect(&alone, &model, &dir.path().join("ship_window"), &[]);
+    assert!(
+        (probability(&by_itself) - cnn).abs() < 1e-6,
+        "{cnn} against {by_itself}"
+    );
     // the ship search states its settings: P_fa 1e-6 is 4.753 standard normal deviations
     assert_eq!(printed["ship_search"], report["ship_search"]);
     assert_eq!(report["ship_search"]["pfa"], 1e-6);

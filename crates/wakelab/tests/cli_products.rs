@@ -215,7 +215,10 @@ fn a_sentinel1_product_is_calibrated_and_scanned_on_its_ground() {
     let dir = root.path();
     // tall enough to be read and scanned in three bands of rows
     let lines = 2500;
-    let sea = sea_of(lines);
+    let mut sea = sea_of(lines);
+    // a ship, 150 m long and 30 dB over the sea, 1 km into the product: read band by band, its
+    // window is cut from the search of the rows held and scored as when the product is read whole
+    sea.slice_mut(ndarray::s![1020..1035, 100..103]).fill(10.0);
     // digital numbers whose calibrated sigma0 is the sea: DN = A sqrt(sigma0) (noise kept)
     let luts = Synthetic {
         lines,
@@ -313,6 +316,22 @@ fn a_sentinel1_product_is_calibrated_and_scanned_on_its_ground() {
     };
     let (banded, read_whole) = (read_map("scan"), read_map("scan_whole"));
     assert!(banded.iter().zip(&read_whole).all(|(a, b)| a.to_bits() == b.to_bits()));
+    // the ship, found and its window scored in both
+    let ships = |r: &serde_json::Value| -> Vec<(f64, f64, f64)> {
+        r["ships"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .map(|s| {
+                let at = |k: &str| s[k].as_f64().unwrap();
+                (at("product_row"), at("product_col"), at("cnn_probability"))
+            })
+            .collect()
+    };
+    let (streamed, read_whole) = (ships(&found), ships(&whole));
+    assert_eq!(streamed.len(), 1, "{streamed:?}");
+    assert!((streamed[0].0 - 1027.0).abs() < 2.0, "{streamed:?}");
+    assert_eq!(streamed, read_whole);
 
     // a detector trained at 20 m: the product averaged over 2 x 2 band by band scores as its
     // calibrated image averaged whole

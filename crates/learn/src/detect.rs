@@ -134,6 +134,16 @@ fn filled(mut window: Array2<f32>) -> Array2<f32> {
     window
 }
 
+/// A window of `band` (pixels in `scale`) as the detector's example: its no-data filled, then
+/// normalised ([`detector_input`]).
+fn window_example(window: Array2<f32>, band: Band, scale: RadarScale) -> Example {
+    Example {
+        image: detector_input(filled(window), band, scale).insert_axis(Axis(0)),
+        label: 0,
+        mask: None,
+    }
+}
+
 /// Batches of windows scored at once, side by side.
 const PARALLEL_BATCHES: usize = 2;
 
@@ -191,11 +201,7 @@ pub fn score_windows(
         .collect();
     let examples: Vec<Example> = scored
         .par_iter()
-        .map(|&i| Example {
-            image: detector_input(filled(windows[i].clone()), band, options.scale).insert_axis(Axis(0)),
-            label: 0,
-            mask: None,
-        })
+        .map(|&i| window_example(windows[i].clone(), band, options.scale))
         .collect();
     let mut out = vec![None; windows.len()];
     for (chunk, examples) in scored
@@ -356,15 +362,12 @@ impl<'a> Scan<'a> {
                 .map(|batch| {
                     let examples: Vec<Example> = batch
                         .iter()
-                        .map(|&(r, c)| Example {
-                            image: detector_input(
-                                filled(band.slice(s![r - start..r - start + n, c..c + n]).to_owned()),
+                        .map(|&(r, c)| {
+                            window_example(
+                                band.slice(s![r - start..r - start + n, c..c + n]).to_owned(),
                                 kind,
                                 scale,
                             )
-                            .insert_axis(Axis(0)),
-                            label: 0,
-                            mask: None,
                         })
                         .collect();
                     detect_with_masks(detector, architecture, form, &examples, batch_size, device)

@@ -62,7 +62,7 @@ pub struct RunArgs {
 
 #[derive(Args, Debug, Clone)]
 pub struct StudyArgs {
-    /// Study: `default` (embedded, about 7 minutes on a 2-core machine), `paper` (the spec's
+    /// Study: `default` (embedded, about 11 minutes on a 2-core machine), `paper` (the spec's
     /// scale and recipe), `transfer` (detectors for real C-band images, RUN/detectors/) or a
     /// study TOML file (see configs/study/default.toml).
     #[arg(long, value_name = "NAME|FILE")]

@@ -95,7 +95,7 @@ impl ScenePair {
 
 /// The embedded default study: 3 x 2 x 2 combinations x 16 seeds = 192 pairs (384 scenes) of
 /// 32 x 32 pixels of 10 m on the `quick` wake, with a shortened training recipe: the whole
-/// `wakelab run` in about 4 minutes on a 2-core laptop (docs/results.md).
+/// `wakelab run` in about 11 minutes on a 2-core machine (docs/results.md).
 pub const DEFAULT_STUDY: &str = include_str!("../../../configs/study/default.toml");
 /// The spec's scale: 180 pairs of 1024 x 1024 images on the `paper` grid.
 pub const PAPER_STUDY: &str = include_str!("../../../configs/study/paper.toml");

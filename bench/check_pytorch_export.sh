@@ -120,7 +120,7 @@ for name in ["C_transfer_1280m", "C_transfer_2560m"]:
                  "--scale", "linear", "--json", "--quiet", "--out", f"{work}/detect-shipped"],
                 check=True, capture_output=True, text=True)
             theirs = json.loads(run.stdout)["probability"]
-            ok = abs(ours - theirs) < 1e-4
+            ok = abs(ours - theirs) < 1e-4 and abs(model.window_probability(np.load(image)) - ours) < 1e-7
             failures += not ok
             print(f"{name} ({info['input_form']}, {info['head']}, temperature {info['temperature']:g}) "
                   f"{image.rsplit('/', 1)[1]}: PyTorch {ours:.6f}, wakelab {theirs:.6f}: {'same' if ok else 'DIFFERENT'}")

@@ -20,6 +20,10 @@ the detector reads:
     model, info = load_detector("models/C_transfer_1280m.pytorch.safetensors")
     x = detector_input(window, "C", info)                      # 64 x 64 of linear sigma0 at 20 m
     p = model(torch.from_numpy(x)[None, None])                 # calibrated, as `wakelab detect`
+    p = model.window_probability(window)                       # the same, input made from info
+
+`detector_input` without `info` makes pixels: pass `info` (or use `window_probability`) for a
+detector that reads line sums.
 
 A detector whose file records a temperature (`wakelab.temperature`) returns its probabilities
 scaled by it, as wakelab reports them. PyTorch, numpy and safetensors are the only
@@ -129,6 +133,8 @@ class Detector(nn.Module):
             raise ValueError(f"temperature {temperature!r}: must be a positive number")
         self.architecture = architecture
         self.temperature = float(temperature)
+        #: set by `load_detector` from the file: what `window_probability` makes of a window
+        self.info = None
         extra = 0 if architecture == "base" else 1
         self.classifier = Classifier(bands + extra, size, head)
         self.segmenter = UNet(bands, unet_width) if architecture == "unet" else None
@@ -143,6 +149,17 @@ class Detector(nn.Module):
         elif self.architecture == "unet":
             images = torch.cat([images, self.mask(images)], 1)
         return torch.sigmoid(self.classifier(images) / self.temperature)
+
+    def window_probability(self, window):
+        """The wake probability of one window (a 2-D numpy array of the detector's band, radar
+        sigma0 linear), its input made as the file says (`detector_input` with this detector's
+        info: its line sums where it reads them), so that no caller can hand a line-sum
+        detector pixels. A single-band detector loaded by `load_detector` only."""
+        if self.info is None or len(self.info["bands"]) != 1:
+            raise ValueError("window_probability needs a single-band detector loaded by load_detector")
+        x = detector_input(window, self.info["bands"][0], self.info)
+        with torch.no_grad():
+            return float(self(torch.from_numpy(x)[None, None])[0])
 
 
 def read_info(path):
@@ -190,6 +207,7 @@ def load_detector(path):
     # BatchNorm's num_batches_tracked is not in the file: PyTorch fills it in for a state dict
     # without version metadata, so strict loading still checks every other name and shape
     model.load_state_dict(load_file(path), strict=True)
+    model.info = info
     return model.eval(), info
 
 

@@ -199,20 +199,18 @@ pub fn score_windows(
             w.dim() == (n, n) && 2 * w.iter().filter(|v| v.is_nan()).count() <= n * n
         })
         .collect();
-    let examples: Vec<Example> = scored
-        .par_iter()
-        .map(|&i| window_example(windows[i].clone(), band, options.scale))
-        .collect();
     let mut out = vec![None; windows.len()];
-    for (chunk, examples) in scored
-        .chunks(options.batch.max(1))
-        .zip(examples.chunks(options.batch.max(1)))
-    {
+    // a batch's inputs are made when it is scored, so that memory holds one batch of them
+    for chunk in scored.chunks(options.batch.max(1)) {
+        let examples: Vec<Example> = chunk
+            .par_iter()
+            .map(|&i| window_example(windows[i].clone(), band, options.scale))
+            .collect();
         let (p, _) = detect_with_masks(
             detector,
             info.architecture,
             info.input_form,
-            examples,
+            &examples,
             options.batch.max(1),
             device,
         );

@@ -1,0 +1,254 @@
+//! The findings written out: as JSON entries for `detections.json`, as GeoJSON findings, and
+//! drawn on the overlay.
+
+use super::SeaFindings;
+use image::{Rgb, RgbImage};
+use serde_json::{json, Map, Value};
+use wakelab_products::geojson::{Finding, Kind};
+use wakelab_ships::wake::{Signature, Wake};
+
+impl SeaFindings {
+    /// The points to place on the ground: every ship's centre, then every wake's start, end and
+    /// a point 100 m along its course from its start (for the bearing), in scanned pixels
+    /// (row, column).
+    pub fn points(&self) -> Vec<(f64, f64)> {
+        let g = &self.geometry;
+        let mut points: Vec<(f64, f64)> = self.ships.iter().map(|s| (s.row, s.col)).collect();
+        for w in &self.wakes {
+            let course = w.course_deg.unwrap_or(w.axis_deg);
+            let (ur, uc) = g.step(course);
+            points.extend([w.start, w.end, (w.start.0 + 100.0 * ur, w.start.1 + 100.0 * uc)]);
+        }
+        points
+    }
+
+    /// The findings as JSON entries for `detections.json` and as GeoJSON findings, given where
+    /// each of [`Self::points`] lies in the product's pixels and on the ground (lon, lat). An
+    /// input that is not `calibrated` (a display stretch) gives its ships no sigma0 or contrast:
+    /// its grey levels read as dB are not dB.
+    pub fn entries(
+        &self,
+        product: &[(f64, f64)],
+        lonlat: Option<&[(f64, f64)]>,
+        calibrated: bool,
+    ) -> (Value, Value, Vec<Finding>) {
+        let in_db = |v: f64| if calibrated { json!(v) } else { Value::Null };
+        let at = |k: usize| (product[k], lonlat.map(|l| l[k]));
+        let mut findings = Vec::new();
+        let ships: Vec<Value> = self
+            .ships
+            .iter()
+            .enumerate()
+            .map(|(k, s)| {
+                let ((row, col), ll) = at(k);
+                let mut properties = Map::new();
+                properties.insert("length_m".into(), json!(s.length_m));
+                properties.insert("width_m".into(), json!(s.width_m));
+                properties.insert("peak_sigma0_db".into(), in_db(s.peak_db));
+                properties.insert("contrast_db".into(), in_db(s.contrast_db));
+                properties.insert("ship".into(), json!(k));
+                properties.insert("found_in".into(), json!(self.ships_polarisation));
+                // the CNN's wake probability of the window centred on its return; null: not
+                // scored (no CNN, or the window more than half off the image)
+                let cnn = self.ship_cnn.get(k).copied().flatten();
+                properties.insert("cnn_probability".into(), json!(cnn));
+                findings.push(Finding {
+                    kind: Kind::Ship,
+                    row,
+                    col,
+                    properties: properties.clone(),
+                    line: None,
+                });
+                let mut entry = serde_json::to_value(s).expect("a ship serialises");
+                if !calibrated {
+                    for key in ["peak_sigma0", "peak_db", "background_db", "contrast_db"] {
+                        entry[key] = Value::Null;
+                    }
+                }
+                entry["product_row"] = json!(row);
+                // the cross-polarised band the ship was found in; null: the scanned band
+                entry["found_in"] = json!(self.ships_polarisation);
+                entry["product_col"] = json!(col);
+                entry["lon"] = json!(ll.map(|p| p.0));
+                entry["lat"] = json!(ll.map(|p| p.1));
+                entry["cnn_probability"] = json!(cnn);
+                entry
+            })
+            .collect();
+        let first = self.ships.len();
+        let wakes: Vec<Value> = self
+            .wakes
+            .iter()
+            .enumerate()
+            .map(|(k, w)| {
+                let (start, ll_start) = at(first + 3 * k);
+                let (end, ll_end) = at(first + 3 * k + 1);
+                let (_, ll_ahead) = at(first + 3 * k + 2);
+                let bearing = ll_start.zip(ll_ahead).map(|(a, b)| bearing(a, b));
+                let entry = wake_entry(w, start, end, ll_start, ll_end, bearing);
+                let mut properties = Map::new();
+                for key in [
+                    "ship",
+                    "signature",
+                    "course_image_deg",
+                    "course_deg",
+                    "course_sigma_deg",
+                    "length_m",
+                    "speed_offset_ms",
+                    "speed_kelvin_ms",
+                ] {
+                    properties.insert(key.into(), entry[key].clone());
+                }
+                findings.push(Finding {
+                    kind: Kind::Wake,
+                    row: start.0,
+                    col: start.1,
+                    properties,
+                    line: Some(vec![start, end]),
+                });
+                entry
+            })
+            .collect();
+        (Value::Array(ships), Value::Array(wakes), findings)
+    }
+
+    /// Draw the land left out (tinted brown), the ships (cyan squares) and the wakes (yellow
+    /// lines from their start, the ship's end marked) on an overlay picture of `scale` scanned pixels per picture pixel.
+    pub fn draw(&self, picture: &mut RgbImage, scale: f64) {
+        let (w, h) = (picture.width() as i64, picture.height() as i64);
+        // land left out: tinted brown, half over the image (each picture row from the first
+        // scanned row it holds, so that a row is tinted once)
+        for &(row, from, to) in &self.land {
+            let r = (row as f64 / scale).floor() as i64;
+            if !(0..h).contains(&r) || (r as f64 * scale).ceil() as usize != row {
+                continue;
+            }
+            let (c0, c1) = ((from as f64 / scale).round() as i64, (to as f64 / scale).round() as i64);
+            for c in c0.max(0)..c1.min(w) {
+                let p = picture.get_pixel_mut(c as u32, r as u32);
+                for (k, tint) in [150u16, 90, 40].iter().enumerate() {
+                    p.0[k] = ((p.0[k] as u16 + tint) / 2) as u8;
+                }
+            }
+        }
+        let mut put = |r: f64, c: f64, colour: Rgb<u8>| {
+            let (r, c) = ((r / scale).round() as i64, (c / scale).round() as i64);
+            if (0..h).contains(&r) && (0..w).contains(&c) {
+                picture.put_pixel(c as u32, r as u32, colour);
+            }
+        };
+        for wake in &self.wakes {
+            let colour = wake_colour(wake.signature);
+            let steps = ((wake.end.0 - wake.start.0).hypot(wake.end.1 - wake.start.1) / scale * 2.0)
+                .ceil()
+                .max(1.0);
+            for i in 0..=steps as usize {
+                let t = i as f64 / steps;
+                put(
+                    wake.start.0 + t * (wake.end.0 - wake.start.0),
+                    wake.start.1 + t * (wake.end.1 - wake.start.1),
+                    colour,
+                );
+            }
+        }
+        let cyan = Rgb([0, 255, 255]);
+        for ship in &self.ships {
+            for d in -4..=4 {
+                let d = d as f64 * scale;
+                let side = 4.0 * scale;
+                put(ship.row - side, ship.col + d, cyan);
+                put(ship.row + side, ship.col + d, cyan);
+                put(ship.row + d, ship.col - side, cyan);
+                put(ship.row + d, ship.col + side, cyan);
+            }
+        }
+    }
+}
+
+/// A wake's line on the overlay: yellow for a dark trough, green for a bright arm.
+pub fn wake_colour(signature: Signature) -> Rgb<u8> {
+    match signature {
+        Signature::Trough => Rgb([255, 230, 0]),
+        Signature::BrightArm => Rgb([0, 230, 0]),
+    }
+}
+
+/// The true bearing (degrees clockwise from north) from `a` to `b`, both (lon, lat) in degrees:
+/// the initial course of the great circle.
+fn bearing(a: (f64, f64), b: (f64, f64)) -> f64 {
+    let (l1, p1, l2, p2) = (a.0.to_radians(), a.1.to_radians(), b.0.to_radians(), b.1.to_radians());
+    let y = (l2 - l1).sin() * p2.cos();
+    let x = p1.cos() * p2.sin() - p1.sin() * p2.cos() * (l2 - l1).cos();
+    y.atan2(x).to_degrees().rem_euclid(360.0)
+}
+
+/// A wake as `detections.json` holds it.
+fn wake_entry(
+    w: &Wake,
+    start: (f64, f64),
+    end: (f64, f64),
+    ll_start: Option<(f64, f64)>,
+    ll_end: Option<(f64, f64)>,
+    bearing: Option<f64>,
+) -> Value {
+    let (mut offset, mut kelvin) = (json!({}), json!({}));
+    if let Some(s) = &w.speed {
+        offset = match &s.offset {
+            Ok(v) => json!({ "speed_ms": v.value, "sigma_ms": v.sigma }),
+            Err(why) => json!({ "unknown": why }),
+        };
+        kelvin = match &s.kelvin {
+            Ok(k) => json!({ "speed_ms": k.speed.value, "sigma_ms": k.speed.sigma, "wavelength_m": k.wavelength_m }),
+            Err(why) => json!({ "unknown": why }),
+        };
+    }
+    json!({
+        "ship": w.ship,
+        "kind": if w.ship.is_some() { "ship's wake" } else { "free wake (its ship not found: the course is 180 degrees ambiguous)" },
+        "signature": w.signature,
+        "product_start": [start.0, start.1],
+        "product_end": [end.0, end.1],
+        "lonlat_start": ll_start.map(|p| [p.0, p.1]),
+        "lonlat_end": ll_end.map(|p| [p.0, p.1]),
+        "axis_image_deg": w.axis_deg,
+        "course_image_deg": w.course_deg,
+        "course_deg": if w.course_deg.is_some() { bearing } else { None },
+        "course_sigma_deg": w.course_sigma_deg,
+        "length_m": w.length_m,
+        "contrast": w.contrast,
+        "z": w.z,
+        "arms": w.arms,
+        "azimuth_offset_m": w.offset_m,
+        "speed_offset": offset,
+        "speed_kelvin": kelvin,
+        "speed_offset_ms": w.speed.as_ref().and_then(|s| s.offset.as_ref().ok()).map(|v| v.value),
+        "speed_kelvin_ms": w.speed.as_ref().and_then(|s| s.kelvin.as_ref().ok()).map(|k| k.speed.value),
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::super::scenes::{ship_scene, whole_search};
+    use super::*;
+    use wakelab_ships::Geometry;
+
+    /// Each wake's `signature` in `detections.json` is written in words: the synthetic ship's
+    /// 3 dB trough is a "dark trough", and an arm is a "bright arm".
+    #[test]
+    fn a_wakes_signature_is_written_in_words() {
+        let image = ship_scene(1600, 300, (700, 150), 0);
+        let g = Geometry::along_rows(10.0, 35.0, None);
+        let (_, wake) = whole_search(&image, &g);
+        let entry = wake_entry(&wake, wake.start, wake.end, None, None, None);
+        assert_eq!(entry["signature"], "dark trough");
+        assert_eq!(json!(Signature::BrightArm), "bright arm");
+        assert_ne!(wake_colour(Signature::Trough), wake_colour(Signature::BrightArm));
+    }
+
+    #[test]
+    fn bearings_follow_the_compass() {
+        assert!((bearing((0.0, 0.0), (0.0, 1.0)) - 0.0).abs() < 1e-9);
+        assert!((bearing((0.0, 0.0), (1.0, 0.0)) - 90.0).abs() < 1e-9);
+        assert!((bearing((10.0, 50.0), (10.0, 49.0)) - 180.0).abs() < 1e-9);
+    }
+}

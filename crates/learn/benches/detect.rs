@@ -16,7 +16,9 @@ fn sea(n: usize, seed: u64) -> Array2<f32> {
     Array2::from_shape_fn((n, n), |_| {
         let mut s = 0.0f64;
         for _ in 0..4 {
-            state = state.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
+            state = state
+                .wrapping_mul(6364136223846793005)
+                .wrapping_add(1442695040888963407);
             let u = ((state >> 11) as f64 + 0.5) / (1u64 << 53) as f64;
             s -= u.ln();
         }

@@ -22,7 +22,7 @@
 //!   so v_r = t / (R/V) away from the radar and U = v_r / (sin(incidence) cos(course - look)),
 //!   i.e. U = |v_r| / (sin(incidence) |sin(course - azimuth)|); "unknown" for tracks within 15
 //!   degrees of the azimuth, where the offset says nothing;
-//! - the speed from the transverse Kelvin wavelength ([`crate::kelvin`]).
+//! - the speed from the Kelvin waves' wavenumbers ([`crate::kelvin`]).
 
 use crate::cfar::Ship;
 use crate::kelvin::{kelvin_speed, KelvinReading, Speed};
@@ -326,7 +326,7 @@ fn anchored_wake(
                 "a bright arm is sought at the return, not along its azimuth line: its offset tells no speed".into(),
             ),
         },
-        kelvin: kelvin_along(fine, apex, axis, near, length, o),
+        kelvin: kelvin_speed(fine, apex, axis, near, o.max_speed),
     };
     Some(Wake {
         ship: Some(index),
@@ -343,37 +343,6 @@ fn anchored_wake(
         offset_m: Some(offset),
         speed: Some(speed),
     })
-}
-
-/// The Kelvin speed from the profile along the wake's axis over its first 1.5 km, against the
-/// profiles of parallel rays outside the Kelvin wedge (half-angle 19.47 degrees): what both
-/// hold (swell, wind waves) is not the ship's.
-fn kelvin_along(
-    image: &Normalised,
-    apex: (f64, f64),
-    axis: f64,
-    near: f64,
-    length: f64,
-    o: &WakeOptions,
-) -> Result<KelvinReading, String> {
-    let g = image.geometry;
-    let span_m = (near, near + length.clamp(300.0, 1500.0));
-    let profile = image.ray_profile(apex, axis, span_m, o.trough_half_width_m);
-    let outside = span_m.1 * 19.47f64.to_radians().tan() + 2.0 * o.trough_half_width_m;
-    let (vr, vc) = g.step(axis + 90.0);
-    let sides: Vec<Vec<f32>> = [-outside, outside]
-        .iter()
-        .map(|&x| image.ray_profile((apex.0 + vr * x, apex.1 + vc * x), axis, span_m, o.trough_half_width_m))
-        .filter(|p| p.iter().filter(|v| v.is_finite()).count() * 2 > p.len())
-        .collect();
-    let pixel = g.spacing.0.max(g.spacing.1);
-    kelvin_speed(
-        &profile,
-        &sides,
-        g.spacing.0.min(g.spacing.1),
-        2.0 * pixel,
-        o.max_speed * 1.5,
-    )
 }
 
 /// The largest uncertainty (m/s) of a speed read from the azimuth offset that is reported.
@@ -539,7 +508,6 @@ mod tests {
         let n = 1200;
         let ship = (600.0, 600.0);
         let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(seed);
-        let lambda = 2.0 * std::f64::consts::PI * speed * speed / crate::GRAVITY;
         let axis = (course + 180.0).to_radians();
         let (sa, ca) = axis.sin_cos();
         let mut image = Array2::from_shape_fn((n, n), |(r, c)| {
@@ -557,9 +525,9 @@ mod tests {
                 if arm < 7.0 {
                     db += 2.0;
                 }
-                if along < 800.0 && across.abs() < 0.3 * along {
-                    db += 1.5 * (2.0 * std::f64::consts::PI * along / lambda).cos();
-                }
+                // the Kelvin waves (Havelock's superposition), their transverse wavelength
+                // 2 pi U^2 / g along the track
+                db += crate::kelvin::kelvin_pattern(along, across, speed);
             }
             (0.01 * speckle * 10f64.powf(db / 10.0)) as f32
         });

@@ -176,10 +176,10 @@ pub fn ships_table(results: &ShipsResults) -> Table {
              ship. Ships: a two-parameter CFAR in dB (guard 500 m, background 800 m, P_fa 1e-6), found when a \
              detected ship lies within its length of where its range velocity displaces its return. Wakes: the \
              Radon search along rays from apexes on the return's azimuth line (the ship's course from the apex, \
-             speed from the apex's azimuth offset and R/V, and from the transverse Kelvin wavelength), and the free \
+             speed from the apex's azimuth offset and R/V, and from the Kelvin waves' wavenumbers), and the free \
              wakes' Radon search of the whole image (axis only: 180 deg ambiguous). Speeds where reported; the \
              offset is no speed for tracks within 15 deg of the azimuth, the Kelvin waves none where they are not \
-             resolved or not seen. The fine scenes: {fine} X-band scenes of 2.56 km at 2.5 m (1 or 4 looks, half \
+             resolved, not over the sea beside the wake, or where that sea holds waves on the same curve. The fine scenes: {fine} X-band scenes of 2.56 km at 2.5 m (1 or 4 looks, half \
              of them without the swell), the same speeds, scored alike (the table \"Fine X-band scenes\").",
             fine = results.fine.len(),
             n = results.scenes.len(),
@@ -248,7 +248,7 @@ pub fn ships_scene_table(results: &ShipsResults) -> Table {
                   from up), R/V (s) and the wind (m/s); what was found (false ships and wakes: in the scene and its \
                   twin without the ship); the CNN's largest window probability around the detected ship in the scene \
                   and in its twin; the course error (deg) and the speeds read (m/s) from the azimuth offset and from \
-                  the Kelvin wavelength."
+                  the Kelvin waves."
             .into(),
         header: scene_header(),
         rows,
@@ -277,7 +277,8 @@ pub fn fine_scene_table(results: &ShipsResults) -> Option<Table> {
         title: "Fine X-band scenes: the Kelvin speed where the waves are resolved".into(),
         caption: "X band at 2.5 m, 2.56 km on a side, each with its looks and swell amplitude, its ship 640 m behind \
                   the centre; columns as in \"Ships and wakes, scene by scene\" (no CNN fits this spacing). \
-                  The transverse Kelvin wavelength 2 pi U^2 / g is 23, 52 and 92 m at 6, 9 and 12 m/s: 9-37 pixels."
+                  The transverse Kelvin wavelength 2 pi U^2 / g is 23, 52 and 92 m at 6, 9 and 12 m/s: 9-37 pixels; \
+                  the speed is read from the curve k = g / (U^2 cos^2 theta) on which every Kelvin wave lies."
             .into(),
         header,
         rows,

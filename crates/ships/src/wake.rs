@@ -49,7 +49,7 @@ pub struct Arms {
 pub struct SpeedReadings {
     /// From the azimuth offset of the ship's return from its wake's apex.
     pub offset: Result<Speed, String>,
-    /// From the transverse Kelvin wavelength.
+    /// From the Kelvin waves' curve in the spectrum behind the ship ([`crate::kelvin`]).
     pub kelvin: Result<KelvinReading, String>,
 }
 

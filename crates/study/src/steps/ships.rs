@@ -6,7 +6,7 @@
 //! scenes whose ship has sailed out, leaving its wake alone (free wakes). Against the truth:
 //! ship detection (the return where its range velocity displaces it) and false alarms per 100
 //! km^2, wake detection, the course's error, and both speeds' errors where they are reported.
-//! Beside them, fine scenes prove the speed read from the transverse Kelvin wavelength, which
+//! Beside them, fine scenes prove the speed read from the Kelvin waves, which
 //! C band at 10 m and 4 looks does not resolve above its clutter: X band at 2.5 m (a
 //! TerraSAR-X StripMap product's pixel), 1 or 4 looks, half of them without the swell.
 //! It writes `ships/ships.json`, which the report renders.

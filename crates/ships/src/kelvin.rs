@@ -62,9 +62,10 @@ const MAX_THETA_DEG: i32 = 70;
 const MIN_POINTS: usize = 20;
 /// The least mean log power of the curve behind the ship over the sides' (`MIN_MARGIN`) and the
 /// most the sides may hold on it (`MAX_SIDES_POWER`). Chosen on 66 simulated X-band scenes at
-/// 2.5 m (30 without swell, 36 with) and their twins without the ship: 9 speeds read, all
-/// within 15 % (median error 1.7 %), none in a twin; a swell read as no speed. Held on 48
-/// other scenes: 5 read, all right (1.1 %), none in a twin (docs/results.md).
+/// 2.5 m (30 without swell, 36 with) and their twins without the ship, read with their true
+/// stern and course: 9 speeds read, all within 7 % (median error 1.1 %), none in a twin, none
+/// under the swell. Held on 48 other scenes: 4 read, within 2.2 % (median 1.1 %), none in a
+/// twin or under the swell (docs/results.md).
 pub const MIN_MARGIN: f64 = 0.5;
 /// The curve's distinct bins for which `MIN_MARGIN` holds (a 9 m/s ship's curve at 2.5 m); a
 /// curve of n bins must pass MIN_MARGIN sqrt(REFERENCE_BINS / n), as a mean's noise falls with

@@ -356,19 +356,17 @@ mod tests {
     use super::*;
     use crate::radon::normalise;
     use crate::Geometry;
-    use rand::SeedableRng;
-    use rand_distr::{Distribution, Exp1};
 
     /// 4-look speckle over `n` x `n` pixels of `spacing` metres, its dB raised by `db(north,
     /// east)` (metres from the image's centre).
     fn image(n: usize, spacing: f64, seed: u64, db: impl Fn(f64, f64) -> f64) -> ndarray::Array2<f32> {
-        let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(seed);
         let centre = 0.5 * n as f64;
-        ndarray::Array2::from_shape_fn((n, n), |(r, c)| {
-            let speckle: f64 = (0..4).map(|_| -> f64 { Exp1.sample(&mut rng) }).sum::<f64>() / 4.0;
+        let mut scene = crate::speckle(n, n, 4, 0.01, seed);
+        scene.indexed_iter_mut().for_each(|((r, c), v)| {
             let (north, east) = ((centre - r as f64) * spacing, (c as f64 - centre) * spacing);
-            (0.01 * speckle * 10f64.powf(db(north, east) / 10.0)) as f32
-        })
+            *v *= 10f64.powf(db(north, east) / 10.0) as f32;
+        });
+        scene
     }
 
     /// The ship at the image's centre sailing along `course`: the metres behind it and to its
@@ -403,25 +401,36 @@ mod tests {
         }
     }
 
-    /// A swell of 100 m along the track, on the wake and beside it (its waves lie on the Kelvin
-    /// curve of 12.5 m/s), is not read as the ship's speed: alone, or over a faint Kelvin wake.
+    /// A swell of 100 m along the track (its crests on the curve of about 12.5 m/s), on the
+    /// wake and beside it: behind the ship its curve stands well over the spectrum's own level,
+    /// more than a read needs over the sides, yet it is refused, for the sides hold it too.
     #[test]
     fn a_swell_on_the_curve_is_no_ship() {
         let (spacing, course) = (5.0, 60.0);
-        for (seed, kelvin_db) in [(5, 0.0), (6, 0.3)] {
-            let scene = image(500, spacing, seed, |north, east| {
-                let (along, across) = wake_frame(course, north, east);
-                3.0 * (2.0 * std::f64::consts::PI * along / 100.0).cos()
-                    + kelvin_db * kelvin_pattern(along, across, 8.0)
-            });
-            let g = Geometry::along_rows(spacing, 35.0, None);
-            let normalised = normalise(scene.view(), &g, 2000.0);
-            let reading = kelvin_speed(&normalised, (250.0, 250.0), course + 180.0, 60.0, 15.0);
-            if let Ok(r) = reading {
-                // over the faint wake the ship's own speed may be read, never the swell's
-                assert!(kelvin_db > 0.0 && (r.speed.value - 8.0).abs() < 0.3, "{r:?}");
-            }
-        }
+        let scene = image(500, spacing, 5, |north, east| {
+            let (along, _) = wake_frame(course, north, east);
+            3.0 * (2.0 * std::f64::consts::PI * along / 100.0).cos()
+        });
+        let g = Geometry::along_rows(spacing, 35.0, None);
+        let normalised = normalise(scene.view(), &g, 2000.0);
+        let axis = course + 180.0;
+        let behind = periodogram(&region(&normalised, (250.0, 250.0), axis, 60.0, 0.0, spacing)).unwrap();
+        let speeds: Vec<f64> = (0..100).map(|i| 8.0 + 0.1 * i as f64).collect();
+        let (best, power) = curve_power(&behind, &speeds, spacing)
+            .iter()
+            .enumerate()
+            .map(|(i, p)| (speeds[i], p.0))
+            .fold((0.0, f64::NEG_INFINITY), |a, b| if b.1 > a.1 { b } else { a });
+        assert!(
+            power > 2.0 * MIN_MARGIN,
+            "the swell's curve ({best} m/s) stands {power:.2}"
+        );
+        assert!((best - 12.5).abs() < 1.5, "the swell's curve is {best} m/s");
+        let e = kelvin_speed(&normalised, (250.0, 250.0), axis, 60.0, 15.0).unwrap_err();
+        assert!(
+            e.contains("over the sides") || e.contains("beside the wake holds"),
+            "{e}"
+        );
     }
 
     /// Speckle alone, white (4 looks) and correlated as an oversampled product's (a 3 x 3 box

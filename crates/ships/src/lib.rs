@@ -33,7 +33,7 @@ use cfar::{find_ships, CfarOptions, ShipSearch};
 use free_wake::free_wakes;
 use ndarray::{Array2, ArrayView2};
 use serde::Serialize;
-use wake::{ship_wake, Wake, WakeOptions};
+use wake::{ship_wake, NoWake, Wake, WakeOptions};
 
 /// Where the image's pixels lie: their ground spacing and the radar's geometry.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize)]
@@ -92,6 +92,9 @@ impl Geometry {
 pub struct Findings {
     pub ships: ShipSearch,
     pub wakes: Vec<Wake>,
+    /// The ships without a wake (their index in `ships.ships`), each with its best trough and
+    /// bright arm and why they were refused.
+    pub no_wake: Vec<(usize, NoWake)>,
     /// The directions of the scene's sidelobe streaks (degrees clockwise from up in the image,
     /// in [0, 180)), along which no bright arm was sought ([`sidelobes`]).
     pub sidelobe_axes_deg: Vec<f64>,
@@ -149,18 +152,20 @@ pub fn search_polarised(
     let image = sea_image.as_ref().map_or(image, |a| a.view());
     let mut normalised = radon::SearchImage::new(image, geometry, BACKGROUND_M);
     normalised.sidelobe_axes = sidelobes::sidelobe_axes(&normalised.fine, &ships.ships);
-    let mut found: Vec<Wake> = ships
-        .ships
-        .iter()
-        .enumerate()
-        .filter_map(|(i, ship)| ship_wake(&normalised, ship, i, wakes))
-        .collect();
+    let (mut found, mut no_wake) = (Vec::new(), Vec::new());
+    for (i, ship) in ships.ships.iter().enumerate() {
+        match ship_wake(&normalised, ship, i, wakes) {
+            Ok(wake) => found.push(wake),
+            Err(refused) => no_wake.push((i, *refused)),
+        }
+    }
     let free = free_wakes(&normalised, &found, wakes);
     found.extend(free);
     Findings {
         sidelobe_axes_deg: normalised.sidelobe_axes.clone(),
         ships,
         wakes: found,
+        no_wake,
         land,
     }
 }

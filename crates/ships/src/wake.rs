@@ -85,6 +85,39 @@ pub struct Wake {
     pub speed: Option<SpeedReadings>,
 }
 
+/// The best line of one signature from a ship that was not taken for its wake, and the test it
+/// failed: what a user reads to see whether a wake was near to being seen or not there at all.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct Refused {
+    pub signature: Signature,
+    /// The line's direction from its apex (degrees clockwise from up).
+    pub axis_deg: f64,
+    /// Its significance among the directions from its apex (robust z) and its contrast to its
+    /// sides (the sea's standard deviations), as a wake's.
+    pub z: f64,
+    pub contrast: f64,
+    /// How far it was seen in the image (m), where it passed the tests of z and contrast.
+    pub seen_m: Option<f64>,
+    pub reason: String,
+}
+
+/// Why a ship has no wake: its best dark trough and its best bright arm, both refused.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct NoWake {
+    pub trough: Refused,
+    pub bright_arm: Refused,
+}
+
+impl NoWake {
+    /// "no dark trough: ...; no bright arm: ...".
+    pub fn reason(&self) -> String {
+        format!(
+            "no dark trough: {}; no bright arm: {}",
+            self.trough.reason, self.bright_arm.reason
+        )
+    }
+}
+
 /// What the trough's contrast the other way (`ahead`) takes from a wake's score. A wake's score
 /// along a heading from an apex is its trough's contrast less the contrast the other way where
 /// that is dark too: a wake is a half-line, open sea ahead of its ship; a swell's trough or a
@@ -211,20 +244,25 @@ fn admissible_offsets(g: &Geometry, axis: f64, o: &WakeOptions, margin: f64, ste
 }
 
 /// The wake of `ship` in `image`, if it has one: its dark trough, or where it has none, a
-/// bright arm.
-pub fn ship_wake(image: &SearchImage, ship: &Ship, index: usize, o: &WakeOptions) -> Option<Wake> {
-    anchored_wake(image, ship, index, o, Signature::Trough)
-        .or_else(|| anchored_wake(image, ship, index, o, Signature::BrightArm))
+/// bright arm; else the best of each and why it was refused.
+pub fn ship_wake(image: &SearchImage, ship: &Ship, index: usize, o: &WakeOptions) -> Result<Wake, Box<NoWake>> {
+    let trough = match anchored_wake(image, ship, index, o, Signature::Trough) {
+        Ok(wake) => return Ok(wake),
+        Err(refused) => refused,
+    };
+    anchored_wake(image, ship, index, o, Signature::BrightArm)
+        .map_err(|bright_arm| Box::new(NoWake { trough, bright_arm }))
 }
 
-/// The wake of `ship` marked by a line of `signature`, if it has one.
+/// The wake of `ship` marked by a line of `signature`, if it has one; else the best line and
+/// the test it failed.
 fn anchored_wake(
     image: &SearchImage,
     ship: &Ship,
     index: usize,
     o: &WakeOptions,
     signature: Signature,
-) -> Option<Wake> {
+) -> Result<Wake, Refused> {
     let fine = &image.fine;
     let g = fine.geometry;
     let pixel = g.spacing.0.max(g.spacing.1);
@@ -284,8 +322,39 @@ fn anchored_wake(
     let z = robust_z(score, &all);
     let (_, score_spread) = robust_spread(&all);
     let (.., min_contrast) = signature.bands(o);
-    if z < o.min_z || contrast < min_contrast || (signature == Signature::BrightArm && contrast > o.arm_max_contrast) {
-        return None;
+    let refused = |seen_m: Option<f64>, reason: String| Refused {
+        signature,
+        axis_deg: axis,
+        z,
+        contrast,
+        seen_m,
+        reason,
+    };
+    if z < o.min_z {
+        return Err(refused(
+            None,
+            format!(
+                "the best line stands {z:.1} robust deviations over the other directions from the ship, {} needed",
+                o.min_z
+            ),
+        ));
+    }
+    if contrast < min_contrast {
+        return Err(refused(
+            None,
+            format!(
+                "the best line's contrast to its sides is {contrast:.2} of the sea's deviations, {min_contrast} needed"
+            ),
+        ));
+    }
+    if signature == Signature::BrightArm && contrast > o.arm_max_contrast {
+        return Err(refused(
+            None,
+            format!(
+                "the best line is {contrast:.2} of the sea's deviations brighter than its sides, over the {} of a wake's arm: a structure (a hull, a pier, a sidelobe streak)",
+                o.arm_max_contrast
+            ),
+        ));
     }
     let seen = visible_length(fine, apex, axis, near, o, signature);
     // a wake that fades must be seen for its least length, one that leaves the image for
@@ -295,8 +364,23 @@ fn anchored_wake(
         Signature::Trough => o.min_length_m,
         Signature::BrightArm => o.arm_min_length_m,
     };
-    if seen.in_image < if seen.faded { min_length } else { o.min_seen_m } {
-        return None;
+    if seen.faded && seen.in_image < min_length {
+        return Err(refused(
+            Some(seen.in_image),
+            format!(
+                "the best line fades after {:.0} m, {min_length} m needed",
+                seen.in_image
+            ),
+        ));
+    }
+    if !seen.faded && seen.in_image < o.min_seen_m {
+        return Err(refused(
+            Some(seen.in_image),
+            format!(
+                "the best line leaves the image after {:.0} m, {} m needed",
+                seen.in_image, o.min_seen_m
+            ),
+        ));
     }
     let length = seen.length;
     let (ur, uc) = g.step(axis);
@@ -328,7 +412,7 @@ fn anchored_wake(
         },
         kelvin: kelvin_speed(fine, apex, axis, near, o.max_speed),
     };
-    Some(Wake {
+    Ok(Wake {
         ship: Some(index),
         signature,
         start: apex,
@@ -571,7 +655,7 @@ mod tests {
             let ships = find_ships(image.view(), &g, &CfarOptions::default());
             assert_eq!(ships.ships.len(), 1, "{:?}", ships.ships);
             let search = SearchImage::new(image.view(), &g, 2000.0);
-            if let Some(wake) = ship_wake(&search, &ships.ships[0], 0, &o) {
+            if let Ok(wake) = ship_wake(&search, &ships.ships[0], 0, &o) {
                 assert_eq!(wake.signature, Signature::Trough, "seed {seed}: {wake:?}");
                 assert!(
                     angle_difference(wake.axis_deg, 270.0).abs() < 1.0,
@@ -634,7 +718,7 @@ mod tests {
             let (image, g, _, _) = scene_with_trough(course, 8.0, 60 + k, (-0.8, 3000.0));
             let ships = find_ships(image.view(), &g, &CfarOptions::default());
             let normalised = SearchImage::new(image.view(), &g, 2000.0);
-            let Some(wake) = ship_wake(&normalised, &ships.ships[0], 0, &WakeOptions::default()) else {
+            let Ok(wake) = ship_wake(&normalised, &ships.ships[0], 0, &WakeOptions::default()) else {
                 continue;
             };
             let error = angle_difference(wake.course_deg.unwrap(), course).abs();
@@ -718,7 +802,7 @@ mod tests {
                 assert_eq!(wake.signature, Signature::BrightArm);
                 assert!(angle_difference(wake.axis_deg, 180.0).abs() < 1.0, "{wake:?}");
             } else {
-                assert!(wake.is_none(), "{wake:?}");
+                assert!(wake.is_err(), "{wake:?}");
             }
         }
     }
@@ -804,10 +888,10 @@ mod tests {
             assert_eq!(ships.ships.len(), 1, "{:?}", ships.ships);
             let search = SearchImage::new(image.view(), &g, 2000.0);
             let wake = ship_wake(&search, &ships.ships[0], 0, &o);
-            assert_eq!(wake.is_some(), kept, "trough on rows {rows:?}: {wake:?}");
+            assert_eq!(wake.is_ok(), kept, "trough on rows {rows:?}: {wake:?}");
             if !kept {
                 let half_km = WakeOptions { min_seen_m: 500.0, ..o };
-                assert!(ship_wake(&search, &ships.ships[0], 0, &half_km).is_some());
+                assert!(ship_wake(&search, &ships.ships[0], 0, &half_km).is_ok());
             }
         }
     }
@@ -822,7 +906,18 @@ mod tests {
         assert_eq!(ships.ships.len(), 1, "{:?}", ships.ships);
         let normalised = SearchImage::new(image.view(), &g, 2000.0);
         let o = WakeOptions::default();
-        assert_eq!(ship_wake(&normalised, &ships.ships[0], 0, &o), None);
+        let refused = ship_wake(&normalised, &ships.ships[0], 0, &o).expect_err("no wake");
+        // the patch is the best trough and passes every test but its length, which the reason
+        // states; the 600 m patch fades after at most its own length
+        let seen = refused.trough.seen_m.expect("the patch's length measured");
+        assert!(seen < 1000.0 && refused.trough.z >= o.min_z, "{refused:?}");
+        assert!(
+            refused
+                .reason()
+                .starts_with("no dark trough: the best line fades after"),
+            "{}",
+            refused.reason()
+        );
         let any_length = WakeOptions {
             min_length_m: 0.0,
             min_seen_m: 0.0,

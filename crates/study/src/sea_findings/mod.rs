@@ -22,7 +22,7 @@ use ndarray::ArrayView2;
 use std::ops::Range;
 use wakelab_products::ProductMeta;
 use wakelab_ships::cfar::{CfarOptions, Ship};
-use wakelab_ships::wake::{Wake, WakeOptions};
+use wakelab_ships::wake::{NoWake, Wake, WakeOptions};
 use wakelab_ships::{search_polarised, Geometry};
 
 /// The ships and wakes found in a scanned product, in the scanned grid's pixels, with the
@@ -31,6 +31,9 @@ use wakelab_ships::{search_polarised, Geometry};
 pub struct SeaFindings {
     pub ships: Vec<Ship>,
     pub wakes: Vec<Wake>,
+    /// For each ship, why no wake of it was reported (its best trough and bright arm, refused);
+    /// None for a ship with a wake.
+    pub no_wake: Vec<Option<NoWake>>,
     /// Targets rejected as azimuth ambiguities and sidelobes, and as too long for ships.
     pub ambiguities: usize,
     pub sidelobes: usize,
@@ -217,6 +220,7 @@ impl SeaFindings {
         Self {
             ships: Vec::new(),
             wakes: Vec::new(),
+            no_wake: Vec::new(),
             ambiguities: 0,
             sidelobes: 0,
             sidelobe_axes_deg: Vec::new(),
@@ -250,6 +254,7 @@ impl SeaFindings {
             own.0.contains(&((row + shift.0).max(0.0) as usize)) && own.1.contains(&((col + shift.1).max(0.0) as usize))
         };
         let mut index = std::collections::BTreeMap::new();
+        let mut no_wake: std::collections::BTreeMap<usize, NoWake> = found.no_wake.into_iter().collect();
         for (i, mut ship) in found.ships.ships.into_iter().enumerate() {
             if owned((ship.row, ship.col)) {
                 if let Some(side) = self.ship_window_side {
@@ -261,6 +266,7 @@ impl SeaFindings {
                 ship.peak_col += origin.1;
                 index.insert(i, self.ships.len());
                 self.ships.push(ship);
+                self.no_wake.push(no_wake.remove(&i));
             }
         }
         for mut wake in found.wakes {

@@ -5,7 +5,7 @@ use super::SeaFindings;
 use image::{Rgb, RgbImage};
 use serde_json::{json, Map, Value};
 use wakelab_products::geojson::{Finding, Kind};
-use wakelab_ships::wake::{Signature, Wake};
+use wakelab_ships::wake::{NoWake, Signature, Wake};
 
 impl SeaFindings {
     /// The points to place on the ground: every ship's centre, then every wake's start, end and
@@ -52,6 +52,9 @@ impl SeaFindings {
                 // scored (no CNN, or the window more than half off the image)
                 let cnn = self.ship_cnn.get(k).copied().flatten();
                 properties.insert("cnn_probability".into(), json!(cnn));
+                // why no wake of it was reported; null for a ship with a wake
+                let no_wake = self.no_wake.get(k).and_then(Option::as_ref);
+                properties.insert("no_wake".into(), json!(no_wake.map(NoWake::reason)));
                 findings.push(Finding {
                     kind: Kind::Ship,
                     row,
@@ -72,6 +75,14 @@ impl SeaFindings {
                 entry["lon"] = json!(ll.map(|p| p.0));
                 entry["lat"] = json!(ll.map(|p| p.1));
                 entry["cnn_probability"] = json!(cnn);
+                entry["no_wake"] = match no_wake {
+                    Some(n) => {
+                        let mut v = serde_json::to_value(n).expect("a refusal serialises");
+                        v["reason"] = json!(n.reason());
+                        v
+                    }
+                    None => Value::Null,
+                };
                 entry
             })
             .collect();
@@ -230,6 +241,7 @@ fn wake_entry(
 mod tests {
     use super::super::scenes::{ship_scene, whole_search};
     use super::*;
+    use wakelab_ships::cfar::CfarOptions;
     use wakelab_ships::Geometry;
 
     /// Each wake's `signature` in `detections.json` is written in words: the synthetic ship's
@@ -243,6 +255,41 @@ mod tests {
         assert_eq!(entry["signature"], "dark trough");
         assert_eq!(json!(Signature::BrightArm), "bright arm");
         assert_ne!(wake_colour(Signature::Trough), wake_colour(Signature::BrightArm));
+    }
+
+    /// A ship without a wake says why, in `detections.json` (its best trough and bright arm,
+    /// each with the test it failed) and in the GeoJSON (the reason): a second ship beside the
+    /// synthetic one, on plain speckle. The ship with a wake has none.
+    #[test]
+    fn a_ship_without_a_wake_says_why() {
+        let mut image = ship_scene(1600, 300, (700, 150), 0);
+        image.slice_mut(ndarray::s![294..306, 49..52]).fill(3.0);
+        let g = Geometry::along_rows(10.0, 35.0, None);
+        let found = super::super::search_image(image.view(), None, g, CfarOptions::default(), None);
+        assert_eq!(found.ships.len(), 2, "{:?}", found.ships);
+        let points = found.points();
+        let (ships, _, features) = found.entries(&points, None, true);
+        let ships = ships.as_array().unwrap();
+        let with_wake = found
+            .wakes
+            .iter()
+            .find_map(|w| w.ship)
+            .expect("the synthetic ship's wake");
+        for (k, ship) in ships.iter().enumerate() {
+            let in_geojson = &features[k].properties["no_wake"];
+            if k == with_wake {
+                assert!(ship["no_wake"].is_null() && in_geojson.is_null(), "{ship}");
+                continue;
+            }
+            let no_wake = &ship["no_wake"];
+            let reason = no_wake["reason"].as_str().expect("a reason");
+            assert!(reason.starts_with("no dark trough: the best line "), "{reason}");
+            assert!(reason.contains("; no bright arm: the best line "), "{reason}");
+            assert_eq!(no_wake["trough"]["signature"], "dark trough");
+            assert_eq!(no_wake["bright_arm"]["signature"], "bright arm");
+            assert!(no_wake["trough"]["z"].as_f64().is_some(), "{no_wake}");
+            assert_eq!(in_geojson.as_str(), Some(reason));
+        }
     }
 
     #[test]

@@ -260,7 +260,7 @@ fn run_scene(
     if let Some(i) = found_ship {
         let ship = &found.ships.ships[i];
         let twin = SearchImage::new(plain.view(), &g, BACKGROUND_M);
-        wake_found_without = ship_wake(&twin, ship, i, &wakes).is_some();
+        wake_found_without = ship_wake(&twin, ship, i, &wakes).is_ok();
         if let Some(cnn) = cnn {
             let spacing = c.scene.pixel_spacing;
             cnn_with = Some(cnn.score(&wake_image, (ship.row, ship.col), spacing)?);

@@ -324,11 +324,18 @@ impl SeaFindings {
         self.land.iter().map(|&(_, a, b)| b - a).sum()
     }
 
-    /// "2 ship(s), 1 wake(s) (1 of a ship, 0 free)".
+    /// "2 ship(s), 1 wake(s) (1 of a ship, 0 free)", and where ships have none, how many and
+    /// where to read why.
     pub fn describe(&self) -> String {
         let anchored = self.wakes.iter().filter(|w| w.ship.is_some()).count();
+        let without = self.no_wake.iter().filter(|n| n.is_some()).count();
+        let why = if without > 0 {
+            format!("; {without} ship(s) without a wake (why: each ship's `no_wake` in detections.json)")
+        } else {
+            String::new()
+        };
         format!(
-            "{} ship(s), {} wake(s) ({anchored} of a ship, {} free)",
+            "{} ship(s), {} wake(s) ({anchored} of a ship, {} free){why}",
             self.ships.len(),
             self.wakes.len(),
             self.wakes.len() - anchored

@@ -267,6 +267,13 @@ mod tests {
         let g = Geometry::along_rows(10.0, 35.0, None);
         let found = super::super::search_image(image.view(), None, g, CfarOptions::default(), None);
         assert_eq!(found.ships.len(), 2, "{:?}", found.ships);
+        assert!(
+            found
+                .describe()
+                .ends_with("; 1 ship(s) without a wake (why: each ship's `no_wake` in detections.json)"),
+            "{}",
+            found.describe()
+        );
         let points = found.points();
         let (ships, _, features) = found.entries(&points, None, true);
         let ships = ships.as_array().unwrap();

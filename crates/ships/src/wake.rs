@@ -85,11 +85,28 @@ pub struct Wake {
     pub speed: Option<SpeedReadings>,
 }
 
+/// The test a ship's best line failed, in the order they are made.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum FailedTest {
+    /// Its robust z among the directions from its apex is under [`WakeOptions::min_z`].
+    Significance,
+    /// Its contrast to its sides is under the signature's least.
+    Contrast,
+    /// A bright line brighter than [`WakeOptions::arm_max_contrast`]: a structure.
+    TooBright,
+    /// It fades inside the image before its least length.
+    Fades,
+    /// It leaves the image before [`WakeOptions::min_seen_m`].
+    LeavesImage,
+}
+
 /// The best line of one signature from a ship that was not taken for its wake, and the test it
 /// failed: what a user reads to see whether a wake was near to being seen or not there at all.
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct Refused {
     pub signature: Signature,
+    pub test: FailedTest,
     /// The line's direction from its apex (degrees clockwise from up).
     pub axis_deg: f64,
     /// Its significance among the directions from its apex (robust z) and its contrast to its
@@ -106,6 +123,20 @@ pub struct Refused {
 pub struct NoWake {
     pub trough: Refused,
     pub bright_arm: Refused,
+}
+
+impl Refused {
+    /// The failed test and its figure in a few words: "z 3.1", "fades at 600 m".
+    pub fn brief(&self) -> String {
+        let seen = self.seen_m.unwrap_or(f64::NAN);
+        match self.test {
+            FailedTest::Significance => format!("z {:.1}", self.z),
+            FailedTest::Contrast => format!("contrast {:.2}", self.contrast),
+            FailedTest::TooBright => format!("too bright ({:.2})", self.contrast),
+            FailedTest::Fades => format!("fades at {seen:.0} m"),
+            FailedTest::LeavesImage => format!("leaves at {seen:.0} m"),
+        }
+    }
 }
 
 impl NoWake {
@@ -322,8 +353,9 @@ fn anchored_wake(
     let z = robust_z(score, &all);
     let (_, score_spread) = robust_spread(&all);
     let (.., min_contrast) = signature.bands(o);
-    let refused = |seen_m: Option<f64>, reason: String| Refused {
+    let refused = |test: FailedTest, seen_m: Option<f64>, reason: String| Refused {
         signature,
+        test,
         axis_deg: axis,
         z,
         contrast,
@@ -332,6 +364,7 @@ fn anchored_wake(
     };
     if z < o.min_z {
         return Err(refused(
+            FailedTest::Significance,
             None,
             format!(
                 "the best line stands {z:.1} robust deviations over the other directions from the ship, {} needed",
@@ -341,6 +374,7 @@ fn anchored_wake(
     }
     if contrast < min_contrast {
         return Err(refused(
+            FailedTest::Contrast,
             None,
             format!(
                 "the best line's contrast to its sides is {contrast:.2} of the sea's deviations, {min_contrast} needed"
@@ -349,6 +383,7 @@ fn anchored_wake(
     }
     if signature == Signature::BrightArm && contrast > o.arm_max_contrast {
         return Err(refused(
+            FailedTest::TooBright,
             None,
             format!(
                 "the best line is {contrast:.2} of the sea's deviations brighter than its sides, over the {} of a wake's arm: a structure (a hull, a pier, a sidelobe streak)",
@@ -366,6 +401,7 @@ fn anchored_wake(
     };
     if seen.faded && seen.in_image < min_length {
         return Err(refused(
+            FailedTest::Fades,
             Some(seen.in_image),
             format!(
                 "the best line fades after {:.0} m, {min_length} m needed",
@@ -375,6 +411,7 @@ fn anchored_wake(
     }
     if !seen.faded && seen.in_image < o.min_seen_m {
         return Err(refused(
+            FailedTest::LeavesImage,
             Some(seen.in_image),
             format!(
                 "the best line leaves the image after {:.0} m, {} m needed",
@@ -911,6 +948,8 @@ mod tests {
         // states; the 600 m patch fades after at most its own length
         let seen = refused.trough.seen_m.expect("the patch's length measured");
         assert!(seen < 1000.0 && refused.trough.z >= o.min_z, "{refused:?}");
+        assert_eq!(refused.trough.test, FailedTest::Fades);
+        assert_eq!(refused.trough.brief(), format!("fades at {seen:.0} m"));
         assert!(
             refused
                 .reason()

@@ -248,7 +248,8 @@ pub fn ships_scene_table(results: &ShipsResults) -> Table {
                   from up), R/V (s) and the wind (m/s); what was found (false ships and wakes: in the scene and its \
                   twin without the ship); the CNN's largest window probability around the detected ship in the scene \
                   and in its twin; the course error (deg) and the speeds read (m/s) from the azimuth offset and from \
-                  the Kelvin waves."
+                  the Kelvin waves; where the ship was found and its wake was not, the test its best trough and its \
+                  best bright arm failed (z: significance among the directions from the ship, 5 needed)."
             .into(),
         header: scene_header(),
         rows,
@@ -305,6 +306,7 @@ fn scene_rows(scenes: &[SceneResult]) -> Vec<Vec<Cell>> {
                 or_dash(s.course_error, |e| Cell::signed(e, 1)),
                 or_dash(s.speed_offset, |v| Cell::number(v, 1)),
                 or_dash(s.speed_kelvin, |v| Cell::number(v, 1)),
+                s.no_wake.clone().map_or(Cell::Missing, Cell::Text),
             ]
         })
         .collect()
@@ -327,6 +329,7 @@ fn scene_header() -> Vec<String> {
         "course error",
         "speed (offset)",
         "speed (Kelvin)",
+        "why no wake (trough / arm)",
     ]
     .map(String::from)
     .to_vec()

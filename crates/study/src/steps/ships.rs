@@ -47,7 +47,7 @@ const FINE_BAND: RadarBand = RadarBand::X;
 
 /// The layout of `ships.json` and what the step computes: a file of another layout (an older
 /// wakelab's) is recomputed, not read with fields missing.
-const RESULTS_FORMAT: &str = "scenes-24-cnn-fusion-fine-12-kelvin-curve";
+const RESULTS_FORMAT: &str = "scenes-24-cnn-fusion-fine-12-kelvin-curve-no-wake";
 
 /// One simulated scene and what the detectors found in it.
 #[derive(Debug, Clone, Serialize, Deserialize)]
@@ -93,6 +93,11 @@ pub struct SceneResult {
     pub speed_offset: Option<f64>,
     pub speed_kelvin: Option<f64>,
     pub no_speed: Vec<String>,
+    /// Where the ship was found and its wake was not: the tests its best trough and its best
+    /// bright arm failed ("z 3.1 / z 2.4"), or "off the track" where the wake found from it
+    /// runs another way.
+    #[serde(default)]
+    pub no_wake: Option<String>,
     /// The classic search anchored on the detected ship in the twin without the ship: a wake
     /// found there is a false alarm.
     #[serde(default)]
@@ -282,6 +287,13 @@ fn run_scene(
             .find(|w| w.ship.is_none() && along_track(w.axis_deg, c.scene.heading, 10.0)),
         None => None,
     };
+    let no_wake = match (found_ship, wake) {
+        (Some(i), None) => Some(match found.no_wake.iter().find(|(k, _)| *k == i) {
+            Some((_, n)) => format!("{} / {}", n.trough.brief(), n.bright_arm.brief()),
+            None => "off the track".to_string(),
+        }),
+        _ => None,
+    };
     let mut no_speed = Vec::new();
     let (mut speed_offset, mut speed_kelvin) = (None, None);
     if let Some(readings) = wake.and_then(|w| w.speed.as_ref()) {
@@ -328,6 +340,7 @@ fn run_scene(
         speed_offset,
         speed_kelvin,
         no_speed,
+        no_wake,
         wake_found_without,
         cnn_with,
         cnn_without,

@@ -11,11 +11,13 @@
 //!   ship's true position (the detected return is displaced in azimuth by its range velocity),
 //!   the dark turbulent trough with the bright arms of the narrow V beside it, or where there is
 //!   no trough a bright arm alone;
+//! - [`refusal`]: why a ship has no wake: its best trough and bright arm, and the test each
+//!   failed;
 //! - [`sidelobes`]: the directions of the scene's sidelobe streaks, measured on its bright
 //!   targets, along which no bright arm is sought;
 //! - [`free_wake`]: the free wakes, whose ship has left the image or is not seen, by the Radon
 //!   transform of the whole image;
-//! - [`kelvin`]: the ship's speed from the wavelength of its transverse Kelvin waves.
+//! - [`kelvin`]: the ship's speed from the curve in the spectrum on which its Kelvin waves lie.
 //!
 //! Everything works on linear sigma0 (NaN for no data) in the image's pixels, with the
 //! [`Geometry`] that places them: no physics model, no deep learning.
@@ -26,6 +28,7 @@ pub mod kelvin;
 pub mod land;
 pub mod lines;
 pub mod radon;
+pub mod refusal;
 pub mod sidelobes;
 pub mod wake;
 

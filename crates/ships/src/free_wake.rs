@@ -99,6 +99,7 @@ pub fn free_wakes(search: &SearchImage, known: &[Wake], o: &WakeOptions) -> Vec<
             length_m: length,
             contrast: c,
             z,
+            along_hull: false,
             arms: None,
             offset_m: None,
             speed: None,

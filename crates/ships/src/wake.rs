@@ -31,7 +31,7 @@ pub use crate::lines::{Signature, WakeOptions};
 use crate::radon::{robust_spread, Normalised, SearchImage};
 pub use crate::refusal::{FailedTest, NoWake, Refused};
 use crate::sidelobes::along_an_axis;
-use crate::{angle_difference, Geometry};
+use crate::{angle_difference, line_difference, Geometry};
 use rayon::prelude::*;
 use serde::Serialize;
 
@@ -79,6 +79,9 @@ pub struct Wake {
     /// significance (robust z among the directions, or among all lines for a free wake).
     pub contrast: f64,
     pub z: f64,
+    /// Whether the line runs along the ship's elongated return, and so was taken at
+    /// [`WakeOptions::along_hull_min_z`] (false for a free wake).
+    pub along_hull: bool,
     pub arms: Option<Arms>,
     /// The azimuth offset of the ship's return from the apex (m along the flight direction;
     /// ships' wakes only).
@@ -289,6 +292,8 @@ fn anchored_wake(
         .collect();
     let z = robust_z(score, &all);
     let (_, score_spread) = robust_spread(&all);
+    let along_hull = runs_along_hull(ship, axis, pixel, o);
+    let min_z = if along_hull { o.along_hull_min_z } else { o.min_z };
     let (.., min_contrast) = signature.bands(o);
     let refused = |test: FailedTest, seen_m: Option<f64>, reason: String| Refused {
         signature,
@@ -299,14 +304,16 @@ fn anchored_wake(
         seen_m,
         reason,
     };
-    if z < o.min_z {
+    if z < min_z {
+        let hull = if along_hull {
+            " (a line along the ship's return)"
+        } else {
+            ""
+        };
         return Err(refused(
             FailedTest::Significance,
             None,
-            format!(
-                "the best line stands {z:.1} robust deviations over the other directions from the ship, {} needed",
-                o.min_z
-            ),
+            format!("the best line stands {z:.1} robust deviations over the other directions from the ship, {min_z} needed{hull}"),
         ));
     }
     if contrast < min_contrast {
@@ -397,10 +404,20 @@ fn anchored_wake(
         length_m: length,
         contrast,
         z,
+        along_hull,
         arms,
         offset_m: Some(offset),
         speed: Some(speed),
     })
+}
+
+/// Whether a line along `axis` (degrees clockwise from up) from `ship` runs along its return's
+/// long axis, the return being long enough (in search pixels of `pixel` m) and elongated enough
+/// for its orientation to tell ([`WakeOptions::along_hull_min_z`]).
+fn runs_along_hull(ship: &Ship, axis: f64, pixel: f64, o: &WakeOptions) -> bool {
+    let resolved =
+        ship.length_m >= o.along_hull_min_pixels * pixel && ship.length_m >= o.along_hull_min_elongation * ship.width_m;
+    resolved && line_difference(axis, ship.orientation_deg) <= o.along_hull_max_deg
 }
 
 /// The largest uncertainty (m/s) of a speed read from the azimuth offset that is reported.
@@ -639,6 +656,53 @@ mod tests {
             }
         }
         assert!(found >= 8, "the trough found in {found} of 10 draws");
+    }
+
+    /// A line along the ship's elongated return is held to `along_hull_min_z`, one across it to
+    /// `min_z`: the same faint trough behind a return 200 m long along it, and behind one 200 m
+    /// long across it, with the thresholds set between the two lines' own z.
+    #[test]
+    fn a_trough_along_the_hull_needs_less_significance_than_one_across_it() {
+        let g = Geometry::along_rows(10.0, 35.0, None);
+        let scene = |along: bool| {
+            let mut image = crate::speckle(300, 300, 4, 0.01, 77);
+            // the trough runs west from the ship (heading 270), 1.5 km
+            image
+                .slice_mut(ndarray::s![148..153, 40..185])
+                .mapv_inplace(|v| v * 0.8);
+            if along {
+                image.slice_mut(ndarray::s![150..=151, 190..=209]).fill(3.0);
+            } else {
+                image.slice_mut(ndarray::s![140..=159, 199..=200]).fill(3.0);
+            }
+            let ships = find_ships(image.view(), &g, &CfarOptions::default());
+            assert_eq!(ships.ships.len(), 1, "{:?}", ships.ships);
+            (SearchImage::new(image.view(), &g, 2000.0), ships.ships[0].clone())
+        };
+        let (along, across) = (scene(true), scene(false));
+        assert!(line_difference(along.1.orientation_deg, 90.0) < 5.0, "{:?}", along.1);
+        assert!(line_difference(across.1.orientation_deg, 0.0) < 5.0, "{:?}", across.1);
+        let any = WakeOptions {
+            min_z: f64::NEG_INFINITY,
+            along_hull_min_z: f64::NEG_INFINITY,
+            ..WakeOptions::default()
+        };
+        let z = |(search, ship): &(SearchImage, Ship)| {
+            let wake = ship_wake(search, ship, 0, &any).expect("the trough, at any significance");
+            assert!(angle_difference(wake.axis_deg, 270.0).abs() < 2.0, "{wake:?}");
+            wake.z
+        };
+        let (z_along, z_across) = (z(&along), z(&across));
+        let o = WakeOptions {
+            min_z: z_along.max(z_across) + 0.5,
+            along_hull_min_z: z_along.min(z_across) - 0.5,
+            ..WakeOptions::default()
+        };
+        let taken = ship_wake(&along.0, &along.1, 0, &o).expect("the trough along the hull");
+        assert!(taken.along_hull && taken.signature == Signature::Trough, "{taken:?}");
+        let refused = ship_wake(&across.0, &across.1, 0, &o).expect_err("no wake across the hull");
+        assert_eq!(refused.trough.test, FailedTest::Significance, "{refused:?}");
+        assert!(!refused.trough.reason.contains("along the ship"), "{refused:?}");
     }
 
     /// Courses all round, speeds 6-12 m/s: the ship is found, its wake's course within 3

@@ -122,6 +122,7 @@ mod tests {
             length_m: 0.0,
             contrast: -1.0,
             z: 5.0,
+            along_hull: false,
             arms: None,
             offset_m: None,
             speed: None,

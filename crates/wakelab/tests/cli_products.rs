@@ -412,6 +412,8 @@ fn a_ship_and_its_wake_come_out_as_geojson() {
     assert_eq!(wake["ship"], 0, "{wake}");
     // a ship with a wake has no reason for having none
     assert!(ship["no_wake"].is_null(), "{ship}");
+    // the return is drawn along the course, so the wake runs along the hull
+    assert_eq!(wake["along_hull"], true, "{wake}");
     let image_course = wake["course_image_deg"].as_f64().unwrap();
     assert!((image_course - 45.0).abs() < 2.0, "{wake}");
     // UTM 33N at 13.45 E, 55 N: grid north is 1.3 degrees east of true north there

@@ -249,7 +249,7 @@ pub fn ships_scene_table(results: &ShipsResults) -> Table {
                   twin without the ship); the CNN's largest window probability around the detected ship in the scene \
                   and in its twin; the course error (deg) and the speeds read (m/s) from the azimuth offset and from \
                   the Kelvin waves; where the ship was found and its wake was not, the test its best trough and its \
-                  best bright arm failed (z: significance among the directions from the ship, 5 needed)."
+                  best bright arm failed (z: significance among the directions from the ship, 5 needed, 4 for a line along the ship's return)."
             .into(),
         header: scene_header(),
         rows,

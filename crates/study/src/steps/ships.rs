@@ -47,7 +47,7 @@ const FINE_BAND: RadarBand = RadarBand::X;
 
 /// The layout of `ships.json` and what the step computes: a file of another layout (an older
 /// wakelab's) is recomputed, not read with fields missing.
-const RESULTS_FORMAT: &str = "scenes-24-cnn-fusion-fine-12-kelvin-curve-no-wake";
+const RESULTS_FORMAT: &str = "scenes-24-cnn-fusion-fine-12-kelvin-curve-no-wake-along-hull";
 
 /// One simulated scene and what the detectors found in it.
 #[derive(Debug, Clone, Serialize, Deserialize)]

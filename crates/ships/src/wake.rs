@@ -29,7 +29,7 @@ use crate::kelvin::{kelvin_speed, KelvinReading, Speed};
 use crate::lines::{line, span, Line};
 pub use crate::lines::{Signature, WakeOptions};
 use crate::radon::{robust_spread, Normalised, SearchImage};
-pub use crate::refusal::{FailedTest, NoWake, Refused};
+pub use crate::refusal::{FailedTest, FaintLine, NoWake, Refused};
 use crate::sidelobes::along_an_axis;
 use crate::{angle_difference, line_difference, Geometry};
 use rayon::prelude::*;
@@ -303,68 +303,86 @@ fn anchored_wake(
         contrast,
         seen_m,
         reason,
+        faint_line: None,
     };
-    if z < min_z {
-        let hull = if along_hull {
-            " (a line along the ship's return)"
-        } else {
-            ""
-        };
-        return Err(refused(
-            FailedTest::Significance,
-            None,
-            format!("the best line stands {z:.1} robust deviations over the other directions from the ship, {min_z} needed{hull}"),
-        ));
-    }
-    if contrast < min_contrast {
-        return Err(refused(
+    // the tests after significance, in their order: a line refused for its significance alone
+    // is still measured by them, so that one passing them all is given as a faint line
+    let seen = visible_length(fine, apex, axis, near, o, signature);
+    let other_failure = if contrast < min_contrast {
+        Some(refused(
             FailedTest::Contrast,
             None,
             format!(
                 "the best line's contrast to its sides is {contrast:.2} of the sea's deviations, {min_contrast} needed"
             ),
-        ));
-    }
-    if signature == Signature::BrightArm && contrast > o.arm_max_contrast {
-        return Err(refused(
+        ))
+    } else if signature == Signature::BrightArm && contrast > o.arm_max_contrast {
+        Some(refused(
             FailedTest::TooBright,
             None,
             format!(
                 "the best line is {contrast:.2} of the sea's deviations brighter than its sides, over the {} of a wake's arm: a structure (a hull, a pier, a sidelobe streak)",
                 o.arm_max_contrast
             ),
-        ));
-    }
-    let seen = visible_length(fine, apex, axis, near, o, signature);
-    // a wake that fades must be seen for its least length, one that leaves the image for
-    // `min_seen_m`: a bright target's short one-sided smear (a display's clipped streak toward
-    // the image's edge) is no wake
-    let min_length = match signature {
-        Signature::Trough => o.min_length_m,
-        Signature::BrightArm => o.arm_min_length_m,
+        ))
+    } else {
+        // a wake that fades must be seen for its least length, one that leaves the image for
+        // `min_seen_m`: a bright target's short one-sided smear (a display's clipped streak
+        // toward the image's edge) is no wake
+        let min_length = match signature {
+            Signature::Trough => o.min_length_m,
+            Signature::BrightArm => o.arm_min_length_m,
+        };
+        if seen.faded && seen.in_image < min_length {
+            Some(refused(
+                FailedTest::Fades,
+                Some(seen.in_image),
+                format!(
+                    "the best line fades after {:.0} m, {min_length} m needed",
+                    seen.in_image
+                ),
+            ))
+        } else if !seen.faded && seen.in_image < o.min_seen_m {
+            Some(refused(
+                FailedTest::LeavesImage,
+                Some(seen.in_image),
+                format!(
+                    "the best line leaves the image after {:.0} m, {} m needed",
+                    seen.in_image, o.min_seen_m
+                ),
+            ))
+        } else {
+            None
+        }
     };
-    if seen.faded && seen.in_image < min_length {
-        return Err(refused(
-            FailedTest::Fades,
-            Some(seen.in_image),
-            format!(
-                "the best line fades after {:.0} m, {min_length} m needed",
-                seen.in_image
-            ),
-        ));
+    let (ur, uc) = g.step(axis);
+    if z < min_z {
+        let hull = if along_hull {
+            " (a line along the ship's return)"
+        } else {
+            ""
+        };
+        let faint = other_failure.is_none();
+        return Err(Refused {
+            faint_line: faint.then_some(FaintLine {
+                start: apex,
+                end: (apex.0 + ur * seen.length, apex.1 + uc * seen.length),
+                length_m: seen.length,
+            }),
+            ..refused(
+                FailedTest::Significance,
+                None,
+                format!(
+                    "the best line stands {z:.1} robust deviations over the other directions from the ship, {min_z} needed{hull}{}",
+                    if faint { "; it passes every other test (a faint line)" } else { "" }
+                ),
+            )
+        });
     }
-    if !seen.faded && seen.in_image < o.min_seen_m {
-        return Err(refused(
-            FailedTest::LeavesImage,
-            Some(seen.in_image),
-            format!(
-                "the best line leaves the image after {:.0} m, {} m needed",
-                seen.in_image, o.min_seen_m
-            ),
-        ));
+    if let Some(failure) = other_failure {
+        return Err(failure);
     }
     let length = seen.length;
-    let (ur, uc) = g.step(axis);
     let end = (apex.0 + ur * length, apex.1 + uc * length);
     let course = (axis + 180.0).rem_euclid(360.0);
     let line_at = |h: f64| line(fine, apex, h, near, o, far, signature);
@@ -703,6 +721,58 @@ mod tests {
         let refused = ship_wake(&across.0, &across.1, 0, &o).expect_err("no wake across the hull");
         assert_eq!(refused.trough.test, FailedTest::Significance, "{refused:?}");
         assert!(!refused.trough.reason.contains("along the ship"), "{refused:?}");
+    }
+
+    /// A line refused for its significance alone is given as a faint line, where it lies: the
+    /// same 1.5 km trough behind a ship, with the least z set above its own. Where it also
+    /// fails another test (a least length longer than the trough) it is not.
+    #[test]
+    fn a_trough_refused_for_its_significance_alone_is_given_as_a_faint_line() {
+        let g = Geometry::along_rows(10.0, 35.0, None);
+        let mut image = crate::speckle(300, 300, 4, 0.01, 77);
+        image
+            .slice_mut(ndarray::s![148..153, 40..185])
+            .mapv_inplace(|v| v * 0.8);
+        image.slice_mut(ndarray::s![150..=151, 190..=209]).fill(3.0);
+        let ships = find_ships(image.view(), &g, &CfarOptions::default());
+        assert_eq!(ships.ships.len(), 1, "{:?}", ships.ships);
+        let (search, ship) = (SearchImage::new(image.view(), &g, 2000.0), &ships.ships[0]);
+        let any = WakeOptions {
+            min_z: f64::NEG_INFINITY,
+            along_hull_min_z: f64::NEG_INFINITY,
+            ..WakeOptions::default()
+        };
+        let wake = ship_wake(&search, ship, 0, &any).expect("the trough, at any significance");
+        assert!(wake.z.is_finite() && wake.signature == Signature::Trough, "{wake:?}");
+        let faint = WakeOptions {
+            min_z: wake.z + 1.0,
+            along_hull_min_z: wake.z + 1.0,
+            ..WakeOptions::default()
+        };
+        let refused = ship_wake(&search, ship, 0, &faint).expect_err("under the least z");
+        let trough = &refused.trough;
+        assert_eq!(trough.test, FailedTest::Significance, "{refused:?}");
+        let line = trough.faint_line.expect("a faint line");
+        assert!(trough.reason.contains("passes every other test"), "{}", trough.reason);
+        // it runs west along the trough, from the ship to about the trough's end (1.5 km
+        // from the ship's stern at column 190, pixel 10 m)
+        let axis = g.heading_of(line.end.0 - line.start.0, line.end.1 - line.start.1);
+        assert!(angle_difference(axis, 270.0).abs() < 2.0, "{line:?}");
+        assert!((line.start.1 - ship.col).abs() < 10.0, "{line:?} {ship:?}");
+        assert!((1000.0..=2500.0).contains(&line.length_m), "{line:?}");
+        // a least length longer than the trough: it fails that test too, and is no faint line
+        let long = WakeOptions {
+            min_length_m: 5000.0,
+            min_seen_m: 5000.0,
+            ..faint
+        };
+        let refused = ship_wake(&search, ship, 0, &long).expect_err("under the least z");
+        assert_eq!(refused.trough.test, FailedTest::Significance, "{refused:?}");
+        assert!(refused.trough.faint_line.is_none(), "{refused:?}");
+        assert!(
+            !refused.trough.reason.contains("passes every other test"),
+            "{refused:?}"
+        );
     }
 
     /// Courses all round, speeds 6-12 m/s: the ship is found, its wake's course within 3

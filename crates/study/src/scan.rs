@@ -216,6 +216,12 @@ pub fn write_scan(dir: &Path, scanned: &Scanned, detection: &Detection) -> Resul
         legend.push((Rgb([0, 255, 255]), "square: ship".into()));
         legend.push((wake_colour(Signature::Trough), "line: wake, dark trough".into()));
         legend.push((wake_colour(Signature::BrightArm), "line: wake, bright arm".into()));
+        if !sea.faint_lines().is_empty() {
+            legend.push((
+                wake_colour(Signature::Trough),
+                "dotted: faint line, below significance".into(),
+            ));
+        }
     }
     let drawn = with_legend(&drawn, &legend);
     drawn.save_with_format(picture.temporary_path(), image::ImageFormat::Png)?;

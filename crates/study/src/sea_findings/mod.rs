@@ -266,7 +266,7 @@ impl SeaFindings {
                 ship.peak_col += origin.1;
                 index.insert(i, self.ships.len());
                 self.ships.push(ship);
-                self.no_wake.push(no_wake.remove(&i));
+                self.no_wake.push(no_wake.remove(&i).map(|n| n.shifted(shift)));
             }
         }
         for mut wake in found.wakes {
@@ -329,10 +329,13 @@ impl SeaFindings {
     pub fn describe(&self) -> String {
         let anchored = self.wakes.iter().filter(|w| w.ship.is_some()).count();
         let without = self.no_wake.iter().filter(|n| n.is_some()).count();
-        let why = if without > 0 {
-            format!("; {without} ship(s) without a wake (why: each ship's `no_wake` in detections.json)")
-        } else {
-            String::new()
+        let faint = self.faint_lines().len();
+        let why = match (without, faint) {
+            (0, _) => String::new(),
+            (_, 0) => format!("; {without} ship(s) without a wake (why: each ship's `no_wake` in detections.json)"),
+            _ => format!(
+                "; {without} ship(s) without a wake (why: each ship's `no_wake` in detections.json), {faint} faint line(s) below significance among them (`faint_line`)"
+            ),
         };
         format!(
             "{} ship(s), {} wake(s) ({anchored} of a ship, {} free){why}",

@@ -5,12 +5,12 @@ use super::SeaFindings;
 use image::{Rgb, RgbImage};
 use serde_json::{json, Map, Value};
 use wakelab_products::geojson::{Finding, Kind};
-use wakelab_ships::wake::{NoWake, Signature, Wake};
+use wakelab_ships::wake::{FaintLine, NoWake, Signature, Wake};
 
 impl SeaFindings {
     /// The points to place on the ground: every ship's centre, then every wake's start, end and
-    /// a point 100 m along its course from its start (for the bearing), in scanned pixels
-    /// (row, column).
+    /// a point 100 m along its course from its start (for the bearing), then every faint line's
+    /// start and end ([`Self::faint_lines`]), in scanned pixels (row, column).
     pub fn points(&self) -> Vec<(f64, f64)> {
         let g = &self.geometry;
         let mut points: Vec<(f64, f64)> = self.ships.iter().map(|s| (s.row, s.col)).collect();
@@ -19,7 +19,25 @@ impl SeaFindings {
             let (ur, uc) = g.step(course);
             points.extend([w.start, w.end, (w.start.0 + 100.0 * ur, w.start.1 + 100.0 * uc)]);
         }
+        for (_, _, line) in self.faint_lines() {
+            points.extend([line.start, line.end]);
+        }
         points
+    }
+
+    /// The faint lines of the ships without a wake (ship, signature, line), the trough's
+    /// before the bright arm's, ship by ship: each best line refused for its significance alone.
+    pub fn faint_lines(&self) -> Vec<(usize, Signature, FaintLine)> {
+        self.no_wake
+            .iter()
+            .enumerate()
+            .filter_map(|(k, n)| n.as_ref().map(|n| (k, n)))
+            .flat_map(|(k, n)| {
+                [&n.trough, &n.bright_arm]
+                    .into_iter()
+                    .filter_map(move |r| r.faint_line.map(|line| (k, r.signature, line)))
+            })
+            .collect()
     }
 
     /// The findings as JSON entries for `detections.json` and as GeoJSON findings, given where
@@ -35,6 +53,25 @@ impl SeaFindings {
         let in_db = |v: f64| if calibrated { json!(v) } else { Value::Null };
         let at = |k: usize| (product[k], lonlat.map(|l| l[k]));
         let mut findings = Vec::new();
+        // each faint line as detections.json gives it, by ship and signature
+        let faint_first = self.ships.len() + 3 * self.wakes.len();
+        let faint: Vec<((usize, Signature), Value)> = self
+            .faint_lines()
+            .into_iter()
+            .enumerate()
+            .map(|(j, (k, signature, line))| {
+                let (start, ll_start) = at(faint_first + 2 * j);
+                let (end, ll_end) = at(faint_first + 2 * j + 1);
+                let entry = json!({
+                    "product_start": [start.0, start.1],
+                    "product_end": [end.0, end.1],
+                    "lonlat_start": ll_start.map(|p| [p.0, p.1]),
+                    "lonlat_end": ll_end.map(|p| [p.0, p.1]),
+                    "length_m": line.length_m,
+                });
+                ((k, signature), entry)
+            })
+            .collect();
         let ships: Vec<Value> = self
             .ships
             .iter()
@@ -79,6 +116,14 @@ impl SeaFindings {
                     Some(n) => {
                         let mut v = serde_json::to_value(n).expect("a refusal serialises");
                         v["reason"] = json!(n.reason());
+                        // where the best line lies when significance is all it failed; null
+                        // when it fails another test too
+                        for (key, signature) in [("trough", Signature::Trough), ("bright_arm", Signature::BrightArm)] {
+                            v[key]["faint_line"] = faint
+                                .iter()
+                                .find(|(at, _)| *at == (k, signature))
+                                .map_or(Value::Null, |(_, line)| line.clone());
+                        }
                         v
                     }
                     None => Value::Null,
@@ -159,6 +204,21 @@ impl SeaFindings {
                 put(
                     wake.start.0 + t * (wake.end.0 - wake.start.0),
                     wake.start.1 + t * (wake.end.1 - wake.start.1),
+                    colour,
+                );
+            }
+        }
+        // faint lines: every fourth pixel of the line, in the signature's colour
+        for (_, signature, line) in self.faint_lines() {
+            let colour = wake_colour(signature);
+            let steps = ((line.end.0 - line.start.0).hypot(line.end.1 - line.start.1) / scale * 2.0)
+                .ceil()
+                .max(1.0);
+            for i in (0..=steps as usize).filter(|i| i % 8 < 2) {
+                let t = i as f64 / steps;
+                put(
+                    line.start.0 + t * (line.end.0 - line.start.0),
+                    line.start.1 + t * (line.end.1 - line.start.1),
                     colour,
                 );
             }
@@ -272,7 +332,7 @@ mod tests {
         assert!(
             found
                 .describe()
-                .ends_with("; 1 ship(s) without a wake (why: each ship's `no_wake` in detections.json)"),
+                .contains("; 1 ship(s) without a wake (why: each ship's `no_wake` in detections.json)"),
             "{}",
             found.describe()
         );
@@ -301,6 +361,63 @@ mod tests {
             assert!(no_wake["trough"]["z"].as_f64().is_some(), "{no_wake}");
             assert_eq!(in_geojson.as_str(), Some(reason));
         }
+    }
+
+    /// A faint line is written where it lies, by its ship and signature: the ship without a
+    /// wake beside the synthetic one, given a faint trough and a faint arm by hand, places
+    /// each at its own points (here the product's pixels are the scanned ones), and null
+    /// stands where a refusal has none; the summary counts them.
+    #[test]
+    fn faint_lines_are_written_where_they_lie() {
+        let mut image = ship_scene(1600, 300, (700, 150), 0);
+        image.slice_mut(ndarray::s![294..306, 49..52]).fill(3.0);
+        let g = Geometry::along_rows(10.0, 35.0, None);
+        let mut found = super::super::search_image(image.view(), None, g, CfarOptions::default(), None);
+        let k = found
+            .no_wake
+            .iter()
+            .position(Option::is_some)
+            .expect("a ship without a wake");
+        let lines = [
+            FaintLine {
+                start: (300.0, 50.0),
+                end: (300.0, 200.0),
+                length_m: 1500.0,
+            },
+            FaintLine {
+                start: (310.0, 52.0),
+                end: (460.0, 52.0),
+                length_m: 1510.0,
+            },
+        ];
+        let no_wake = found.no_wake[k].as_mut().unwrap();
+        no_wake.trough.faint_line = Some(lines[0]);
+        no_wake.bright_arm.faint_line = Some(lines[1]);
+        assert!(
+            found
+                .describe()
+                .ends_with("2 faint line(s) below significance among them (`faint_line`)"),
+            "{}",
+            found.describe()
+        );
+        let points = found.points();
+        let (ships, _, _) = found.entries(&points, None, true);
+        let no_wake = &ships[k]["no_wake"];
+        for (key, line) in [("trough", lines[0]), ("bright_arm", lines[1])] {
+            let entry = &no_wake[key]["faint_line"];
+            assert_eq!(entry["product_start"], json!([line.start.0, line.start.1]), "{no_wake}");
+            assert_eq!(entry["product_end"], json!([line.end.0, line.end.1]), "{no_wake}");
+            assert_eq!(entry["length_m"], json!(line.length_m), "{no_wake}");
+            assert!(entry["lonlat_start"].is_null(), "not georeferenced: {no_wake}");
+        }
+        found.no_wake[k].as_mut().unwrap().trough.faint_line = None;
+        let points = found.points();
+        let (ships, _, _) = found.entries(&points, None, true);
+        assert!(ships[k]["no_wake"]["trough"]["faint_line"].is_null());
+        assert_eq!(
+            ships[k]["no_wake"]["bright_arm"]["faint_line"]["length_m"],
+            json!(1510.0)
+        );
     }
 
     #[test]

@@ -61,6 +61,7 @@ def main():
                   ship_images=0, ships_drawn=0, ships_found=0, ships_false=0)
     by_kind = {}
     ship_records = []
+    faint_records = []
     for name in sorted(f[:-8] for f in os.listdir(src) if f.endswith(".geojson")):
         drawn_json = json.load(open(os.path.join(src, name + ".geojson")))
         meta = drawn_json.get("wakelab", {})
@@ -111,6 +112,17 @@ def main():
                 image=name, wake=any(point_segment(p, d[0], d[1]) <= near_px for d in drawn),
                 cnn=s.get("cnn_probability"), threshold=found["threshold"],
                 line=any(w.get("ship") == k for w in found["wakes"] or [])))
+        # the faint lines (`faint_line` of a ship's `no_wake`): best lines refused for their
+        # significance alone, for an analyst to look at; on a drawn wake as a reported wake is
+        faint = [((f["product_start"][1], f["product_start"][0]), (f["product_end"][1], f["product_end"][0]))
+                 for s in found.get("ships") or [] for f in
+                 [(s.get("no_wake") or {}).get(k, {}).get("faint_line") for k in ("trough", "bright_arm")] if f]
+        faint_records.append(dict(
+            image=name, drawn=len(drawn), lines=len(faint),
+            on_wake=sum(1 for r in faint if any(match(r, d) for d in drawn)),
+            missed_with_faint=sum(1 for h, d in zip(hits, drawn) if not h and any(match(r, d) for r in faint)),
+            found=any(hits),
+            found_with_faint=any(hits) or any(match(r, d) for r in faint for d in drawn)))
         if not drawn:
             # an image certified wake-free: every wake or window reported there is a false alarm
             totals["clear"] += 1
@@ -177,6 +189,25 @@ def main():
               f"without a CNN window flagged {t['clear_cnn_quiet']}, without either {t['clear_either_quiet']}")
     if ship_records:
         ship_windows(ship_records)
+    if faint_records:
+        faint_lines(faint_records)
+
+
+def faint_lines(records):
+    """The faint lines (a ship's best line refused for its significance alone) per set: how
+    many lie on a drawn wake, how many drawn wakes the search missed have one, and in how many
+    wake images a wake is reported or lies under a faint line (what an analyst reviewing them
+    would see)."""
+    def line(label, rows):
+        wake_rows = [r for r in rows if r["drawn"]]
+        print(f"faint lines, {label}: {sum(r['lines'] for r in rows)} in {len(rows)} images, "
+              f"{sum(r['on_wake'] for r in rows)} on a drawn wake; drawn wakes missed with a faint line on them "
+              f"{sum(r['missed_with_faint'] for r in rows)}; wake images with a wake found "
+              f"{sum(r['found'] for r in wake_rows)}, with a wake found or under a faint line "
+              f"{sum(r['found_with_faint'] for r in wake_rows)} of {len(wake_rows)}; "
+              f"wake-free images with a faint line {sum(1 for r in rows if not r['drawn'] and r['lines'])}")
+    line("tuning set", [r for r in records if r["image"].isdigit()])
+    line("held-out and wake-free images", [r for r in records if not r["image"].isdigit()])
 
 
 def auc(positives, negatives):

@@ -194,33 +194,19 @@ impl SeaFindings {
                 picture.put_pixel(c as u32, r as u32, colour);
             }
         };
-        for wake in &self.wakes {
-            let colour = wake_colour(wake.signature);
-            let steps = ((wake.end.0 - wake.start.0).hypot(wake.end.1 - wake.start.1) / scale * 2.0)
-                .ceil()
-                .max(1.0);
-            for i in 0..=steps as usize {
-                let t = i as f64 / steps;
-                put(
-                    wake.start.0 + t * (wake.end.0 - wake.start.0),
-                    wake.start.1 + t * (wake.end.1 - wake.start.1),
-                    colour,
-                );
-            }
-        }
-        // faint lines: every fourth pixel of the line, in the signature's colour
-        for (_, signature, line) in self.faint_lines() {
+        // the wakes whole, the faint lines dotted (one picture pixel in four), each in its
+        // signature's colour; a line is stepped every half picture pixel
+        let wakes = self.wakes.iter().map(|w| (w.start, w.end, w.signature, false));
+        let faint = self
+            .faint_lines()
+            .into_iter()
+            .map(|(_, s, l)| (l.start, l.end, s, true));
+        for (start, end, signature, dotted) in wakes.chain(faint) {
             let colour = wake_colour(signature);
-            let steps = ((line.end.0 - line.start.0).hypot(line.end.1 - line.start.1) / scale * 2.0)
-                .ceil()
-                .max(1.0);
-            for i in (0..=steps as usize).filter(|i| i % 8 < 2) {
+            let steps = ((end.0 - start.0).hypot(end.1 - start.1) / scale * 2.0).ceil().max(1.0);
+            for i in (0..=steps as usize).filter(|i| !dotted || i % 8 < 2) {
                 let t = i as f64 / steps;
-                put(
-                    line.start.0 + t * (line.end.0 - line.start.0),
-                    line.start.1 + t * (line.end.1 - line.start.1),
-                    colour,
-                );
+                put(start.0 + t * (end.0 - start.0), start.1 + t * (end.1 - start.1), colour);
             }
         }
         let cyan = Rgb([0, 255, 255]);

@@ -676,35 +676,44 @@ mod tests {
         assert!(found >= 8, "the trough found in {found} of 10 draws");
     }
 
+    /// A faint trough (-1 dB, 50 m wide) running west (heading 270) 1.5 km from a return 200 m
+    /// long, drawn along the trough (`along`) or across it, over 4-look speckle at 10 m: the
+    /// search image and the one ship the CFAR finds.
+    fn trough_behind_a_return(along: bool) -> (SearchImage, Ship) {
+        let g = Geometry::along_rows(10.0, 35.0, None);
+        let mut image = crate::speckle(300, 300, 4, 0.01, 77);
+        image
+            .slice_mut(ndarray::s![148..153, 40..185])
+            .mapv_inplace(|v| v * 0.8);
+        if along {
+            image.slice_mut(ndarray::s![150..=151, 190..=209]).fill(3.0);
+        } else {
+            image.slice_mut(ndarray::s![140..=159, 199..=200]).fill(3.0);
+        }
+        let ships = find_ships(image.view(), &g, &CfarOptions::default());
+        assert_eq!(ships.ships.len(), 1, "{:?}", ships.ships);
+        (SearchImage::new(image.view(), &g, 2000.0), ships.ships[0].clone())
+    }
+
+    /// The defaults with no least significance: the best line of a signature is taken whatever
+    /// its z, so that a test reads that z.
+    fn at_any_significance() -> WakeOptions {
+        WakeOptions {
+            min_z: f64::NEG_INFINITY,
+            along_hull_min_z: f64::NEG_INFINITY,
+            ..WakeOptions::default()
+        }
+    }
+
     /// A line along the ship's elongated return is held to `along_hull_min_z`, one across it to
     /// `min_z`: the same faint trough behind a return 200 m long along it, and behind one 200 m
     /// long across it, with the thresholds set between the two lines' own z.
     #[test]
     fn a_trough_along_the_hull_needs_less_significance_than_one_across_it() {
-        let g = Geometry::along_rows(10.0, 35.0, None);
-        let scene = |along: bool| {
-            let mut image = crate::speckle(300, 300, 4, 0.01, 77);
-            // the trough runs west from the ship (heading 270), 1.5 km
-            image
-                .slice_mut(ndarray::s![148..153, 40..185])
-                .mapv_inplace(|v| v * 0.8);
-            if along {
-                image.slice_mut(ndarray::s![150..=151, 190..=209]).fill(3.0);
-            } else {
-                image.slice_mut(ndarray::s![140..=159, 199..=200]).fill(3.0);
-            }
-            let ships = find_ships(image.view(), &g, &CfarOptions::default());
-            assert_eq!(ships.ships.len(), 1, "{:?}", ships.ships);
-            (SearchImage::new(image.view(), &g, 2000.0), ships.ships[0].clone())
-        };
-        let (along, across) = (scene(true), scene(false));
+        let (along, across) = (trough_behind_a_return(true), trough_behind_a_return(false));
         assert!(line_difference(along.1.orientation_deg, 90.0) < 5.0, "{:?}", along.1);
         assert!(line_difference(across.1.orientation_deg, 0.0) < 5.0, "{:?}", across.1);
-        let any = WakeOptions {
-            min_z: f64::NEG_INFINITY,
-            along_hull_min_z: f64::NEG_INFINITY,
-            ..WakeOptions::default()
-        };
+        let any = at_any_significance();
         let z = |(search, ship): &(SearchImage, Ship)| {
             let wake = ship_wake(search, ship, 0, &any).expect("the trough, at any significance");
             assert!(angle_difference(wake.axis_deg, 270.0).abs() < 2.0, "{wake:?}");
@@ -729,20 +738,9 @@ mod tests {
     #[test]
     fn a_trough_refused_for_its_significance_alone_is_given_as_a_faint_line() {
         let g = Geometry::along_rows(10.0, 35.0, None);
-        let mut image = crate::speckle(300, 300, 4, 0.01, 77);
-        image
-            .slice_mut(ndarray::s![148..153, 40..185])
-            .mapv_inplace(|v| v * 0.8);
-        image.slice_mut(ndarray::s![150..=151, 190..=209]).fill(3.0);
-        let ships = find_ships(image.view(), &g, &CfarOptions::default());
-        assert_eq!(ships.ships.len(), 1, "{:?}", ships.ships);
-        let (search, ship) = (SearchImage::new(image.view(), &g, 2000.0), &ships.ships[0]);
-        let any = WakeOptions {
-            min_z: f64::NEG_INFINITY,
-            along_hull_min_z: f64::NEG_INFINITY,
-            ..WakeOptions::default()
-        };
-        let wake = ship_wake(&search, ship, 0, &any).expect("the trough, at any significance");
+        let (search, ship) = trough_behind_a_return(true);
+        let ship = &ship;
+        let wake = ship_wake(&search, ship, 0, &at_any_significance()).expect("the trough, at any significance");
         assert!(wake.z.is_finite() && wake.signature == Signature::Trough, "{wake:?}");
         let faint = WakeOptions {
             min_z: wake.z + 1.0,

@@ -305,16 +305,23 @@ mod tests {
         assert_ne!(wake_colour(Signature::Trough), wake_colour(Signature::BrightArm));
     }
 
-    /// A ship without a wake says why, in `detections.json` (its best trough and bright arm,
-    /// each with the test it failed) and in the GeoJSON (the reason): a second ship beside the
-    /// synthetic one, on plain speckle. The ship with a wake has none.
-    #[test]
-    fn a_ship_without_a_wake_says_why() {
+    /// The synthetic ship with its wake, and a second ship beside it on plain speckle (4 km
+    /// up the rows), searched: both found.
+    fn two_ships() -> SeaFindings {
         let mut image = ship_scene(1600, 300, (700, 150), 0);
         image.slice_mut(ndarray::s![294..306, 49..52]).fill(3.0);
         let g = Geometry::along_rows(10.0, 35.0, None);
         let found = super::super::search_image(image.view(), None, g, CfarOptions::default(), None);
         assert_eq!(found.ships.len(), 2, "{:?}", found.ships);
+        found
+    }
+
+    /// A ship without a wake says why, in `detections.json` (its best trough and bright arm,
+    /// each with the test it failed) and in the GeoJSON (the reason): a second ship beside the
+    /// synthetic one, on plain speckle. The ship with a wake has none.
+    #[test]
+    fn a_ship_without_a_wake_says_why() {
+        let found = two_ships();
         assert!(
             found
                 .describe()
@@ -355,10 +362,7 @@ mod tests {
     /// stands where a refusal has none; the summary counts them.
     #[test]
     fn faint_lines_are_written_where_they_lie() {
-        let mut image = ship_scene(1600, 300, (700, 150), 0);
-        image.slice_mut(ndarray::s![294..306, 49..52]).fill(3.0);
-        let g = Geometry::along_rows(10.0, 35.0, None);
-        let mut found = super::super::search_image(image.view(), None, g, CfarOptions::default(), None);
+        let mut found = two_ships();
         let k = found
             .no_wake
             .iter()

@@ -5,8 +5,9 @@ usage: score_real_wakes.py DIR OUT [detect flags...]
 DIR holds NAME.png (or NAME.npy, NAME.tif) and NAME.geojson (LineStrings of "kind": "wake" in pixel coordinates, as
 `wakelab run --real` reads them). Each image runs through `wakelab detect` (the binary in
 $WAKELAB, else target/release/wakelab) into OUT/NAME/ unless that holds a result already. A drawn
-wake is found when a reported wake's segment comes within TOL pixels of it (default 30: 300 m at
-the assumed 10 m) and their lines differ by at most 20 degrees; a reported wake that finds none
+wake is found when a reported wake's segment comes within TOL_M metres of it (default 300, in
+pixels at the drawing's stated spacing: 30 at 10 m, 100 at 3 m; TOL sets it in pixels for every
+image instead) and their lines differ by at most 20 degrees; a reported wake that finds none
 is false. The CNN's scan in the same run is scored by the transfer issue's rule: a drawn wake is
 found when a flagged window's centre lies within 500 m of it (at the drawing's pixel spacing);
 a flagged window farther than that from every drawn wake is away; and whether the map's peak
@@ -26,7 +27,8 @@ Pure Python, no packages.
 """
 import json, math, os, subprocess, sys
 
-TOL = float(os.environ.get("TOL", "30"))
+TOL = os.environ.get("TOL")
+TOL_M = float(os.environ.get("TOL_M", "300"))
 ANGLE = 20.0
 CNN_RADIUS_M = 500.0
 SHIP_RADIUS_M = 50.0
@@ -77,7 +79,8 @@ def main():
                     for w in found["wakes"] or []]
         drawn = [(f["geometry"]["coordinates"][0], f["geometry"]["coordinates"][-1], f["properties"])
                  for f in drawn_json["features"] if f["properties"].get("kind") == "wake"]
-        match = lambda r, d: segment_distance(r[0], r[1], d[0], d[1]) <= TOL and line_angle(r[0], r[1], d[0], d[1]) <= ANGLE
+        tol = float(TOL) if TOL else TOL_M / float(meta.get("pixel_spacing_m", 10))
+        match = lambda r, d: segment_distance(r[0], r[1], d[0], d[1]) <= tol and line_angle(r[0], r[1], d[0], d[1]) <= ANGLE
         hits = [any(match(r, d) for r in reported) for d in drawn]
         false = sum(1 for r in reported if not any(match(r, d) for d in drawn))
         for hit, d in zip(hits, drawn):

@@ -461,6 +461,9 @@ pub fn score_real(
                             km2: 0.0,
                             seen_by_both: 0,
                             seen_by_both_found: 0,
+                            faint_lines: 0,
+                            faint_on_wake: 0,
+                            missed_under_faint: 0,
                             skipped: Some(why),
                         });
                     }
@@ -494,7 +497,8 @@ pub struct RealSummary {
     pub false_alarms_per_wake_image: f64,
     pub no_wake_images: usize,
     pub no_wake_images_without_alarm: usize,
-    pub false_alarms_per_100_km2: f64,
+    /// None where no image was scanned (no area; null in `real.json`).
+    pub false_alarms_per_100_km2: Option<f64>,
     /// The visibility of the wakes of the images scanned.
     #[serde(default)]
     pub wake_visibility: Option<Spread>,
@@ -518,11 +522,7 @@ pub fn summarise(footprint: f64, scores: &[&RealScore]) -> RealSummary {
         false_alarms_per_wake_image: with.iter().map(|s| s.false_alarms as f64).sum::<f64>() / with.len().max(1) as f64,
         no_wake_images: without.len(),
         no_wake_images_without_alarm: without.iter().filter(|s| s.detections == 0).count(),
-        false_alarms_per_100_km2: if km2 > 0.0 {
-            100.0 * alarms as f64 / km2
-        } else {
-            f64::NAN
-        },
+        false_alarms_per_100_km2: (km2 > 0.0).then(|| 100.0 * alarms as f64 / km2),
         wake_visibility: Spread::of(
             &scores
                 .iter()
@@ -667,9 +667,14 @@ mod tests {
         assert_eq!((s.wake_images, s.found, s.strongest_on_wake, s.skipped), (3, 2, 1, 1));
         assert!((s.false_alarms_per_wake_image - 4.0 / 3.0).abs() < 1e-12);
         assert_eq!((s.no_wake_images, s.no_wake_images_without_alarm), (2, 1));
-        assert!((s.false_alarms_per_100_km2 - 12.0).abs() < 1e-9);
+        assert!((s.false_alarms_per_100_km2.unwrap() - 12.0).abs() < 1e-9);
         // the visibilities of the scanned images' wakes: three 1s and two 0s
         let v = s.wake_visibility.unwrap();
         assert_eq!((v.count, v.quartiles), (5, [0.0, 1.0, 1.0]));
+        // every image skipped: no area, no rate, and the summary reads back from real.json
+        let s = summarise(1280.0, &[&scores[5]]);
+        assert_eq!(s.false_alarms_per_100_km2, None);
+        let text = serde_json::to_string(&s).unwrap();
+        assert_eq!(serde_json::from_str::<RealSummary>(&text).unwrap(), s);
     }
 }

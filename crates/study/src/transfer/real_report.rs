@@ -58,10 +58,15 @@ pub fn csv(real: &RealResults) -> String {
     text
 }
 
+/// A rate per 100 km^2 to two decimals, "-" where no area was scanned.
+fn per_100_km2(rate: Option<f64>) -> String {
+    rate.map_or("-".into(), |r| format!("{r:.2}"))
+}
+
 /// One line per detector: what it did on the user's images.
 pub fn describe(s: &RealSummary) -> String {
     format!(
-        "  real images, {:.2} km window: wakes found {}/{} (strongest detection on the wake in {}), {:.1} false alarms per wake image; no-wake images without an alarm {}/{}; {:.2} false alarms per 100 km^2; {} image(s) skipped; wake visibility {}",
+        "  real images, {:.2} km window: wakes found {}/{} (strongest detection on the wake in {}), {:.1} false alarms per wake image; no-wake images without an alarm {}/{}; {} false alarms per 100 km^2; {} image(s) skipped; wake visibility {}",
         s.footprint / 1000.0,
         s.found,
         s.wake_images,
@@ -69,7 +74,7 @@ pub fn describe(s: &RealSummary) -> String {
         s.false_alarms_per_wake_image,
         s.no_wake_images_without_alarm,
         s.no_wake_images,
-        s.false_alarms_per_100_km2,
+        per_100_km2(s.false_alarms_per_100_km2),
         s.skipped,
         s.wake_visibility.map_or("-".into(), |v| format!("{} (quartiles)", v.describe()))
     )
@@ -92,7 +97,7 @@ pub fn markdown(real: &RealResults) -> String {
             .map_or("-".into(), |v| format!("{}, {:.2}", v.describe(), v.above_3));
         let _ = writeln!(
             md,
-            "| {:.2} km | {}/{} | {}/{} | {:.1} | {}/{} | {:.2} | {visibility} |",
+            "| {:.2} km | {}/{} | {}/{} | {:.1} | {}/{} | {} | {visibility} |",
             s.footprint / 1000.0,
             s.found,
             s.wake_images,
@@ -101,7 +106,7 @@ pub fn markdown(real: &RealResults) -> String {
             s.false_alarms_per_wake_image,
             s.no_wake_images_without_alarm,
             s.no_wake_images,
-            s.false_alarms_per_100_km2
+            per_100_km2(s.false_alarms_per_100_km2)
         );
     }
     md += &format!("\n| {} |\n|{}\n", HEADER.join(" | "), " --- |".repeat(HEADER.len()));
@@ -111,7 +116,7 @@ pub fn markdown(real: &RealResults) -> String {
     md + &search_markdown(real)
 }
 
-const SEARCH_HEADER: [&str; 13] = [
+const SEARCH_HEADER: [&str; 16] = [
     "image",
     "wakes",
     "ships",
@@ -125,6 +130,9 @@ const SEARCH_HEADER: [&str; 13] = [
     "false_ships",
     "seen_by_both",
     "seen_by_both_found",
+    "faint_lines",
+    "faint_on_wake",
+    "missed_under_faint",
 ];
 
 fn search_row(s: &SearchScore) -> Vec<String> {
@@ -151,7 +159,16 @@ fn search_row(s: &SearchScore) -> Vec<String> {
             .map_or([None; 3], |d| [Some(d.drawn), Some(d.found), Some(d.false_ships)])
             .map(|n| n.map_or(String::new(), |n| n.to_string())),
     )
-    .chain([s.seen_by_both.to_string(), s.seen_by_both_found.to_string()])
+    .chain(
+        [
+            s.seen_by_both,
+            s.seen_by_both_found,
+            s.faint_lines,
+            s.faint_on_wake,
+            s.missed_under_faint,
+        ]
+        .map(|n| n.to_string()),
+    )
     .collect()
 }
 
@@ -168,8 +185,12 @@ pub fn search_csv(real: &RealResults) -> String {
 fn describe_ships(s: &SearchSummary) -> Option<String> {
     (s.ship_images > 0).then(|| {
         format!(
-            "ships drawn in {} image(s): {}/{} found, {:.2} false ships per image ({:.1} per 100 km^2)",
-            s.ship_images, s.ships_found, s.drawn_ships, s.false_ships_per_image, s.false_ships_per_100_km2
+            "ships drawn in {} image(s): {}/{} found, {:.2} false ships per image ({} per 100 km^2)",
+            s.ship_images,
+            s.ships_found,
+            s.drawn_ships,
+            s.false_ships_per_image,
+            s.false_ships_per_100_km2.map_or("-".into(), |r| format!("{r:.1}"))
         )
     })
 }
@@ -177,9 +198,10 @@ fn describe_ships(s: &SearchSummary) -> Option<String> {
 /// One line: what the classic search did on the user's images.
 pub fn describe_search(s: &SearchSummary) -> String {
     let line = format!(
-        "  real images, classic ship and wake search: a wake found in {}/{} wake images ({}/{} wakes, median axis error {}), {:.1} false wakes per wake image; no-wake images without a wake {}/{}; {:.1} ships per image; {} image(s) skipped",
+        "  real images, classic ship and wake search: a wake found in {}/{} wake images, {} of them with at most one false wake ({}/{} wakes, median axis error {}), {:.1} false wakes per wake image; no-wake images without a wake {}/{}; {:.1} ships per image; {} image(s) skipped",
         s.images_found,
         s.wake_images,
+        s.images_found_one_false,
         s.wakes_found,
         s.wakes,
         s.median_axis_error_deg.map_or("-".into(), |e| format!("{e:.1} deg")),
@@ -189,7 +211,11 @@ pub fn describe_search(s: &SearchSummary) -> String {
         s.ships_per_image,
         s.skipped
     );
-    let line = format!("{line}; read with the CNN: {}", describe_together(s));
+    let line = format!(
+        "{line}; read with the CNN: {}; faint lines (a ship's best line refused for its significance alone, for review): {}",
+        describe_together(s),
+        describe_faint(s)
+    );
     match describe_ships(s) {
         Some(ships) => format!("{line}; {ships}"),
         None => line,
@@ -204,6 +230,14 @@ fn describe_together(s: &SearchSummary) -> String {
     )
 }
 
+/// The faint lines: how many, how many on a drawn wake, and what a reviewer of them sees.
+fn describe_faint(s: &SearchSummary) -> String {
+    format!(
+        "{} faint line(s), {} on a drawn wake; a wake found or under a faint line in {}/{} wake images; no-wake images with a faint line {}/{}",
+        s.faint_lines, s.faint_on_wake, s.images_found_or_faint, s.wake_images, s.no_wake_images_with_faint, s.no_wake_images
+    )
+}
+
 /// The classic search's Markdown section (none where it did not run).
 fn search_markdown(real: &RealResults) -> String {
     let Some(s) = &real.search_summary else {
@@ -214,12 +248,14 @@ fn search_markdown(real: &RealResults) -> String {
         md,
         "`wakelab detect`'s own ship (CFAR) and wake (Radon) searches, run once per image at the first detector's spacing, as `detect` with that detector runs them. A reported wake finds a drawn one when the two lines come within 500 m of each other and their axes differ by at most {AXIS_WITHIN_DEG:.0} degrees (modulo 180: a drawn wake has no direction, so the course is not checked); every other reported wake is a false wake. Ships are scored only on the images whose ships are drawn (features of `\"kind\": \"ship\"`, or `\"ships_drawn\": true`): a drawn ship is found when a reported ship's centre lies within {SHIP_WITHIN_M:.0} m of it (or one scanned pixel, where that is larger), and every other reported ship is a false ship; elsewhere ships are counted, not scored.\n"
     );
-    md += "| wake images with a wake found | wakes found | median axis error (deg) | false wakes per wake image | no-wake images without a wake | ships per image |\n";
-    md += "| --- | --- | --- | --- | --- | --- |\n";
+    md += "| wake images with a wake found | ... with at most one false wake | wakes found | median axis error (deg) | false wakes per wake image | no-wake images without a wake | ships per image |\n";
+    md += "| --- | --- | --- | --- | --- | --- | --- |\n";
     let _ = writeln!(
         md,
-        "| {}/{} | {}/{} | {} | {:.1} | {}/{} | {:.1} |",
+        "| {}/{} | {}/{} | {}/{} | {} | {:.1} | {}/{} | {:.1} |",
         s.images_found,
+        s.wake_images,
+        s.images_found_one_false,
         s.wake_images,
         s.wakes_found,
         s.wakes,
@@ -233,6 +269,11 @@ fn search_markdown(real: &RealResults) -> String {
         md,
         "\nThe search's wakes read with the first detector's windows as `detect` reads them (a window within 500 m of a reported wake's line sees it; `seen_by_both` below): {}.",
         describe_together(s)
+    );
+    let _ = writeln!(
+        md,
+        "\nWhere a ship's best trough or arm passes every test but its significance, `detect` gives it as a faint line (`faint_line` in the ship's `no_wake`, dotted on the overlay), for an analyst to review, not as a wake. Scored by the rule above: {}.",
+        describe_faint(s)
     );
     if let Some(ships) = describe_ships(s) {
         let _ = writeln!(md, "\nThe ship search against the drawn ships: {ships}.");

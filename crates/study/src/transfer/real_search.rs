@@ -66,6 +66,15 @@ pub struct SearchScore {
     pub seen_by_both: usize,
     #[serde(default)]
     pub seen_by_both_found: usize,
+    /// The faint lines (a ship's best line refused for its significance alone, `faint_line` in
+    /// its `no_wake`), those that find a drawn wake by the rule above, and the drawn wakes no
+    /// reported wake found that a faint line does.
+    #[serde(default)]
+    pub faint_lines: usize,
+    #[serde(default)]
+    pub faint_on_wake: usize,
+    #[serde(default)]
+    pub missed_under_faint: usize,
     /// Why the image was not searched.
     pub skipped: Option<String>,
 }
@@ -114,12 +123,37 @@ fn wake_ends(wake: &Value, lonlat: bool) -> Option<((f64, f64), (f64, f64))> {
     }
 }
 
+/// The faint lines of `written`'s ships: the `faint_line` of each refused trough and arm.
+fn faint_lines(written: &Value) -> impl Iterator<Item = &Value> {
+    written["ships"].as_array().into_iter().flatten().flat_map(|ship| {
+        ["trough", "bright_arm"]
+            .into_iter()
+            .map(move |kind| &ship["no_wake"][kind]["faint_line"])
+            .filter(|line| line.is_object())
+    })
+}
+
 /// Score the ships and wakes of `detections.json` (`written`) against the drawn `wakes`
 /// (polylines of (column, row) pixels, or of (longitude, latitude) with `lonlat`); `spacing`
 /// (m; rows, columns) scales the product's pixels.
 pub fn score_search(wakes: &[Vec<(f64, f64)>], lonlat: bool, written: &Value, spacing: (f64, f64)) -> SearchScore {
     // metres on the plane tangent at `origin` (longitude and latitude), or pixels scaled
     let metres = |p: (f64, f64), origin: (f64, f64)| metres_from(p, origin, lonlat, spacing);
+    // the drawn wakes a line finds, each with its axis difference
+    let finds = |(start, end): ((f64, f64), (f64, f64))| -> Vec<(usize, f64)> {
+        let line = (metres(start, start), metres(end, start));
+        let mut found = Vec::new();
+        for (i, drawn) in wakes.iter().enumerate() {
+            for s in drawn.windows(2) {
+                let segment = (metres(s[0], start), metres(s[1], start));
+                let axis = axis_difference(line, segment);
+                if segments_apart(line, segment) <= FOUND_WITHIN_M && axis <= AXIS_WITHIN_DEG {
+                    found.push((i, axis));
+                }
+            }
+        }
+        found
+    };
     // each reported wake's ends, and whether a CNN window lies on it
     let reported: Vec<_> = written["wakes"]
         .as_array()
@@ -132,25 +166,25 @@ pub fn score_search(wakes: &[Vec<(f64, f64)>], lonlat: bool, written: &Value, sp
         .collect();
     let mut best: Vec<Option<f64>> = vec![None; wakes.len()];
     let (mut false_wakes, mut seen_by_both, mut seen_by_both_found) = (0, 0, 0);
-    for &((start, end), windows) in &reported {
-        let found_one = {
-            let line = (metres(start, start), metres(end, start));
-            let mut any = false;
-            for (drawn, best) in wakes.iter().zip(best.iter_mut()) {
-                for s in drawn.windows(2) {
-                    let segment = (metres(s[0], start), metres(s[1], start));
-                    let axis = axis_difference(line, segment);
-                    if segments_apart(line, segment) <= FOUND_WITHIN_M && axis <= AXIS_WITHIN_DEG {
-                        any = true;
-                        *best = Some(best.map_or(axis, |b: f64| b.min(axis)));
-                    }
-                }
-            }
-            any
-        };
+    for &(ends, windows) in &reported {
+        let found = finds(ends);
+        for &(i, axis) in &found {
+            best[i] = Some(best[i].map_or(axis, |b: f64| b.min(axis)));
+        }
+        let found_one = !found.is_empty();
         false_wakes += usize::from(!found_one);
         seen_by_both += usize::from(windows);
         seen_by_both_found += usize::from(windows && found_one);
+    }
+    let faint: Vec<_> = faint_lines(written).filter_map(|l| wake_ends(l, lonlat)).collect();
+    let mut under_faint = vec![false; wakes.len()];
+    let mut faint_on_wake = 0;
+    for &ends in &faint {
+        let found = finds(ends);
+        faint_on_wake += usize::from(!found.is_empty());
+        for (i, _) in found {
+            under_faint[i] = true;
+        }
     }
     SearchScore {
         image: String::new(),
@@ -159,11 +193,14 @@ pub fn score_search(wakes: &[Vec<(f64, f64)>], lonlat: bool, written: &Value, sp
         search_wakes: reported.len(),
         found: best.iter().flatten().count(),
         false_wakes,
+        missed_under_faint: best.iter().zip(&under_faint).filter(|(b, &u)| b.is_none() && u).count(),
         axis_errors_deg: best.into_iter().flatten().collect(),
         drawn_ships: None,
         km2: 0.0,
         seen_by_both,
         seen_by_both_found,
+        faint_lines: faint.len(),
+        faint_on_wake,
         skipped: None,
     }
 }
@@ -195,7 +232,8 @@ pub struct SearchSummary {
     #[serde(default)]
     pub false_ships_per_image: f64,
     #[serde(default)]
-    pub false_ships_per_100_km2: f64,
+    /// None where no image with drawn ships was scanned (null in `real.json`).
+    pub false_ships_per_100_km2: Option<f64>,
     /// Over the wake images: the reported wakes seen by both searches (a CNN window on their
     /// line) and those of them on a drawn wake; the wakes of the line search alone, and those
     /// on a drawn wake.
@@ -207,6 +245,20 @@ pub struct SearchSummary {
     pub line_search_only: usize,
     #[serde(default)]
     pub line_search_only_found: usize,
+    /// Wake images with a wake found and at most one false wake (the transfer issue's target).
+    #[serde(default)]
+    pub images_found_one_false: usize,
+    /// Over all images searched: the faint lines and those on a drawn wake; the wake images
+    /// with a wake found or a drawn wake under a faint line; the no-wake images with a faint
+    /// line.
+    #[serde(default)]
+    pub faint_lines: usize,
+    #[serde(default)]
+    pub faint_on_wake: usize,
+    #[serde(default)]
+    pub images_found_or_faint: usize,
+    #[serde(default)]
+    pub no_wake_images_with_faint: usize,
     /// Images not searched.
     pub skipped: usize,
 }
@@ -243,11 +295,7 @@ pub fn summarise_search(scores: &[SearchScore]) -> SearchSummary {
         drawn_ships: drawn.iter().map(|(d, _)| d.drawn).sum(),
         ships_found: drawn.iter().map(|(d, _)| d.found).sum(),
         false_ships_per_image: false_ships / drawn.len().max(1) as f64,
-        false_ships_per_100_km2: if ship_km2 > 0.0 {
-            100.0 * false_ships / ship_km2
-        } else {
-            f64::NAN
-        },
+        false_ships_per_100_km2: (ship_km2 > 0.0).then(|| 100.0 * false_ships / ship_km2),
         seen_by_both: with.iter().map(|s| s.seen_by_both).sum(),
         seen_by_both_found: with.iter().map(|s| s.seen_by_both_found).sum(),
         line_search_only: with.iter().map(|s| s.search_wakes - s.seen_by_both).sum(),
@@ -255,6 +303,11 @@ pub fn summarise_search(scores: &[SearchScore]) -> SearchSummary {
             .iter()
             .map(|s| (s.search_wakes - s.false_wakes) - s.seen_by_both_found)
             .sum(),
+        images_found_one_false: with.iter().filter(|s| s.found > 0 && s.false_wakes <= 1).count(),
+        faint_lines: searched.iter().map(|s| s.faint_lines).sum(),
+        faint_on_wake: searched.iter().map(|s| s.faint_on_wake).sum(),
+        images_found_or_faint: with.iter().filter(|s| s.found > 0 || s.missed_under_faint > 0).count(),
+        no_wake_images_with_faint: without.iter().filter(|s| s.faint_lines > 0).count(),
         skipped: scores.len() - searched.len(),
     }
 }
@@ -286,8 +339,16 @@ mod tests {
         let drawn = [vec![(100.0, 100.0), (300.0, 100.0)], vec![(0.0, 500.0), (50.0, 500.0)]];
         let along = 200.0 * 10f64.to_radians().tan();
         // product_* are [row, column]
+        // faint lines, product_* [row, column]: along the first drawn wake (found already),
+        // along the second (found by none), and across the first
+        let faint = |start: [f64; 2], end: [f64; 2]| json!({"product_start": start, "product_end": end});
         let written = json!({
-            "ships": [{}, {}],
+            "ships": [
+                {"no_wake": {"trough": {"faint_line": faint([110.0, 100.0], [110.0, 280.0])},
+                             "bright_arm": {"faint_line": faint([510.0, 0.0], [505.0, 50.0])}}},
+                {"no_wake": {"trough": {"faint_line": faint([0.0, 200.0], [400.0, 200.0])},
+                             "bright_arm": {"faint_line": null}}},
+            ],
             "wakes": [
                 {"product_start": [130.0, 100.0], "product_end": [130.0 + along, 300.0], "cnn_windows": [0]},
                 {"product_start": [50.0, 200.0], "product_end": [150.0, 200.0], "cnn_windows": [1, 2]},
@@ -303,6 +364,8 @@ mod tests {
         assert!((s.axis_errors_deg[0] - 10.0).abs() < 1e-9, "{:?}", s.axis_errors_deg);
         // the first and the second have CNN windows on them; only the first found a drawn wake
         assert_eq!((s.seen_by_both, s.seen_by_both_found), (2, 1));
+        // three faint lines, two on drawn wakes; the second drawn wake, missed, lies under one
+        assert_eq!((s.faint_lines, s.faint_on_wake, s.missed_under_faint), (3, 2, 1));
     }
 
     /// The summary: images with a wake found, wakes found, false wakes per wake image, clean
@@ -322,6 +385,9 @@ mod tests {
             // one wake seen by both in each, on a drawn wake where one was found
             seen_by_both: 1,
             seen_by_both_found: found.min(1),
+            faint_lines: 0,
+            faint_on_wake: 0,
+            missed_under_faint: 0,
             skipped: None,
         };
         let ships = |drawn, found, false_ships| ShipScore {
@@ -338,8 +404,16 @@ mod tests {
                 drawn_ships: Some(ships(0, 0, 2)),
                 ..score(1, 1, 0, vec![2.0])
             },
-            score(1, 0, 3, vec![]),
-            score(0, 0, 0, vec![]),
+            SearchScore {
+                faint_lines: 2,
+                faint_on_wake: 1,
+                missed_under_faint: 1,
+                ..score(1, 0, 3, vec![])
+            },
+            SearchScore {
+                faint_lines: 2,
+                ..score(0, 0, 0, vec![])
+            },
             score(0, 0, 1, vec![]),
             SearchScore {
                 skipped: Some("unreadable".into()),
@@ -355,10 +429,29 @@ mod tests {
         // ships: two images drawn (8 km^2), 2 of 3 found, 3 false ships
         assert_eq!((s.ship_images, s.drawn_ships, s.ships_found), (2, 3, 2));
         assert!((s.false_ships_per_image - 1.5).abs() < 1e-12);
-        assert!((s.false_ships_per_100_km2 - 37.5).abs() < 1e-12);
+        assert!((s.false_ships_per_100_km2.unwrap() - 37.5).abs() < 1e-12);
         // read with the CNN, over the three wake images: 3 wakes seen by both, 2 of them on a
         // drawn wake; 3 of the line search alone (6 reported), none of them on one
         assert_eq!((s.seen_by_both, s.seen_by_both_found), (3, 2));
         assert_eq!((s.line_search_only, s.line_search_only_found), (3, 0));
+        // a wake found with at most one false wake: the first two wake images; found or under
+        // a faint line: all three; the clean no-wake image holds two faint lines
+        assert_eq!(s.images_found_one_false, 2);
+        assert_eq!((s.faint_lines, s.faint_on_wake, s.images_found_or_faint), (4, 1, 3));
+        assert_eq!(s.no_wake_images_with_faint, 1);
+        // without drawn ships there is no rate of false ships, and the summary still reads
+        // back from real.json (a NaN was written as null and failed to read, which dropped
+        // the section from later reports)
+        let undrawn: Vec<SearchScore> = scores
+            .iter()
+            .map(|s| SearchScore {
+                drawn_ships: None,
+                ..s.clone()
+            })
+            .collect();
+        let s = summarise_search(&undrawn);
+        assert_eq!((s.ship_images, s.false_ships_per_100_km2), (0, None));
+        let text = serde_json::to_string(&s).unwrap();
+        assert_eq!(serde_json::from_str::<SearchSummary>(&text).unwrap(), s);
     }
 }

@@ -265,6 +265,27 @@ fn find(parent: &mut [usize], mut i: usize) -> usize {
     i
 }
 
+/// How far the brightest value of `image` (linear, NaN for no data) stands above the image's
+/// mean, in its standard deviations, all in dB: the most any pixel can stand over an average
+/// stretch of its sea in the CFAR's own units ([`sigmas_for`]). A display stretch clips its
+/// brightest returns at its ceiling; where its sea lies high in the grey scale, the ceiling can
+/// stand under the CFAR's threshold, and a clipped return then passes only by its target
+/// window's mean, if at all (docs/results.md: the real held-out images with no ship found).
+/// None where fewer than two pixels hold data or they do not spread.
+pub fn ceiling_standing(image: ArrayView2<f32>) -> Option<f64> {
+    let (mut n, mut sum, mut squares, mut max) = (0.0, 0.0, 0.0, f64::NEG_INFINITY);
+    for &v in image.iter().filter(|v| v.is_finite() && **v > 0.0) {
+        let db = 10.0 * (v as f64).log10();
+        n += 1.0;
+        sum += db;
+        squares += db * db;
+        max = max.max(db);
+    }
+    let mean = sum / n;
+    let spread = (squares / n - mean * mean).max(0.0).sqrt();
+    (n >= 2.0 && spread > 0.0).then(|| (max - mean) / spread)
+}
+
 /// The ships in `image` (linear sigma0, NaN for no data) placed by `geometry`.
 pub fn find_ships(image: ArrayView2<f32>, geometry: &Geometry, options: &CfarOptions) -> ShipSearch {
     let db = image.mapv(|v| {
@@ -475,6 +496,19 @@ mod tests {
     /// Four-look speckle on a sea of sigma0 0.01.
     fn sea(n: usize, seed: u64) -> Array2<f32> {
         crate::speckle(n, n, 4, 0.01, seed)
+    }
+
+    /// Half the pixels at 100 dB and half at 120 (mean 110, deviation 10) and one at 140: the
+    /// brightest stands 3 deviations up (to within the one pixel's own pull on both).
+    #[test]
+    fn the_ceiling_stands_its_deviations_over_the_mean() {
+        let mut db = Array2::from_shape_fn((100, 100), |(r, _)| if r % 2 == 0 { 100.0 } else { 120.0 });
+        db[[0, 0]] = 140.0;
+        db[[1, 1]] = f32::NAN;
+        let linear = db.mapv(|v: f32| if v.is_nan() { v } else { 10f32.powf(v / 10.0) });
+        let standing = ceiling_standing(linear.view()).unwrap();
+        assert!((standing - 3.0).abs() < 0.01, "{standing}");
+        assert_eq!(ceiling_standing(Array2::from_elem((4, 4), 0.5f32).view()), None);
     }
 
     #[test]

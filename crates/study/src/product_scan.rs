@@ -6,7 +6,9 @@
 //! band of rows at a time, so memory holds one band, not the product. What was assumed is said in
 //! the scan's notes.
 
-use crate::sea_findings::{product_geometry, search_image, SeaFindings, SeaStream, ShipSearch, TILE_ROWS};
+use crate::sea_findings::{
+    ceiling_note, product_geometry, search_image, SeaFindings, SeaStream, ShipSearch, TILE_ROWS,
+};
 use anyhow::Result;
 use std::path::Path;
 use wakelab_core::ConfigError;
@@ -294,6 +296,9 @@ pub fn scan_opened(opened: OpenedProduct, scanner: Scanner, progress: ScanProgre
         notes.extend(sea_notes);
         let (cfar, pfa_note) = search.cfar(product.meta.calibrated);
         notes.extend(pfa_note);
+        if !product.meta.calibrated {
+            notes.extend(ceiling_note(cross.as_ref().map_or(image.view(), |c| c.0.view()), &cfar));
+        }
         notes.extend(cross.as_ref().map(|c| cross_note(&c.1)));
         search_image(
             image.view(),

@@ -542,6 +542,35 @@ fn a_ship_and_its_wake_come_out_as_geojson() {
         notes.iter().any(|n| n.as_str().unwrap().contains("heavier tail")),
         "{notes:?}"
     );
+    // its ceiling (the ship, 255) stands far over its sea: no note that ships may be missed
+    let stands = |notes: &[serde_json::Value]| {
+        notes.iter().find_map(|n| {
+            n.as_str()
+                .unwrap()
+                .split("brightest value stands ")
+                .nth(1)
+                .map(str::to_owned)
+        })
+    };
+    assert_eq!(stands(notes), None, "{notes:?}");
+    // the same stretch with its sea 170 grey levels higher: the ship is clipped at 255, a few
+    // of the sea's deviations up, and a note says by how many (the grey levels' own mean and
+    // deviation, read as dB)
+    let high = image.mapv(|v| (170.0 + 128.0 + 4.0 * 10.0 * v.log10()).clamp(0.0, 255.0).round());
+    let n = high.len() as f64;
+    let mean = high.sum() as f64 / n;
+    let deviation = (high.mapv(|g| (g as f64 - mean).powi(2)).sum() / n).sqrt();
+    let expected = (255.0 - mean) / deviation;
+    let high_path = dir.path().join("high.tif");
+    write_tif(&high_path, &high, &utm(TRANSFORM, image.dim()), "");
+    let report = detect(&high_path, &model, &dir.path().join("high"), &["--scale", "display"]);
+    let notes = report["notes"].as_array().unwrap();
+    let said = stands(notes).unwrap_or_else(|| panic!("no ceiling note: {notes:?}"));
+    let said: f64 = said.split(' ').next().unwrap().parse().unwrap();
+    assert!(
+        expected < 6.0 && (said - expected).abs() < 0.06,
+        "{said} against {expected}"
+    );
 }
 
 /// A dual-polarisation Sentinel-1 product of 2,500 lines (read in three bands): a ship 3 dB over

@@ -196,6 +196,19 @@ impl ShipSearch {
     }
 }
 
+/// A note where an uncalibrated image's brightest value stands fewer of its deviations over its
+/// mean than the CFAR's threshold asks ([`wakelab_ships::cfar::ceiling_standing`]): a return
+/// clipped at a display stretch's ceiling can then be missed, and the user should know why.
+pub fn ceiling_note(image: ArrayView2<f32>, cfar: &CfarOptions) -> Option<String> {
+    let standing = wakelab_ships::cfar::ceiling_standing(image)?;
+    let threshold = wakelab_ships::cfar::sigmas_for(cfar.pfa);
+    (standing < threshold).then(|| {
+        format!(
+            "ships: the image's brightest value stands {standing:.1} of its deviations over its mean (in dB, as searched), under the CFAR's {threshold:.1}: a return clipped at a display stretch's ceiling passes only by its {DISPLAY_TARGET_M} m target window and can be missed (a calibrated product, or a stretch that leaves its sea lower, avoids this)"
+        )
+    })
+}
+
 /// The searches on `image` (linear sigma0 as scanned), the ships sought (with `cfar`) in
 /// `cross` (the product's cross-polarised band on the same grid, named `polarisation`) where one
 /// is given: tile by tile as a streamed product's ([`SeaStream`]), so that memory holds one

@@ -58,9 +58,9 @@ pub fn csv(real: &RealResults) -> String {
     text
 }
 
-/// A rate per 100 km^2 to two decimals, "-" where no area was scanned.
-fn per_100_km2(rate: Option<f64>) -> String {
-    rate.map_or("-".into(), |r| format!("{r:.2}"))
+/// A rate per 100 km^2 to `decimals`, "-" where no area was scanned.
+fn per_100_km2(rate: Option<f64>, decimals: usize) -> String {
+    rate.map_or("-".into(), |r| format!("{r:.decimals$}"))
 }
 
 /// One line per detector: what it did on the user's images.
@@ -74,7 +74,7 @@ pub fn describe(s: &RealSummary) -> String {
         s.false_alarms_per_wake_image,
         s.no_wake_images_without_alarm,
         s.no_wake_images,
-        per_100_km2(s.false_alarms_per_100_km2),
+        per_100_km2(s.false_alarms_per_100_km2, 2),
         s.skipped,
         s.wake_visibility.map_or("-".into(), |v| format!("{} (quartiles)", v.describe()))
     )
@@ -106,7 +106,7 @@ pub fn markdown(real: &RealResults) -> String {
             s.false_alarms_per_wake_image,
             s.no_wake_images_without_alarm,
             s.no_wake_images,
-            per_100_km2(s.false_alarms_per_100_km2)
+            per_100_km2(s.false_alarms_per_100_km2, 2)
         );
     }
     md += &format!("\n| {} |\n|{}\n", HEADER.join(" | "), " --- |".repeat(HEADER.len()));
@@ -190,7 +190,7 @@ fn describe_ships(s: &SearchSummary) -> Option<String> {
             s.ships_found,
             s.drawn_ships,
             s.false_ships_per_image,
-            s.false_ships_per_100_km2.map_or("-".into(), |r| format!("{r:.1}"))
+            per_100_km2(s.false_ships_per_100_km2, 1)
         )
     })
 }

@@ -280,6 +280,7 @@ pub fn scan_opened(opened: OpenedProduct, scanner: Scanner, progress: ScanProgre
         (image, pol)
     });
     let masked = product.report.masked;
+    let read = product.image.dim();
     let (image, frame) = if factor == (1.0, 1.0) {
         (product.image, product.frame.clone())
     } else {
@@ -287,6 +288,7 @@ pub fn scan_opened(opened: OpenedProduct, scanner: Scanner, progress: ScanProgre
         let frame = product.frame.scaled(factor.0, factor.1, image.dim());
         (image, frame)
     };
+    fits_the_detector(read, image.dim(), info)?;
     let mut scan = Scan::new(scanner.detector, info, image.dim(), scanner.options)?;
     scan.feed(0, image.view(), device, progress.scanning);
     let mut overlay = crate::scan::OverlayMeans::new(image.dim(), band);
@@ -369,6 +371,37 @@ fn land_note(notes: &mut Vec<String>, sea: Option<&SeaFindings>) {
     }
 }
 
+/// Whether the image, `read` pixels (rows, columns) as read and `scanned` once averaged to the
+/// detector's spacing, holds at least one of the detector's windows; else an error that gives
+/// both sizes and the window's side on the ground, so that a user whose chip is larger than the
+/// window in its own pixels sees why it is refused.
+fn fits_the_detector(read: (usize, usize), scanned: (usize, usize), info: &ModelInfo) -> Result<()> {
+    let n = info.input_size;
+    if scanned.0 >= n && scanned.1 >= n {
+        return Ok(());
+    }
+    let (value, side) = match info.pixel_spacing {
+        Some(spacing) if read != scanned => (
+            format!(
+                "{} x {} pixels, {} x {} once averaged to the detector's {spacing} m",
+                read.0, read.1, scanned.0, scanned.1
+            ),
+            format!(" ({:.2} km a side)", n as f64 * spacing / 1000.0),
+        ),
+        Some(spacing) => (
+            format!("{} x {} pixels", read.0, read.1),
+            format!(" ({:.2} km a side)", n as f64 * spacing / 1000.0),
+        ),
+        None => (format!("{} x {} pixels", read.0, read.1), String::new()),
+    };
+    Err(ConfigError::new(
+        "IMAGE",
+        value,
+        format!("at least the detector's input, {n} x {n} pixels{side}: a larger image, or a detector of finer pixels (--model)"),
+    )
+    .into())
+}
+
 /// Scan a product read a band of rows at a time, averaged over whole `factor`s to the
 /// detector's spacing: each band starts at the first window row not yet scored and holds about
 /// [`BAND_ROWS`] more product rows (the window's rows past the stride are read twice), so
@@ -389,6 +422,7 @@ fn scan_by_bands(
     let (fr, fc) = (factor.0 as usize, factor.1 as usize);
     let (rows, cols) = source.dim();
     let scanned = ((rows / fr).max(1), (cols / fc).max(1));
+    fits_the_detector((rows, cols), scanned, info)?;
     let mut scan = Scan::new(scanner.detector, info, scanned, scanner.options)?;
     let (n, stride) = scan.window_and_stride();
     let height = n + BAND_ROWS.div_ceil(stride * fr) * stride;

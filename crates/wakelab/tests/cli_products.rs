@@ -721,4 +721,19 @@ fn without_a_model_detect_takes_the_shipped_detector_for_the_spacing() {
         "{}",
         stderr(&o)
     );
+
+    // a 900 m chip of 3 m pixels is 300 pixels a side, but 45 once averaged to the 1.28 km
+    // detector's 20 m: refused with both sizes, and nothing written
+    let chip = dir.path().join("chip.npy");
+    ndarray_npy::write_npy(&chip, &image.slice(ndarray::s![..300, ..300]).to_owned()).unwrap();
+    let out = dir.path().join("scan_chip");
+    let o = shipped(&chip, &out, &["--pixel-spacing", "3"]);
+    assert!(!o.status.success());
+    for needle in [
+        "`IMAGE` = 300 x 300 pixels, 45 x 45 once averaged to the detector's 20 m",
+        "at least the detector's input, 64 x 64 pixels (1.28 km a side)",
+    ] {
+        assert!(stderr(&o).contains(needle), "{needle}: {}", stderr(&o));
+    }
+    assert!(!out.exists());
 }

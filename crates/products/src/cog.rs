@@ -168,8 +168,12 @@ pub fn write_sigma0(mut product: crate::Product, path: &Path, db: bool) -> Resul
         return Err(cog_error(
             path,
             format!(
-                "{} is a display-stretched image: it holds no sigma0 to write",
-                product.path.display()
+                "{} is not calibrated ({}): it holds no sigma0 to write",
+                product.path.display(),
+                product.meta.scale.map_or("uncalibrated", |s| match s {
+                    crate::InputScale::Dn => "digital numbers",
+                    _ => "a display stretch",
+                })
             ),
         ));
     }

@@ -181,7 +181,7 @@ pub fn read(path: &Path, options: &ReadOptions) -> Result<Product, WakelabError>
             format: "npy".into(),
             product_id: stem,
             scale: (options.quantity == Quantity::Sigma0).then_some(scale),
-            calibrated: scale != InputScale::Display,
+            calibrated: scale.calibrated(),
             pixel_spacing: options.pixel_spacing.map(|d| PixelSpacing {
                 columns: d,
                 rows: d,

@@ -186,7 +186,12 @@ pub(crate) fn mask_and_scale(
         let constant = |_: usize, _: usize| MIN_SIGMA0;
         let floor = floor.unwrap_or(&constant);
         report.floored = to_linear_sigma0(&mut raw, scale, floor)?;
-        if report.floored > 0 {
+        if report.floored > 0 && scale == InputScale::Dn {
+            report.notes.push(format!(
+                "{} pixel(s) of digital number zero raised to half a step",
+                report.floored
+            ));
+        } else if report.floored > 0 {
             report.floor = Some(floor(0, 0));
             report.notes.push(format!(
                 "{} pixel(s) at or below zero (noise subtraction) raised to a floor of {:.1} dB",
@@ -197,6 +202,11 @@ pub(crate) fn mask_and_scale(
         if scale == InputScale::Display {
             report.notes.push(
                 "a display-stretched image: read as dB up to an unknown gain and offset; its probabilities are uncalibrated".into(),
+            );
+        }
+        if scale == InputScale::Dn {
+            report.notes.push(
+                "digital numbers: read as amplitude up to an unknown gain, one offset in dB that the detector's normalisation and the ship and wake searches cancel; no sigma0 in dB is given".into(),
             );
         }
     }
@@ -272,7 +282,7 @@ pub fn read(path: &Path, options: &ReadOptions) -> Result<Product, WakelabError>
                 .metadata_item("TIFFTAG_DATETIME", "")
                 .or_else(|| dataset.metadata_item("ACQUISITION_START_TIME", "")),
             scale: (options.quantity == Quantity::Sigma0).then_some(scale),
-            calibrated: scale != InputScale::Display,
+            calibrated: scale.calibrated(),
             pixel_spacing: spacing,
             // one angle for the image (a simulated scene's): no grid to interpolate
             incidence: stated(crate::cog::INCIDENCE)

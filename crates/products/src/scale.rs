@@ -14,6 +14,9 @@ use wakelab_core::ConfigError;
 /// sigma0 (-50 dB, below every spaceborne SAR's noise floor).
 pub const MIN_SIGMA0: f64 = 1e-5;
 
+/// The amplitude a zero digital number is raised to: half a quantisation step.
+const DN_FLOOR: f32 = 0.5;
+
 /// Brightest median linear sigma0 accepted as sea (+10 dB; the ocean's sigma0 stays below
 /// +5 dB at the steepest incidence, CMOD5.N's range).
 const MAX_SEA_MEDIAN: f64 = 10.0;
@@ -42,15 +45,29 @@ pub enum InputScale {
     /// A display-stretched image (8-bit grey levels): read as dB up to an unknown gain and
     /// offset, which the detector's normalisation cancels; its probabilities are uncalibrated.
     Display,
+    /// Digital numbers of amplitude, not calibrated: sqrt sigma0 times a gain the file does not
+    /// give (a Sentinel-1 GRD measurement TIFF read alone, sigma0 = DN^2 / A^2 with A in the
+    /// product's calibration annotation, ESA S1-RS-MDA-52-7441 section 7.4; other vendors'
+    /// amplitude products alike). Read as amplitude: the gain is one offset in dB, which the
+    /// detector's normalisation (a window's median of dB) and the ship and wake searches (in dB
+    /// against their own backgrounds) cancel. The image's sigma0 in dB is not given.
+    Dn,
 }
 
 impl InputScale {
-    pub const ALL: [InputScale; 4] = [
+    pub const ALL: [InputScale; 5] = [
         InputScale::Linear,
         InputScale::Db,
         InputScale::Amplitude,
         InputScale::Display,
+        InputScale::Dn,
     ];
+
+    /// Whether values in this scale are sigma0 (calibrated), so that their level in dB means
+    /// something: not a display stretch's grey levels nor uncalibrated digital numbers.
+    pub fn calibrated(self) -> bool {
+        !matches!(self, InputScale::Display | InputScale::Dn)
+    }
 
     pub fn name(self) -> &'static str {
         match self {
@@ -58,6 +75,7 @@ impl InputScale {
             InputScale::Db => "db",
             InputScale::Amplitude => "amplitude",
             InputScale::Display => "display",
+            InputScale::Dn => "dn",
         }
     }
 }
@@ -158,15 +176,26 @@ pub fn to_linear_sigma0(
                 let hint = if s.integral && s.max <= 255.0 {
                     "an 8-bit display image? pass --scale display"
                 } else if s.integral {
-                    "digital numbers? calibrate the product first (wakelab calibrate reads Sentinel-1 SAFE products)"
+                    "digital numbers? calibrate the product first (wakelab calibrate reads Sentinel-1 SAFE products), or pass --scale dn to read them as amplitude up to an unknown gain"
                 } else {
-                    "not sigma0: calibrate it, or state its scale with --scale db|amplitude|display"
+                    "not sigma0: calibrate it, or state its scale with --scale db|amplitude|dn|display"
                 };
                 return Err(scale_error(
                     scale.name().into(),
                     format!(
                         "its median is {:.1} dB as {scale} sigma0, brighter than any sea ({range}): {hint}",
                         10.0 * median_power.log10()
+                    ),
+                ));
+            }
+        }
+        InputScale::Dn => {
+            if share > 0.5 {
+                return Err(scale_error(
+                    "dn".into(),
+                    format!(
+                        "{} of {} valid pixels are negative ({range}): digital numbers of amplitude are not; sigma0 in dB? pass --scale db",
+                        s.negative, s.valid
                     ),
                 ));
             }
@@ -200,11 +229,17 @@ pub fn to_linear_sigma0(
                 }
                 *v = match scale {
                     InputScale::Linear => *v,
-                    InputScale::Amplitude => *v * *v,
+                    InputScale::Amplitude | InputScale::Dn => *v * *v,
                     InputScale::Db | InputScale::Display => 10f32.powf(*v / 10.0),
                 };
-                if *v <= 0.0 && matches!(scale, InputScale::Linear | InputScale::Amplitude) {
-                    *v = floor(r, c) as f32;
+                if *v <= 0.0 {
+                    match scale {
+                        InputScale::Linear | InputScale::Amplitude => *v = floor(r, c) as f32,
+                        // a zero digital number lies under the quantisation step: half a step
+                        // (the floor in sigma0 means nothing on an uncalibrated scale)
+                        InputScale::Dn => *v = DN_FLOOR * DN_FLOOR,
+                        InputScale::Db | InputScale::Display => continue,
+                    }
                     count += 1;
                 }
             }
@@ -270,5 +305,37 @@ mod tests {
         assert_eq!(from_unit("dB"), Some(InputScale::Db));
         assert_eq!(from_unit("K"), None);
         assert_eq!("DB".parse::<InputScale>(), Ok(InputScale::Db));
+    }
+
+    /// Digital numbers of amplitude, DN = A sqrt(sigma0) with a gain A the file does not give
+    /// (Sentinel-1's sigma0 = DN^2 / A^2): refused as amplitude with the flag to pass, read as
+    /// `dn` to A^2 sigma0, whose dB differ from sigma0's by one offset (20 log10 A), so every
+    /// contrast in dB is sigma0's. A zero is half a step; mostly negative values are dB.
+    #[test]
+    fn digital_numbers_read_as_sigma0_up_to_one_gain() {
+        let gain = 3000.0f32;
+        let sigma0 = array![[0.01f32, 0.02], [0.005, 0.3]];
+        let dn = sigma0.mapv(|s| (gain * s.sqrt()).round());
+        let e = to_linear_sigma0(&mut dn.clone(), InputScale::Amplitude, &min_floor).unwrap_err();
+        assert!(e.allowed.contains("pass --scale dn"), "{}", e.allowed);
+        let mut read = dn.clone();
+        assert_eq!(to_linear_sigma0(&mut read, InputScale::Dn, &min_floor).unwrap(), 0);
+        let db = |v: f32| 10.0 * (v as f64).log10();
+        let offset = 20.0 * (gain as f64).log10();
+        for (r, s) in read.iter().zip(&sigma0) {
+            // the rounding to whole numbers moves the dB by under 0.01 at these levels
+            assert!((db(*r) - db(*s) - offset).abs() < 0.01, "{r} {s}");
+        }
+        assert!(((db(read[[1, 1]]) - db(read[[0, 0]])) - 10.0 * 30f64.log10()).abs() < 0.01);
+        let mut zero = array![[0.0f32, 300.0], [f32::NAN, 250.0]];
+        assert_eq!(to_linear_sigma0(&mut zero, InputScale::Dn, &min_floor).unwrap(), 1);
+        assert_eq!(zero[[0, 0]], DN_FLOOR * DN_FLOOR);
+        assert!(zero[[1, 0]].is_nan());
+        let mut in_db = array![[-20.0f32, -18.0], [-25.0, 3.0]];
+        let e = to_linear_sigma0(&mut in_db, InputScale::Dn, &min_floor).unwrap_err();
+        assert!(e.allowed.contains("--scale db"), "{}", e.allowed);
+        assert!(!InputScale::Dn.calibrated() && !InputScale::Display.calibrated());
+        assert!(InputScale::Amplitude.calibrated());
+        assert_eq!("dn".parse::<InputScale>(), Ok(InputScale::Dn));
     }
 }

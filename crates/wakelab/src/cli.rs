@@ -387,10 +387,10 @@ pub struct ReadArgs {
     /// A raster of the input's size, non-zero on pixels to ignore (land, anything).
     #[arg(long, value_name = "FILE")]
     pub exclude: Option<PathBuf>,
-    /// The scale of a radar image's pixels: linear (sigma0), db, amplitude (sqrt sigma0) or
-    /// display (an 8-bit stretch; probabilities uncalibrated). Default: what the file's band
-    /// unit states, else linear. Infrared images are brightness temperatures (K).
-    #[arg(long, value_name = "linear|db|amplitude|display")]
+    /// The scale of a radar image's pixels: linear (sigma0), db, amplitude (sqrt sigma0), display
+    /// (an 8-bit stretch; probabilities uncalibrated) or dn (uncalibrated amplitude digital numbers).
+    /// Default: the file's band unit, else linear. Infrared images are brightness temperatures (K).
+    #[arg(long, value_name = "linear|db|amplitude|display|dn")]
     pub scale: Option<wakelab_products::InputScale>,
     /// Ground pixel spacing of a bare array (m); products state their own.
     #[arg(long, value_name = "M")]

@@ -398,6 +398,7 @@ fn a_ship_and_its_wake_come_out_as_geojson() {
     let model = detector(dir.path());
     let out = dir.path().join("scan");
     let report = detect(&tif, &model, &out, &[]);
+    let calibrated = report.clone();
     let ships = report["ships"].as_array().unwrap();
     assert_eq!(ships.len(), 1, "{ships:?}");
     let ship = &ships[0];
@@ -571,6 +572,48 @@ fn a_ship_and_its_wake_come_out_as_geojson() {
         expected < 6.0 && (said - expected).abs() < 0.06,
         "{said} against {expected}"
     );
+
+    // the same scene as digital numbers of amplitude, DN = 3000 sqrt(sigma0) in whole numbers
+    // (a Sentinel-1 GRD measurement TIFF read alone): refused as sigma0 with the flag to pass;
+    // read as `dn`, the same ship and wake as the calibrated scene (the gain is one offset in
+    // dB, which the searches do not see), at the calibrated CFAR's P_fa, without sigma0
+    let dn = image.mapv(|v| (3000.0 * v.sqrt()).round());
+    let dn_path = dir.path().join("dn.tif");
+    write_tif(&dn_path, &dn, &utm(TRANSFORM, image.dim()), "");
+    let refused = dir.path().join("dn_as_sigma0");
+    let o = detect_output(&dn_path, &refused, &["--model", model.to_str().unwrap()]);
+    assert!(
+        !o.status.success() && stderr(&o).contains("pass --scale dn"),
+        "{}",
+        stderr(&o)
+    );
+    assert!(!refused.exists());
+    let report = detect(&dn_path, &model, &dir.path().join("dn"), &["--scale", "dn"]);
+    let (ships, wakes) = (report["ships"].as_array().unwrap(), report["wakes"].as_array().unwrap());
+    let want = calibrated["wakes"].as_array().unwrap();
+    assert_eq!((ships.len(), wakes.len()), (1, want.len()), "{ships:?} {wakes:?}");
+    for key in ["product_row", "product_col"] {
+        let (got, was) = (
+            ships[0][key].as_f64().unwrap(),
+            calibrated["ships"][0][key].as_f64().unwrap(),
+        );
+        assert!((got - was).abs() < 0.5, "{key}: {got} against {was}");
+    }
+    for key in ["peak_sigma0", "peak_db", "background_db", "contrast_db"] {
+        assert!(ships[0][key].is_null(), "{key}: {}", ships[0]);
+    }
+    for (got, was) in wakes.iter().zip(want) {
+        let course = |w: &serde_json::Value| w["course_image_deg"].as_f64().unwrap();
+        assert!((course(got) - course(was)).abs() < 1.0, "{got} against {was}");
+        assert_eq!(got["signature"], was["signature"]);
+    }
+    assert_eq!(report["ship_search"]["pfa"], 1e-6);
+    // the CNN normalises each window by its median in dB: the gain cancels there too
+    let (got, was) = (probability(&report), probability(&calibrated));
+    assert!((got - was).abs() < 0.01, "{got} against {was}");
+    let notes = report["notes"].as_array().unwrap();
+    let says = |needle: &str| notes.iter().any(|n| n.as_str().unwrap().contains(needle));
+    assert!(says("digital numbers") && !says("heavier tail"), "{notes:?}");
 }
 
 /// A dual-polarisation Sentinel-1 product of 2,500 lines (read in three bands): a ship 3 dB over

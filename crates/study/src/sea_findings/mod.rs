@@ -102,10 +102,13 @@ pub fn product_geometry(meta: &ProductMeta, spacing: (f64, f64)) -> (Geometry, V
         (0.0, 90.0)
     };
     if !meta.calibrated {
-        notes.push(
+        notes.push(if meta.scale == Some(wakelab_products::InputScale::Dn) {
+            "ships: no sigma0 or contrast in dB given (null): the input is not calibrated, its digital numbers are dB only up to an unknown offset"
+                .into()
+        } else {
             "ships: no sigma0 or contrast in dB given (null): the input is not calibrated, its grey levels are not dB"
-                .into(),
-        );
+                .into()
+        });
     }
     let incidence_deg = match &meta.incidence {
         Some(i) => i.mid_deg,
@@ -170,12 +173,13 @@ impl ShipSearch {
         Self { pfa, keep_land }
     }
 
-    /// The CFAR's settings for an image that is `calibrated` or not, and a note where the
-    /// display's default was taken.
-    pub fn cfar(&self, calibrated: bool) -> (CfarOptions, Option<String>) {
+    /// The CFAR's settings for an image that is a `display` stretch or not (calibrated sigma0,
+    /// or digital numbers of amplitude, whose dB are sigma0's up to an offset the CFAR does not
+    /// see), and a note where the display's default was taken.
+    pub fn cfar(&self, display: bool) -> (CfarOptions, Option<String>) {
         let (options, note) = match self.pfa {
             Some(pfa) => (CfarOptions::with_pfa(pfa), None),
-            None if calibrated => (CfarOptions::default(), None),
+            None if !display => (CfarOptions::default(), None),
             None => (
                 CfarOptions::with_pfa(DISPLAY_SHIP_PFA),
                 Some(format!(
@@ -184,7 +188,7 @@ impl ShipSearch {
             ),
         };
         let land = if self.keep_land { None } else { options.land };
-        let target_m = if calibrated { 0.0 } else { DISPLAY_TARGET_M };
+        let target_m = if display { DISPLAY_TARGET_M } else { 0.0 };
         (
             CfarOptions {
                 land,
@@ -387,26 +391,26 @@ mod tests {
             pfa: Some(1e-4),
             ..ShipSearch::default()
         };
-        assert_eq!(given.cfar(true), (CfarOptions::with_pfa(1e-4), None));
+        assert_eq!(given.cfar(false), (CfarOptions::with_pfa(1e-4), None));
         // a display stretch's ships are also tested by their target window, whatever the P_fa
         let windowed = CfarOptions {
             target_m: DISPLAY_TARGET_M,
             ..CfarOptions::with_pfa(1e-4)
         };
-        assert_eq!(given.cfar(false), (windowed, None));
+        assert_eq!(given.cfar(true), (windowed, None));
         let unset = ShipSearch::default();
-        assert_eq!(unset.cfar(true), (CfarOptions::default(), None));
+        assert_eq!(unset.cfar(false), (CfarOptions::default(), None));
         assert_eq!(CfarOptions::default().pfa, 1e-6);
-        let (display, note) = unset.cfar(false);
+        let (display, note) = unset.cfar(true);
         assert_eq!((display.pfa, display.target_m), (1e-9, 50.0));
         assert!(note.unwrap().contains("1e-9, not 1e-6"));
         // land found in the image is left out unless the user keeps it (--no-land-mask)
-        assert!(unset.cfar(true).0.land.is_some());
+        assert!(unset.cfar(false).0.land.is_some());
         let keep = ShipSearch {
             keep_land: true,
             ..ShipSearch::default()
         };
-        assert_eq!(keep.cfar(false).0.land, None);
+        assert_eq!(keep.cfar(true).0.land, None);
     }
 
     /// A Sentinel-1 product's geometry: flight down the lines, look along the columns, R/V from

@@ -56,6 +56,10 @@ impl Frame {
         let transform = dataset.geo_transform().ok();
         let identity = [0.0, 1.0, 0.0, 0.0, 0.0, 1.0];
         let placement = match transform {
+            Some(t) if wkt.is_empty() && t != identity && degrees_like(&t, rows, cols) => Placement::Transform {
+                transform: t,
+                wkt: SpatialRef::from_epsg(4326).and_then(|s| s.to_wkt()).unwrap_or_default(),
+            },
             Some(t) if !wkt.is_empty() || t != identity => Placement::Transform { transform: t, wkt },
             _ => {
                 let gcps: Vec<Gcp> = dataset.gcps().iter().map(gcp_of).collect();
@@ -72,8 +76,34 @@ impl Frame {
         Self { rows, cols, placement }
     }
 
+    /// Whether the frame is placed on the Earth: a geotransform or GCPs in a CRS. Without a CRS
+    /// (a TIFF whose CRS was stripped, a Sentinel-1 measurement TIFF taken out of its product,
+    /// whose geotransform counts pixels) GDAL's transformer would take the coordinates as
+    /// longitude and latitude; they are pixel coordinates only, kept for the outputs' grid.
     pub fn is_georeferenced(&self) -> bool {
-        !matches!(self.placement, Placement::None)
+        match &self.placement {
+            Placement::None => false,
+            Placement::Transform { wkt, .. } | Placement::Gcps { wkt, .. } => !wkt.trim().is_empty(),
+        }
+    }
+
+    /// A note where `dataset`, read into this frame, holds a geotransform but no CRS: either
+    /// taken as WGS 84 degrees ([`Self::of_dataset`]) or not placed on the Earth.
+    pub fn no_crs_note(&self, dataset: &Dataset) -> Option<String> {
+        if !dataset.projection().is_empty() {
+            return None;
+        }
+        match &self.placement {
+            Placement::Transform { transform: t, wkt } if !wkt.is_empty() => Some(format!(
+                "the file's geotransform has no CRS; its coordinates lie within longitude's and latitude's ranges with pixels of {:.2e} x {:.2e} degrees: taken as WGS 84 (EPSG:4326)",
+                t[1].hypot(t[4]),
+                t[2].hypot(t[5])
+            )),
+            Placement::Transform { .. } => Some(
+                "the file's geotransform has no CRS and its coordinates are no longitude and latitude: its pixels are not placed on the Earth (no longitude or latitude; its spacing from the file's metadata or --pixel-spacing)".into(),
+            ),
+            _ => None,
+        }
     }
 
     /// The frame of a grid whose pixel spans `row_factor` x `col_factor` pixels of this one
@@ -232,6 +262,32 @@ impl Frame {
         let p = self.lonlat(&[(c, r), (c + 1.0, r), (c, r + 1.0)])?;
         Some((ground_distance(p[0], p[1]), ground_distance(p[0], p[2])))
     }
+}
+
+/// The largest pixel (degrees) a geotransform without a CRS may have to be read as WGS 84
+/// longitude and latitude: 0.01 degrees, about 1.1 km, coarser than any SAR product's pixels;
+/// a geotransform that counts pixels (steps of 1) is not.
+const MAX_DEGREE_PIXEL: f64 = 0.01;
+
+/// Whether a geotransform without a CRS reads as WGS 84 degrees: its four corners within
+/// longitude's [-180, 180] and latitude's [-90, 90], its pixels at most [`MAX_DEGREE_PIXEL`]
+/// on a side. GDAL's transformer takes a CRS-less geotransform as the target's CRS (degrees
+/// here) whatever it holds; files that lost their CRS in EPSG:4326 keep their place so, and
+/// one counting pixels is no longer read as 111 km per pixel.
+fn degrees_like(t: &[f64; 6], rows: usize, cols: usize) -> bool {
+    let pixel = t[1].hypot(t[4]).max(t[2].hypot(t[5]));
+    let corners = [
+        (0.0, 0.0),
+        (cols as f64, 0.0),
+        (0.0, rows as f64),
+        (cols as f64, rows as f64),
+    ];
+    pixel > 0.0
+        && pixel <= MAX_DEGREE_PIXEL
+        && corners.iter().all(|&(c, r)| {
+            let (x, y) = (t[0] + c * t[1] + r * t[2], t[3] + c * t[4] + r * t[5]);
+            (-180.0..=180.0).contains(&x) && (-90.0..=90.0).contains(&y)
+        })
 }
 
 fn gcp_of(g: &GcpRef) -> Gcp {

@@ -252,6 +252,7 @@ pub fn read(path: &Path, options: &ReadOptions) -> Result<Product, WakelabError>
     }
     let image = mask_and_scale(raw, Some(masked), None, options, scale, is_byte, &mut report, path)?;
     let frame = Frame::of_dataset(&dataset);
+    report.notes.extend(frame.no_crs_note(&dataset));
     let stated = |key| dataset.metadata_item(key, "").and_then(|v| v.parse::<f64>().ok());
     let spacing = match (stated(crate::cog::SPACING_ROWS), stated(crate::cog::SPACING_COLUMNS)) {
         (Some(rows), Some(columns)) => Some(PixelSpacing {

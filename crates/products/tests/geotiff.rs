@@ -129,6 +129,69 @@ fn a_utm_geotiff_places_findings_where_gdal_does() {
 
 /// An image with one stated incidence angle (wakelab's scene COGs) reads with it; an angle
 /// outside 0-90 degrees is not taken.
+/// Write [`linear`] at `path` with the geotransform `transform` and no CRS.
+fn write_without_crs(path: &Path, transform: [f64; 6]) {
+    let driver = DriverManager::get_driver_by_name("GTiff").unwrap();
+    let mut ds = driver.create_with_band_type::<f32, _>(path, COLS, ROWS, 1).unwrap();
+    ds.set_geo_transform(&transform).unwrap();
+    let mut band = ds.rasterband(1).unwrap();
+    band.write((0, 0), (COLS, ROWS), &mut Buffer::new((COLS, ROWS), linear()))
+        .unwrap();
+}
+
+/// A geotransform with no CRS (a Sentinel-1 measurement TIFF cut out of its product holds one
+/// that counts pixels from 4000): not placed on the Earth, where GDAL alone would read its
+/// coordinates as degrees and its pixels as 111 km; its spacing is the user's. One whose
+/// coordinates are longitudes and latitudes with pixels of 1/11132 degree (a float GeoTIFF off
+/// Mumbai that lost its EPSG:4326) is taken as WGS 84: 10 m pixels (the published length of a
+/// degree at 19.3 N by NGA's series: 110,696 m of latitude, 105,102 m of longitude), a note says so.
+#[test]
+fn a_geotransform_without_a_crs_is_no_place_on_the_earth() {
+    let dir = tempfile::tempdir().unwrap();
+    let path = temp(&dir, "no_crs.tif");
+    write_without_crs(&path, [4000.0, 1.0, 0.0, 4000.0, 0.0, 1.0]);
+    let product = open(&path, &ReadOptions::default()).unwrap();
+    assert!(!product.frame.is_georeferenced());
+    assert_eq!(product.frame.lonlat(&[(0.0, 0.0)]), None);
+    assert!(product.meta.pixel_spacing.is_none(), "{:?}", product.meta.pixel_spacing);
+    assert!(
+        product.report.notes.iter().any(|n| n.contains("no CRS")),
+        "{:?}",
+        product.report.notes
+    );
+    let given = ReadOptions {
+        pixel_spacing: Some(10.0),
+        ..ReadOptions::default()
+    };
+    let spacing = open(&path, &given).unwrap().meta.pixel_spacing.unwrap();
+    assert_eq!((spacing.rows, spacing.columns), (10.0, 10.0));
+    // the same grid in UTM 32N is on the Earth
+    let placed = temp(&dir, "utm.tif");
+    write_tiff(&placed, &linear(), Some("linear"), None);
+    assert!(open(&placed, &ReadOptions::default()).unwrap().frame.is_georeferenced());
+    // degrees that lost their CRS
+    let step = 1.0 / 11_132.0;
+    let mumbai = temp(&dir, "mumbai.tif");
+    write_without_crs(&mumbai, [72.19, step, 0.0, 19.3, 0.0, -step]);
+    let product = open(&mumbai, &ReadOptions::default()).unwrap();
+    let corner = product.frame.lonlat(&[(0.0, 0.0)]).expect("placed as WGS 84")[0];
+    assert!(
+        (corner.0 - 72.19).abs() < 1e-9 && (corner.1 - 19.3).abs() < 1e-9,
+        "{corner:?}"
+    );
+    let spacing = product.meta.pixel_spacing.unwrap();
+    let (columns, rows) = (105_102.0 * step, 110_696.0 * step);
+    assert!(
+        (spacing.columns - columns).abs() < 0.01 && (spacing.rows - rows).abs() < 0.01,
+        "{spacing:?} against {columns} x {rows}"
+    );
+    assert!(
+        product.report.notes.iter().any(|n| n.contains("taken as WGS 84")),
+        "{:?}",
+        product.report.notes
+    );
+}
+
 #[test]
 fn a_stated_incidence_angle_is_read() {
     let dir = tempfile::tempdir().unwrap();

@@ -140,11 +140,11 @@ fn scale_error(value: String, allowed: String) -> ConfigError {
 
 /// Turn `image` (NaN where masked), stated to be in `scale`, into linear sigma0 in place.
 /// Slightly negative linear values are raised to `floor` (the noise-equivalent sigma0 at the
-/// pixel, or [`MIN_SIGMA0`]); returns how many were. Refused, naming the count and range: a
-/// linear or amplitude image with more than half its pixels negative (it is in dB), a linear
-/// image whose median is above +10 dB (dB of a bright scene, digital numbers or a display
-/// stretch), a dB image whose values are all in [0, 1] (linear sigma0) or that holds 8-bit
-/// grey levels (a display stretch).
+/// pixel, or [`MIN_SIGMA0`]), and zero digital numbers to half a step; returns how many were.
+/// Refused, naming the count and range: a linear, amplitude or dn image with more than half
+/// its pixels negative (it is in dB), a linear or amplitude image whose median is above +10 dB
+/// (dB of a bright scene, digital numbers or a display stretch), a dB image whose values are
+/// all in [0, 1] (linear sigma0) or that holds 8-bit grey levels (a display stretch).
 pub fn to_linear_sigma0(
     image: &mut Array2<f32>,
     scale: InputScale,

@@ -63,13 +63,12 @@ impl Frame {
             Some(t) if !wkt.is_empty() || t != identity => Placement::Transform { transform: t, wkt },
             _ => {
                 let gcps: Vec<Gcp> = dataset.gcps().iter().map(gcp_of).collect();
-                if gcps.is_empty() {
+                let wkt = gcp_crs(dataset);
+                if gcps.is_empty() || wkt.is_empty() {
+                    // GCPs in no CRS place nothing (GDAL cannot write them back either)
                     Placement::None
                 } else {
-                    Placement::Gcps {
-                        gcps,
-                        wkt: dataset.gcp_projection().unwrap_or_default(),
-                    }
+                    Placement::Gcps { gcps, wkt }
                 }
             }
         };
@@ -87,11 +86,18 @@ impl Frame {
         }
     }
 
-    /// A note where `dataset`, read into this frame, holds a geotransform but no CRS: either
-    /// taken as WGS 84 degrees ([`Self::of_dataset`]) or not placed on the Earth.
+    /// A note where `dataset`, read into this frame, holds a geotransform but no CRS (either
+    /// taken as WGS 84 degrees, [`Self::of_dataset`], or not placed on the Earth), or GCPs with
+    /// no CRS (not placed).
     pub fn no_crs_note(&self, dataset: &Dataset) -> Option<String> {
         if !dataset.projection().is_empty() {
             return None;
+        }
+        if self.placement == Placement::None && !dataset.gcps().is_empty() && gcp_crs(dataset).is_empty() {
+            return Some(format!(
+                "the file's {} ground control points have no CRS: its pixels are not placed on the Earth (no longitude or latitude; its spacing from the file's metadata or --pixel-spacing)",
+                dataset.gcps().len()
+            ));
         }
         match &self.placement {
             Placement::Transform { transform: t, wkt } if !wkt.is_empty() => Some(format!(
@@ -288,6 +294,11 @@ fn degrees_like(t: &[f64; 6], rows: usize, cols: usize) -> bool {
             let (x, y) = (t[0] + c * t[1] + r * t[2], t[3] + c * t[4] + r * t[5]);
             (-180.0..=180.0).contains(&x) && (-90.0..=90.0).contains(&y)
         })
+}
+
+/// The CRS (WKT) of `dataset`'s GCPs; empty where they have none.
+fn gcp_crs(dataset: &Dataset) -> String {
+    dataset.gcp_projection().unwrap_or_default().trim().to_string()
 }
 
 fn gcp_of(g: &GcpRef) -> Gcp {

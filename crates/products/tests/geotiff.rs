@@ -192,6 +192,79 @@ fn a_geotransform_without_a_crs_is_no_place_on_the_earth() {
     );
 }
 
+/// Ground control points in no CRS (GDAL's GCP projection empty; the gdal crate cannot write
+/// such GCPs, GDAL's C API can): the image is read, placed nowhere, with a note, and its
+/// findings can be written (before, writing the probability map failed on the GCPs after the
+/// whole scan).
+#[test]
+fn ground_control_points_without_a_crs_place_nothing() {
+    let dir = tempfile::tempdir().unwrap();
+    let path = temp(&dir, "gcps_no_crs.tif");
+    {
+        let driver = DriverManager::get_driver_by_name("GTiff").unwrap();
+        let ds = driver.create_with_band_type::<f32, _>(&path, COLS, ROWS, 1).unwrap();
+        let mut band = ds.rasterband(1).unwrap();
+        band.write((0, 0), (COLS, ROWS), &mut Buffer::new((COLS, ROWS), linear()))
+            .unwrap();
+        let (id, info) = (
+            std::ffi::CString::new("1").unwrap(),
+            std::ffi::CString::new("").unwrap(),
+        );
+        let corners = [
+            (0.0, 0.0),
+            (COLS as f64, 0.0),
+            (0.0, ROWS as f64),
+            (COLS as f64, ROWS as f64),
+        ];
+        let gcps: Vec<gdal_sys::GDAL_GCP> = corners
+            .iter()
+            .map(|&(pixel, line)| gdal_sys::GDAL_GCP {
+                pszId: id.as_ptr() as *mut _,
+                pszInfo: info.as_ptr() as *mut _,
+                dfGCPPixel: pixel,
+                dfGCPLine: line,
+                dfGCPX: 4000.0 + pixel,
+                dfGCPY: 4000.0 + line,
+                dfGCPZ: 0.0,
+            })
+            .collect();
+        let none = std::ffi::CString::new("").unwrap();
+        // SAFETY: the dataset is open for writing; the GCP array and its strings outlive the call,
+        // which copies them
+        let err = unsafe { gdal_sys::GDALSetGCPs(ds.c_dataset(), gcps.len() as i32, gcps.as_ptr(), none.as_ptr()) };
+        assert_eq!(err, gdal_sys::CPLErr::CE_None);
+    }
+    assert_eq!(
+        gdal::Dataset::open(&path).unwrap().gcps().len(),
+        4,
+        "GDAL kept the GCPs"
+    );
+    let product = open(&path, &ReadOptions::default()).unwrap();
+    assert!(!product.frame.is_georeferenced());
+    assert_eq!(product.frame.lonlat(&[(0.0, 0.0)]), None);
+    assert!(
+        product
+            .report
+            .notes
+            .iter()
+            .any(|n| n.contains("4 ground control points have no CRS")),
+        "{:?}",
+        product.report.notes
+    );
+    let out = temp(&dir, "out.tif");
+    write_cog(
+        &out,
+        &product.image,
+        &product.frame,
+        &BandInfo {
+            description: "sigma0",
+            unit: "linear",
+            metadata: vec![],
+        },
+    )
+    .expect("a frame placed nowhere is written");
+}
+
 #[test]
 fn a_stated_incidence_angle_is_read() {
     let dir = tempfile::tempdir().unwrap();

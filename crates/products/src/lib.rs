@@ -184,6 +184,15 @@ pub struct ProductMeta {
     pub noise_removed: Option<String>,
 }
 
+impl ProductMeta {
+    /// Whether the values are a display stretch (grey levels, `--scale display`): such an image's
+    /// grey levels are not sigma0's statistics, so its ships are sought at a lower false-alarm
+    /// probability, and its ceiling can hide them.
+    pub fn is_display_stretch(&self) -> bool {
+        self.scale == Some(InputScale::Display)
+    }
+}
+
 /// What reading did to the pixels.
 #[derive(Debug, Clone, Default, Serialize)]
 pub struct ReadReport {

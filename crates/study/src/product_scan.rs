@@ -16,9 +16,7 @@ use wakelab_learn::data::RadarScale;
 use wakelab_learn::detect::{Detection, Scan, ScanOptions};
 use wakelab_learn::device::Device;
 use wakelab_learn::store::{Detector, ModelInfo};
-use wakelab_products::{
-    Frame, InputScale, ProductMeta, Quantity, ReadOptions, ReadReport, RowSource, Source, SpacingSource,
-};
+use wakelab_products::{Frame, ProductMeta, Quantity, ReadOptions, ReadReport, RowSource, Source, SpacingSource};
 use wakelab_schema::band::Band;
 
 /// Spacing ratios (detector / input) within this of 1 are scanned as they are.
@@ -298,7 +296,7 @@ pub fn scan_opened(opened: OpenedProduct, scanner: Scanner, progress: ScanProgre
     let sea = scanner.search_sea.filter(|_| band.is_radar()).map(|search| {
         let (geometry, sea_notes) = product_geometry(&product.meta, scanned_spacing(&product.meta, info, factor));
         notes.extend(sea_notes);
-        let display = product.meta.scale == Some(InputScale::Display);
+        let display = product.meta.is_display_stretch();
         let (cfar, pfa_note) = search.cfar(display);
         notes.extend(pfa_note);
         if display {
@@ -433,7 +431,7 @@ fn scan_by_bands(
     let mut sea = scanner.search_sea.filter(|_| band.is_radar()).map(|search| {
         let (geometry, sea_notes) = product_geometry(&source.meta, scanned_spacing(&source.meta, info, factor));
         notes.extend(sea_notes);
-        let (cfar, pfa_note) = search.cfar(source.meta.scale == Some(InputScale::Display));
+        let (cfar, pfa_note) = search.cfar(source.meta.is_display_stretch());
         notes.extend(pfa_note);
         let pol = cross.as_ref().map(|c| c.meta.polarisation.clone().unwrap_or_default());
         notes.extend(pol.as_deref().map(cross_note));

@@ -147,6 +147,44 @@ fn window_example(window: Array2<f32>, band: Band, scale: RadarScale) -> Example
 /// Batches of windows scored at once, side by side.
 const PARALLEL_BATCHES: usize = 2;
 
+/// Whether an image of `size` (rows, columns) fills at least half of an `n` x `n` window: the
+/// scan pads a smaller image's window with no-data, as at a product's no-data border, and a
+/// window more than half no-data is not scored.
+pub fn fills_half_a_window(size: (usize, usize), n: usize) -> bool {
+    2 * size.0.min(n) * size.1.min(n) >= n * n
+}
+
+/// What an image too small for an `n` x `n` window must be: half the window's pixels in view.
+pub fn half_a_window(n: usize) -> String {
+    let side = ((n * n) as f64 / 2.0).sqrt().ceil() as usize;
+    format!(
+        "at least half of the detector's {n} x {n}-pixel input in view ({} x {n}, {side} x {side} or more pixels; the rest of its window is taken as no-data)",
+        n.div_ceil(2)
+    )
+}
+
+/// The `n` x `n` window of `band` at `origin` (row, column), no-data (NaN) where it runs past
+/// the band's edge (an image smaller than the window).
+fn window_at(band: ndarray::ArrayView2<f32>, (r, c): (usize, usize), n: usize) -> Array2<f32> {
+    let (h, w) = ((band.nrows() - r).min(n), (band.ncols() - c).min(n));
+    if (h, w) == (n, n) {
+        return band.slice(s![r..r + n, c..c + n]).to_owned();
+    }
+    let mut window = Array2::from_elem((n, n), f32::NAN);
+    window
+        .slice_mut(s![..h, ..w])
+        .assign(&band.slice(s![r..r + h, c..c + w]));
+    window
+}
+
+/// The no-data pixels of [`window_at`]'s window: the band's NaN in it and its part past the
+/// band's edge.
+fn window_no_data(band: ndarray::ArrayView2<f32>, (r, c): (usize, usize), n: usize) -> usize {
+    let (h, w) = ((band.nrows() - r).min(n), (band.ncols() - c).min(n));
+    let nan = band.slice(s![r..r + h, c..c + w]).iter().filter(|v| v.is_nan()).count();
+    nan + n * n - h * w
+}
+
 /// Window origins along one axis of length `len` for windows of `size` every `stride`; the last
 /// window ends at the border.
 fn tile_starts(len: usize, size: usize, stride: usize) -> Vec<usize> {
@@ -165,7 +203,8 @@ fn covered_cells(start: usize, size: usize, stride: usize) -> std::ops::Range<us
     start / stride..(start + size - 1) / stride + 1
 }
 
-/// Scan a single-band detector over an image of any size at least the detector's input; a radar
+/// Scan a single-band detector over an image of any size that fills at least half of the
+/// detector's window ([`Scan::new`]); a radar
 /// image's pixels are in `options.scale` (an infrared one's are brightness temperatures, K).
 /// `progress(done, total)` follows the windows.
 pub fn detect_image(
@@ -234,6 +273,8 @@ pub struct Scan<'a> {
     n: usize,
     stride: usize,
     threshold: f64,
+    /// The image's rows and columns.
+    size: (usize, usize),
     rows: Vec<usize>,
     cols: Vec<usize>,
     /// Index into `rows` of the first window row not yet scored.
@@ -258,13 +299,8 @@ impl<'a> Scan<'a> {
         let n = info.input_size;
         let band = info.single_band()?;
         let (h, w) = size;
-        if h < n || w < n {
-            return Err(ConfigError::new(
-                "IMAGE",
-                format!("{h} x {w} pixels"),
-                format!("at least the detector's input, {n} x {n} pixels"),
-            )
-            .into());
+        if !fills_half_a_window(size, n) {
+            return Err(ConfigError::new("IMAGE", format!("{h} x {w} pixels"), half_a_window(n)).into());
         }
         let stride = options.stride.unwrap_or((n / 2).max(1));
         if stride == 0 || stride > n {
@@ -286,6 +322,7 @@ impl<'a> Scan<'a> {
             n,
             stride,
             threshold,
+            size,
             rows: tile_starts(h, n, stride),
             cols: tile_starts(w, n, stride),
             next_row: 0,
@@ -306,7 +343,7 @@ impl<'a> Scan<'a> {
     /// The image rows the next band must begin with (the first unscored window's rows); None
     /// when every window is scored.
     pub fn next_rows(&self) -> Option<std::ops::Range<usize>> {
-        self.rows.get(self.next_row).map(|&r| r..r + self.n)
+        self.rows.get(self.next_row).map(|&r| r..(r + self.n).min(self.size.0))
     }
 
     /// Score the windows held by `band`, image rows `start..start + band.nrows()` (every column),
@@ -324,7 +361,7 @@ impl<'a> Scan<'a> {
         let end = start + band.nrows();
         let mut origins = Vec::new();
         while let Some(&r) = self.rows.get(self.next_row) {
-            if r < start || r + n > end {
+            if r < start || (r + n).min(self.size.0) > end {
                 break;
             }
             origins.extend(self.cols.iter().map(|&c| (r, c)));
@@ -334,14 +371,7 @@ impl<'a> Scan<'a> {
         let considered = origins.len();
         let origins: Vec<(usize, usize)> = origins
             .into_iter()
-            .filter(|&(r, c)| {
-                let missing = band
-                    .slice(s![r - start..r - start + n, c..c + n])
-                    .iter()
-                    .filter(|v| v.is_nan())
-                    .count();
-                2 * missing <= n * n
-            })
+            .filter(|&(r, c)| 2 * window_no_data(band, (r - start, c), n) <= n * n)
             .collect();
         // batches scored side by side, PARALLEL_BATCHES at a time (burn's small convolutions
         // keep about one core busy each), their results gathered in order
@@ -360,13 +390,7 @@ impl<'a> Scan<'a> {
                 .map(|batch| {
                     let examples: Vec<Example> = batch
                         .iter()
-                        .map(|&(r, c)| {
-                            window_example(
-                                band.slice(s![r - start..r - start + n, c..c + n]).to_owned(),
-                                kind,
-                                scale,
-                            )
-                        })
+                        .map(|&(r, c)| window_example(window_at(band, (r - start, c), n), kind, scale))
                         .collect();
                     detect_with_masks(detector, architecture, form, &examples, batch_size, device)
                 })
@@ -390,12 +414,22 @@ impl<'a> Scan<'a> {
     /// One scored window into the map, the mask and the tiles.
     fn add(&mut self, r: usize, c: usize, probability: f64, mask: Option<&Array2<f32>>) {
         let (n, stride) = (self.n, self.stride);
-        let region = s![covered_cells(r, n, stride), covered_cells(c, n, stride)];
+        // a window past the image's edge (an image smaller than the window) covers only the
+        // image's cells and pixels
+        let within = |cells: std::ops::Range<usize>, len: usize| cells.start..cells.end.min(len);
+        let (cell_rows, cell_cols) = self.sum.dim();
+        let region = s![
+            within(covered_cells(r, n, stride), cell_rows),
+            within(covered_cells(c, n, stride), cell_cols)
+        ];
         self.sum.slice_mut(region).mapv_inplace(|v| v + probability as f32);
         self.count.slice_mut(region).mapv_inplace(|v| v + 1.0);
         if let (Some(total), Some(times), Some(m)) = (self.mask_sum.as_mut(), self.mask_count.as_mut(), mask) {
-            let window = s![r..r + n, c..c + n];
-            total.slice_mut(window).zip_mut_with(m, |a, b| *a += b);
+            let (h, w) = ((self.size.0 - r).min(n), (self.size.1 - c).min(n));
+            let window = s![r..r + h, c..c + w];
+            total
+                .slice_mut(window)
+                .zip_mut_with(&m.slice(s![..h, ..w]), |a, b| *a += b);
             times.slice_mut(window).mapv_inplace(|v| v + 1.0);
         }
         self.tiles.push(Tile {

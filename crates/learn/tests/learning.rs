@@ -527,6 +527,47 @@ fn a_scan_of_a_large_scene_peaks_on_its_line() {
         first.row,
         first.col
     );
+    // an image smaller than the window (a chip of 24 x 40 px of the scene, across the line) is
+    // scanned as the same chip atop 40 rows of no-data: the same windows (the lower ones more
+    // than half no-data, so not scored), the same probabilities and the same map over the
+    // chip's cells, to the bit, whole or fed in bands
+    let chip = scene.slice(ndarray::s![120..144, 100..140]).to_owned();
+    let mut bordered = ndarray::Array2::from_elem((64, 40), f32::NAN);
+    bordered.slice_mut(ndarray::s![..24, ..]).assign(&chip);
+    let small = detect_image(&detector, &info, &chip, options, &device, &mut |_, _| {}).unwrap();
+    let large = detect_image(&detector, &info, &bordered, options, &device, &mut |_, _| {}).unwrap();
+    let origins = |d: &wakelab_learn::detect::Detection| d.tiles.iter().map(|t| (t.row, t.col)).collect::<Vec<_>>();
+    assert_eq!(origins(&small), [(0, 0), (0, 8)]);
+    assert_eq!(origins(&large), origins(&small));
+    for (a, b) in small.tiles.iter().zip(&large.tiles) {
+        assert_eq!(a.probability.to_bits(), b.probability.to_bits());
+    }
+    let mut banded = Scan::new(&detector, &info, chip.dim(), options).unwrap();
+    assert_eq!(banded.next_rows(), Some(0..24));
+    banded.feed(0, chip.view(), &device, &mut |_, _| {});
+    assert_eq!(banded.next_rows(), None);
+    let banded = banded.finish().unwrap();
+    assert_eq!((small.map.dim(), banded.map.dim()), ((2, 3), (2, 3)));
+    for ((r, c), v) in small.map.indexed_iter() {
+        assert_eq!(v.to_bits(), large.map[[r, c]].to_bits(), "cell ({r}, {c})");
+        assert_eq!(v.to_bits(), banded.map[[r, c]].to_bits(), "cell ({r}, {c})");
+    }
+    assert!(large.map.slice(ndarray::s![2.., ..]).iter().all(|v| v.is_nan()));
+    assert_eq!(
+        (small.peak.row, small.peak.col, small.peak.probability),
+        (large.peak.row, large.peak.col, large.peak.probability)
+    );
+    // under half the window in view: refused, naming what would do
+    let tiny = scene.slice(ndarray::s![..15, ..32]).to_owned();
+    let refused = detect_image(&detector, &info, &tiny, options, &device, &mut |_, _| {})
+        .err()
+        .unwrap()
+        .to_string();
+    assert!(
+        refused.contains("15 x 32 pixels")
+            && refused.contains("at least half of the detector's 32 x 32-pixel input in view (16 x 32, 23 x 23"),
+        "{refused}"
+    );
 }
 
 /// A non-finite loss (here from one NaN pixel, which `Dataset::image` refuses but a library

@@ -288,7 +288,7 @@ pub fn scan_opened(opened: OpenedProduct, scanner: Scanner, progress: ScanProgre
         let frame = product.frame.scaled(factor.0, factor.1, image.dim());
         (image, frame)
     };
-    fits_the_detector(read, image.dim(), info)?;
+    notes.extend(fits_the_detector(read, image.dim(), info)?);
     let mut scan = Scan::new(scanner.detector, info, image.dim(), scanner.options)?;
     scan.feed(0, image.view(), device, progress.scanning);
     let mut overlay = crate::scan::OverlayMeans::new(image.dim(), band);
@@ -373,34 +373,38 @@ fn land_note(notes: &mut Vec<String>, sea: Option<&SeaFindings>) {
 }
 
 /// Whether the image, `read` pixels (rows, columns) as read and `scanned` once averaged to the
-/// detector's spacing, holds at least one of the detector's windows; else an error that gives
-/// both sizes and the window's side on the ground, so that a user whose chip is larger than the
-/// window in its own pixels sees why it is refused.
-fn fits_the_detector(read: (usize, usize), scanned: (usize, usize), info: &ModelInfo) -> Result<()> {
+/// detector's spacing, fills at least half of one of the detector's windows
+/// ([`wakelab_learn::detect::fills_half_a_window`]; the scan takes the rest of a smaller image's
+/// window as no-data); else an error that gives both sizes and the window's side on the ground,
+/// so that a user whose chip is larger than the window in its own pixels sees why it is refused.
+/// A note where the image is smaller than the window.
+fn fits_the_detector(read: (usize, usize), scanned: (usize, usize), info: &ModelInfo) -> Result<Option<String>> {
     let n = info.input_size;
-    if scanned.0 >= n && scanned.1 >= n {
-        return Ok(());
-    }
-    let (value, side) = match info.pixel_spacing {
-        Some(spacing) if read != scanned => (
-            format!(
-                "{} x {} pixels, {} x {} once averaged to the detector's {spacing} m",
-                read.0, read.1, scanned.0, scanned.1
-            ),
-            format!(" ({:.2} km a side)", n as f64 * spacing / 1000.0),
+    let sizes = match info.pixel_spacing {
+        Some(spacing) if read != scanned => format!(
+            "{} x {} pixels, {} x {} once averaged to the detector's {spacing} m",
+            read.0, read.1, scanned.0, scanned.1
         ),
-        Some(spacing) => (
-            format!("{} x {} pixels", read.0, read.1),
-            format!(" ({:.2} km a side)", n as f64 * spacing / 1000.0),
-        ),
-        None => (format!("{} x {} pixels", read.0, read.1), String::new()),
+        _ => format!("{} x {} pixels", read.0, read.1),
     };
-    Err(ConfigError::new(
-        "IMAGE",
-        value,
-        format!("at least the detector's input, {n} x {n} pixels{side}: a larger image, or a detector of finer pixels (--model)"),
-    )
-    .into())
+    let side = info
+        .pixel_spacing
+        .map(|spacing| format!(", {:.2} km a side", n as f64 * spacing / 1000.0))
+        .unwrap_or_default();
+    if !wakelab_learn::detect::fills_half_a_window(scanned, n) {
+        let rule = wakelab_learn::detect::half_a_window(n);
+        return Err(ConfigError::new(
+            "IMAGE",
+            sizes,
+            format!("{rule}{side}: a larger image, or a detector of finer pixels (--model)"),
+        )
+        .into());
+    }
+    Ok((scanned.0 < n || scanned.1 < n).then(|| {
+        format!(
+            "the image ({sizes}) is smaller than the detector's {n} x {n}-pixel window{side}: its window is scored with the part past the image taken as no-data (set to the window's median, as at a no-data border), so the wake probability rests on less sea than the detector was trained on"
+        )
+    }))
 }
 
 /// Scan a product read a band of rows at a time, averaged over whole `factor`s to the
@@ -423,7 +427,7 @@ fn scan_by_bands(
     let (fr, fc) = (factor.0 as usize, factor.1 as usize);
     let (rows, cols) = source.dim();
     let scanned = ((rows / fr).max(1), (cols / fc).max(1));
-    fits_the_detector((rows, cols), scanned, info)?;
+    notes.extend(fits_the_detector((rows, cols), scanned, info)?);
     let mut scan = Scan::new(scanner.detector, info, scanned, scanner.options)?;
     let (n, stride) = scan.window_and_stride();
     let height = n + BAND_ROWS.div_ceil(stride * fr) * stride;

@@ -188,7 +188,7 @@ fn train_eval_and_detect_on_a_small_dataset() {
     for (args, needle) in [
         (
             vec!["detect", small.to_str().unwrap(), "--model", model.to_str().unwrap()],
-            "at least the detector's input, 32 x 32 pixels",
+            "at least half of the detector's 32 x 32-pixel input in view",
         ),
         (
             vec![

@@ -766,7 +766,8 @@ fn without_a_model_detect_takes_the_shipped_detector_for_the_spacing() {
     );
 
     // a 900 m chip of 3 m pixels is 300 pixels a side, but 45 once averaged to the 1.28 km
-    // detector's 20 m: refused with both sizes, and nothing written
+    // detector's 20 m, under half its 64 x 64 window (2,025 of 4,096 pixels): refused with both
+    // sizes, and nothing written
     let chip = dir.path().join("chip.npy");
     ndarray_npy::write_npy(&chip, &image.slice(ndarray::s![..300, ..300]).to_owned()).unwrap();
     let out = dir.path().join("scan_chip");
@@ -774,9 +775,38 @@ fn without_a_model_detect_takes_the_shipped_detector_for_the_spacing() {
     assert!(!o.status.success());
     for needle in [
         "`IMAGE` = 300 x 300 pixels, 45 x 45 once averaged to the detector's 20 m",
-        "at least the detector's input, 64 x 64 pixels (1.28 km a side)",
+        "at least half of the detector's 64 x 64-pixel input in view (32 x 64, 46 x 46 or more pixels",
+        "1.28 km a side",
     ] {
         assert!(stderr(&o).contains(needle), "{needle}: {}", stderr(&o));
     }
     assert!(!out.exists());
+
+    // a 1 km chip of 10 m pixels around the ship, 50 x 50 at 20 m: more than half a window, so
+    // scanned, the rest of its window taken as no-data and said; the ship is found where the
+    // whole image's search finds it (within a 20 m pixel)
+    let whole = read(&dir.path().join("scan"));
+    let ship = |r: &serde_json::Value| {
+        let s = &r["ships"][0];
+        (s["product_row"].as_f64().unwrap(), s["product_col"].as_f64().unwrap())
+    };
+    let (whole_r, whole_c) = ship(&whole);
+    let chip = dir.path().join("ship_chip.npy");
+    ndarray_npy::write_npy(&chip, &image.slice(ndarray::s![250..350, 50..150]).to_owned()).unwrap();
+    let out = dir.path().join("scan_ship_chip");
+    let o = shipped(&chip, &out, &["--pixel-spacing", "10"]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let report = read(&out);
+    let notes = report["notes"].to_string();
+    assert!(
+        notes.contains("the image (100 x 100 pixels, 50 x 50 once averaged to the detector's 20 m) is smaller than the detector's 64 x 64-pixel window"),
+        "{notes}"
+    );
+    let p = probability(&report);
+    assert!((0.0..=1.0).contains(&p), "{report}");
+    let (r, c) = ship(&report);
+    assert!(
+        (r + 250.0 - whole_r).abs() <= 2.0 && (c + 50.0 - whole_c).abs() <= 2.0,
+        "chip's ship at ({r}, {c}), the whole image's at ({whole_r}, {whole_c})"
+    );
 }

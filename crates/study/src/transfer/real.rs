@@ -65,7 +65,7 @@ pub struct RealScore {
     #[serde(default)]
     pub wake_visibility: Vec<Option<f64>>,
     pub notes: Vec<String>,
-    /// Why the detector could not scan the image (smaller than its window, unreadable): such an
+    /// Why the detector could not scan the image (filling under half its window, unreadable): such an
     /// image is left out of the summary and listed in the report.
     #[serde(default)]
     pub skipped: Option<String>,

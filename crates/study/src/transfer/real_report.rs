@@ -85,7 +85,7 @@ pub fn markdown(real: &RealResults) -> String {
     let mut md = String::from("\n## Real images\n\n");
     let _ = writeln!(
         md,
-        "The images of `{}` with their wakes as annotated (`--real`), scanned by `wakelab detect` with the detectors above, frozen with their thresholds. A wake is found when a detection or the map's peak lies within 500 m of it; every other detection is a false alarm. An image a detector could not scan (smaller than its window, unreadable) is left out of its figures and says why in the table's last column.\n",
+        "The images of `{}` with their wakes as annotated (`--real`), scanned by `wakelab detect` with the detectors above, frozen with their thresholds. A wake is found when a detection or the map's peak lies within 500 m of it; every other detection is a false alarm. An image a detector could not scan (one filling under half its window, unreadable) is left out of its figures and says why in the table's last column.\n",
         real.dir.display()
     );
     md += "The wakes' visibility is measured as in the training windows above, on each wake's image as the detector sees it (read and averaged as `detect` does), in windows of the detector's side a quarter, half and three quarters along it (the median of the three; a wake drawn in longitude and latitude is not measured).\n\n";

@@ -163,26 +163,42 @@ pub fn half_a_window(n: usize) -> String {
     )
 }
 
-/// The `n` x `n` window of `band` at `origin` (row, column), no-data (NaN) where it runs past
-/// the band's edge (an image smaller than the window).
-fn window_at(band: ndarray::ArrayView2<f32>, (r, c): (usize, usize), n: usize) -> Array2<f32> {
-    let (h, w) = ((band.nrows() - r).min(n), (band.ncols() - c).min(n));
-    if (h, w) == (n, n) {
-        return band.slice(s![r..r + n, c..c + n]).to_owned();
+/// The rows and columns of an `n` x `n` window at `origin` (row, column; it may lie off the
+/// image) that lie on an image of `dim`: as ranges in the image and in the window.
+fn on_image((h, w): (usize, usize), (r0, c0): (isize, isize), n: usize) -> [std::ops::Range<usize>; 4] {
+    let span = |o: isize, len: usize| {
+        let start = o.clamp(0, len as isize) as usize;
+        let end = (o + n as isize).clamp(0, len as isize) as usize;
+        (start..end, (start as isize - o) as usize..(end as isize - o) as usize)
+    };
+    let ((rows, window_rows), (cols, window_cols)) = (span(r0, h), span(c0, w));
+    [rows, cols, window_rows, window_cols]
+}
+
+/// The `n` x `n` window of `image` whose top-left pixel is `origin` (row, column; it may lie
+/// off the image), no-data (NaN) wherever it runs past the image's edge: how a scan reads an
+/// image smaller than its window, and the window cut around a ship by the image's edge.
+pub fn window_at(image: ndarray::ArrayView2<f32>, origin: (isize, isize), n: usize) -> Array2<f32> {
+    let [rows, cols, window_rows, window_cols] = on_image(image.dim(), origin, n);
+    if rows.len() == n && cols.len() == n {
+        return image.slice(s![rows, cols]).to_owned();
     }
     let mut window = Array2::from_elem((n, n), f32::NAN);
-    window
-        .slice_mut(s![..h, ..w])
-        .assign(&band.slice(s![r..r + h, c..c + w]));
+    if !rows.is_empty() && !cols.is_empty() {
+        window
+            .slice_mut(s![window_rows, window_cols])
+            .assign(&image.slice(s![rows, cols]));
+    }
     window
 }
 
-/// The no-data pixels of [`window_at`]'s window: the band's NaN in it and its part past the
-/// band's edge.
-fn window_no_data(band: ndarray::ArrayView2<f32>, (r, c): (usize, usize), n: usize) -> usize {
-    let (h, w) = ((band.nrows() - r).min(n), (band.ncols() - c).min(n));
-    let nan = band.slice(s![r..r + h, c..c + w]).iter().filter(|v| v.is_nan()).count();
-    nan + n * n - h * w
+/// The no-data pixels of [`window_at`]'s window: the image's NaN in it and its part off the
+/// image.
+fn window_no_data(image: ndarray::ArrayView2<f32>, origin: (isize, isize), n: usize) -> usize {
+    let [rows, cols, ..] = on_image(image.dim(), origin, n);
+    let on = rows.len() * cols.len();
+    let nan = image.slice(s![rows, cols]).iter().filter(|v| v.is_nan()).count();
+    nan + n * n - on
 }
 
 /// Window origins along one axis of length `len` for windows of `size` every `stride`; the last
@@ -371,7 +387,7 @@ impl<'a> Scan<'a> {
         let considered = origins.len();
         let origins: Vec<(usize, usize)> = origins
             .into_iter()
-            .filter(|&(r, c)| 2 * window_no_data(band, (r - start, c), n) <= n * n)
+            .filter(|&(r, c)| 2 * window_no_data(band, ((r - start) as isize, c as isize), n) <= n * n)
             .collect();
         // batches scored side by side, PARALLEL_BATCHES at a time (burn's small convolutions
         // keep about one core busy each), their results gathered in order
@@ -390,7 +406,9 @@ impl<'a> Scan<'a> {
                 .map(|batch| {
                     let examples: Vec<Example> = batch
                         .iter()
-                        .map(|&(r, c)| window_example(window_at(band, (r - start, c), n), kind, scale))
+                        .map(|&(r, c)| {
+                            window_example(window_at(band, ((r - start) as isize, c as isize), n), kind, scale)
+                        })
                         .collect();
                     detect_with_masks(detector, architecture, form, &examples, batch_size, device)
                 })

@@ -68,16 +68,7 @@ pub struct SeaFindings {
 /// where it lies off the image.
 pub fn window_around(image: ArrayView2<f32>, (row, col): (f64, f64), side: usize) -> ndarray::Array2<f32> {
     let origin = |centre: f64| (centre + 0.5 - 0.5 * side as f64).round() as isize;
-    let (r0, c0) = (origin(row), origin(col));
-    let (h, w) = image.dim();
-    ndarray::Array2::from_shape_fn((side, side), |(i, j)| {
-        let (r, c) = (r0 + i as isize, c0 + j as isize);
-        if r >= 0 && c >= 0 && (r as usize) < h && (c as usize) < w {
-            image[[r as usize, c as usize]]
-        } else {
-            f32::NAN
-        }
-    })
+    wakelab_learn::detect::window_at(image, (origin(row), origin(col)), side)
 }
 
 /// Whether `meta` is a product in radar geometry (lines in azimuth time, columns in range).
@@ -380,6 +371,10 @@ mod tests {
         assert!(edge[[0, 0]].is_nan() && edge[[1, 3]].is_nan());
         assert_eq!(edge[[2, 1]], 11.0);
         assert_eq!(edge.iter().filter(|v| v.is_nan()).count(), 16 - 4);
+        // wholly off the image, on either side: all no-data
+        for centre in [(-20.0, 5.0), (5.0, 40.0)] {
+            assert!(window_around(image.view(), centre, 4).iter().all(|v| v.is_nan()));
+        }
     }
 
     /// The ship search's false-alarm probability: the user's where given; else SNAP's 1e-6 on a

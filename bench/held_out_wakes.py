@@ -8,7 +8,7 @@ commits (four for the first set, three for the second). The hand-drawn wake
 lines are the sets' *.geojson.
 
 Usage:
-    python3 bench/held_out_wakes.py OUT_DIR [--second | --third] [--mirrors DIR] [--compare DIR]
+    python3 bench/held_out_wakes.py OUT_DIR [--second | --third | --fourth] [--mirrors DIR] [--compare DIR]
 
   OUT_DIR     where the 20 PNGs (8-bit greyscale) are written
   --second    the second held-out set instead (bench/held_out_wakes_2/: 16
@@ -16,6 +16,8 @@ Usage:
               and path in its GeoJSON's "notes" after SOURCE, taken whole)
   --third     the third held-out set (bench/held_out_wakes_3/: 6 images of
               three more repositories, named in the GeoJSONs as for --second)
+  --fourth    the fourth (bench/held_out_wakes_4/: SSDD chips of
+              Lemon-L7/efficient-pytorch-ship, taken whole as for --second)
   --mirrors   folder holding the four repositories (default /work/.mirror);
               each is looked up as DIR/OWNER+NAME/repo, DIR/OWNER+NAME or
               DIR/NAME (bare repository or a clone with a work tree)
@@ -173,9 +175,10 @@ def kunal(mirrors):
     return out
 
 
-def second_set(mirrors):
-    """The second set: each GeoJSON's notes begin `SOURCE owner/name@commit:path (licence)`."""
-    here = os.path.join(os.path.dirname(os.path.abspath(__file__)), 'held_out_wakes_2')
+def second_set(mirrors, folder='held_out_wakes_2'):
+    """The second set (and the fourth, `folder`): each GeoJSON's notes begin
+    `SOURCE owner/name@commit:path (licence)`."""
+    here = os.path.join(os.path.dirname(os.path.abspath(__file__)), folder)
     images = {}
     for f in sorted(os.listdir(here)):
         if not f.endswith('.geojson'):
@@ -234,10 +237,13 @@ def main():
     which = ap.add_mutually_exclusive_group()
     which.add_argument('--second', action='store_true')
     which.add_argument('--third', action='store_true')
+    which.add_argument('--fourth', action='store_true')
     a = ap.parse_args()
     os.makedirs(a.out_dir, exist_ok=True)
     images = {}
-    parts = (second_set,) if a.second else (third_set,) if a.third else (kunal, opensarwake, jascubero, terrasar)
+    fourth = lambda mirrors: second_set(mirrors, 'held_out_wakes_4')
+    parts = ((second_set,) if a.second else (third_set,) if a.third else (fourth,) if a.fourth
+             else (kunal, opensarwake, jascubero, terrasar))
     for part in parts:
         images.update(part(a.mirrors))
     for name in sorted(images):

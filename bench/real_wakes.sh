@@ -19,17 +19,22 @@
 # - `--held-out-3`: 6 images of three more repositories (10 wakes drawn, none wake-free),
 #   bench/held_out_wakes_3/NAME.geojson, cut by bench/held_out_wakes.py --third. Scored once,
 #   after the ranking by evidence was frozen. Clones three repositories of about 400 MB.
+# - `--held-out-4`: SSDD chips of Lemon-L7/efficient-pytorch-ship (commit 05b5051; one chip per
+#   scene), wakes drawn by eye before any detector ran on them, bench/held_out_wakes_4/NAME.geojson,
+#   taken whole by bench/held_out_wakes.py --fourth. Scored once, with the search of stop 74.
+#   Clones one repository of about 300 MB.
 #   MIRRORS=FOLDER uses clones already there instead of cloning (the held-out sets).
 #
-#   bench/real_wakes.sh [--held-out|--held-out-2|--held-out-3] DIR [detect flags...]   # e.g. bench/real_wakes.sh /tmp/rw
+#   bench/real_wakes.sh [--held-out|--held-out-2|--held-out-3|--held-out-4] DIR [detect flags...]   # e.g. bench/real_wakes.sh /tmp/rw
 set -euo pipefail
 set_name=real_wakes
 case "${1:-}" in
   --held-out) set_name=held_out_wakes; shift ;;
   --held-out-2) set_name=held_out_wakes_2; shift ;;
   --held-out-3) set_name=held_out_wakes_3; shift ;;
+  --held-out-4) set_name=held_out_wakes_4; shift ;;
 esac
-dir=${1:?usage: bench/real_wakes.sh [--held-out|--held-out-2|--held-out-3] DIR [detect flags...]}
+dir=${1:?usage: bench/real_wakes.sh [--held-out|--held-out-2|--held-out-3|--held-out-4] DIR [detect flags...]}
 shift
 here=$(cd "$(dirname "$0")" && pwd)
 mkdir -p "$dir"
@@ -79,6 +84,14 @@ elif [ "$set_name" = held_out_wakes_3 ] && [ ! -f "$dir/lsd_01.png" ]; then
       "$mirrors/SAR_Ship_keypoint_detection"
   fi
   python3 "$here/held_out_wakes.py" "$dir" --third --mirrors "$mirrors"
+elif [ "$set_name" = held_out_wakes_4 ] && [ ! -f "$dir/.fourth" ]; then
+  mirrors=${MIRRORS:-}
+  if [ -z "$mirrors" ]; then
+    mirrors=$(mktemp -d)
+    clone Lemon-L7/efficient-pytorch-ship 05b50517ad00c01ab513e53832e9dd25edace7a0 "$mirrors/efficient-pytorch-ship"
+  fi
+  python3 "$here/held_out_wakes.py" "$dir" --fourth --mirrors "$mirrors"
+  touch "$dir/.fourth"
 fi
 cp "$here/$set_name"/*.geojson "$dir/"
 python3 "$here/score_real_wakes.py" "$dir" "$dir/out" "$@"

@@ -169,7 +169,9 @@ fn on_image((h, w): (usize, usize), (r0, c0): (isize, isize), n: usize) -> [std:
     let span = |o: isize, len: usize| {
         let start = o.clamp(0, len as isize) as usize;
         let end = (o + n as isize).clamp(0, len as isize) as usize;
-        (start..end, (start as isize - o) as usize..(end as isize - o) as usize)
+        // a window wholly off the image has no part on it: empty ranges both
+        let inside = |i: usize| (i as isize - o).max(0) as usize;
+        (start..end, inside(start)..inside(end))
     };
     let ((rows, window_rows), (cols, window_cols)) = (span(r0, h), span(c0, w));
     [rows, cols, window_rows, window_cols]

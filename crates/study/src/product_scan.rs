@@ -396,7 +396,10 @@ fn fits_the_detector(read: (usize, usize), scanned: (usize, usize), info: &Model
         return Err(ConfigError::new(
             "IMAGE",
             sizes,
-            format!("{rule}{side}: a larger image, or a detector of finer pixels (--model)"),
+            format!(
+                "{rule}{}: a larger image, or a detector of finer pixels (--model)",
+                side.replacen(", ", "; the window is ", 1)
+            ),
         )
         .into());
     }

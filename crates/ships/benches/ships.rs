@@ -4,6 +4,8 @@
 //! without the land mask, side by side. One ship's wake search is also timed on a wake with no
 //! trough, only a bright arm, where the search takes both passes (the trough's, then the
 //! arm's). The scene's sidelobe axes are timed on twelve targets, the most the search measures.
+//! The whole search is timed again with its trough under the least z, so that the search
+//! refuses it and promotes it as the image's best faint line (`promotion`).
 
 use criterion::{criterion_group, criterion_main, Criterion};
 use ndarray::Array2;
@@ -74,6 +76,23 @@ fn bench(c: &mut Criterion) {
     });
     group.bench_function("free_wakes", |b| b.iter(|| free_wakes(&normalised, &[], &wakes)));
     group.bench_function("search", |b| b.iter(|| search(image.view(), &g, &cfar, &wakes)));
+    // the same scene with the trough under the least z (and no free wake sought), so that the
+    // search refuses it as a faint line and promotes it: the ship's trough and arm passes, then
+    // the trough's again at the rule's z
+    let z = ship_wake(&normalised, &ships.ships[0], 0, &wakes)
+        .expect("the trough")
+        .z;
+    let promoting = WakeOptions {
+        min_z: z + 1.0,
+        along_hull_min_z: z + 1.0,
+        promote_min_z: z - 0.5,
+        free_min_z: f64::INFINITY,
+        ..wakes
+    };
+    assert!(search(image.view(), &g, &cfar, &promoting).wakes[0].promoted);
+    group.bench_function("search_promoting_its_faint_line", |b| {
+        b.iter(|| search(image.view(), &g, &cfar, &promoting))
+    });
     let sea_only = CfarOptions { land: None, ..cfar };
     group.bench_function("search_without_land_mask", |b| {
         b.iter(|| search(image.view(), &g, &sea_only, &wakes))

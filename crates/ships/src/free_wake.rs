@@ -103,6 +103,7 @@ pub fn free_wakes(search: &SearchImage, known: &[Wake], o: &WakeOptions) -> Vec<
             arms: None,
             offset_m: None,
             speed: None,
+            promoted: false,
         });
     }
     found

@@ -13,6 +13,8 @@
 //!   no trough a bright arm alone;
 //! - [`refusal`]: why a ship has no wake: its best trough and bright arm, and the test each
 //!   failed;
+//! - [`promotion`]: where a search finds no wake at all, its best faint line promoted to one at
+//!   a lower significance;
 //! - [`sidelobes`]: the directions of the scene's sidelobe streaks, measured on its bright
 //!   targets, along which no bright arm is sought;
 //! - [`free_wake`]: the free wakes, whose ship has left the image or is not seen, by the Radon
@@ -27,6 +29,7 @@ pub mod free_wake;
 pub mod kelvin;
 pub mod land;
 pub mod lines;
+pub mod promotion;
 pub mod radon;
 pub mod refusal;
 pub mod sidelobes;
@@ -90,7 +93,8 @@ impl Geometry {
 }
 
 /// What the searches found in an image: the ships (with the targets rejected as ghosts) and the
-/// wakes, each ship's first, then the free ones.
+/// wakes, each ship's first, then the free ones; where neither was found, the best faint line
+/// promoted to a wake where it reaches [`WakeOptions::promote_min_z`].
 #[derive(Debug, Clone, Serialize)]
 pub struct Findings {
     pub ships: ShipSearch,
@@ -164,6 +168,12 @@ pub fn search_polarised(
     }
     let free = free_wakes(&normalised, &found, wakes);
     found.extend(free);
+    if found.is_empty() {
+        if let Some(wake) = promotion::promote_best_faint_line(&normalised, &ships.ships, &no_wake, wakes) {
+            no_wake.retain(|(i, _)| Some(*i) != wake.ship);
+            found.push(wake);
+        }
+    }
     Findings {
         sidelobe_axes_deg: normalised.sidelobe_axes.clone(),
         ships,

@@ -87,6 +87,10 @@ pub struct Wake {
     /// ships' wakes only).
     pub offset_m: Option<f64>,
     pub speed: Option<SpeedReadings>,
+    /// Whether it is a faint line promoted to the search's wake: the search found no wake, and
+    /// this was its best line refused for its significance alone, at a z of at least
+    /// [`WakeOptions::promote_min_z`] ([`crate::promotion::promote_best_faint_line`]).
+    pub promoted: bool,
 }
 
 /// What the trough's contrast the other way (`ahead`) takes from a wake's score. A wake's score
@@ -227,7 +231,7 @@ pub fn ship_wake(image: &SearchImage, ship: &Ship, index: usize, o: &WakeOptions
 
 /// The wake of `ship` marked by a line of `signature`, if it has one; else the best line and
 /// the test it failed.
-fn anchored_wake(
+pub(crate) fn anchored_wake(
     image: &SearchImage,
     ship: &Ship,
     index: usize,
@@ -426,6 +430,7 @@ fn anchored_wake(
         arms,
         offset_m: Some(offset),
         speed: Some(speed),
+        promoted: false,
     })
 }
 

@@ -126,6 +126,7 @@ mod tests {
             arms: None,
             offset_m: None,
             speed: None,
+            promoted: false,
         }
     }
 

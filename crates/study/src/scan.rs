@@ -216,6 +216,12 @@ pub fn write_scan(dir: &Path, scanned: &Scanned, detection: &Detection) -> Resul
         legend.push((Rgb([0, 255, 255]), "square: ship".into()));
         legend.push((wake_colour(Signature::Trough), "line: wake, dark trough".into()));
         legend.push((wake_colour(Signature::BrightArm), "line: wake, bright arm".into()));
+        if sea.wakes.iter().any(|w| w.promoted) {
+            legend.push((
+                wake_colour(Signature::Trough),
+                "dashed: faint line promoted, no other wake found".into(),
+            ));
+        }
         if !sea.faint_lines().is_empty() {
             legend.push((
                 wake_colour(Signature::Trough),

@@ -332,8 +332,8 @@ impl SeaFindings {
         self.land.iter().map(|&(_, a, b)| b - a).sum()
     }
 
-    /// "2 ship(s), 1 wake(s) (1 of a ship, 0 free)", and where ships have none, how many and
-    /// where to read why.
+    /// "2 ship(s), 1 wake(s) (1 of a ship, 0 free)", how many of them are promoted faint lines,
+    /// and where ships have none, how many and where to read why.
     pub fn describe(&self) -> String {
         let anchored = self.wakes.iter().filter(|w| w.ship.is_some()).count();
         let without = self.no_wake.iter().filter(|n| n.is_some()).count();
@@ -345,8 +345,12 @@ impl SeaFindings {
                 "; {without} ship(s) without a wake (why: each ship's `no_wake` in detections.json), {faint} faint line(s) below significance among them (`faint_line`)"
             ),
         };
+        let promoted = match self.wakes.iter().filter(|w| w.promoted).count() {
+            0 => String::new(),
+            n => format!("; {n} promoted from a faint line, no other wake found (`promoted`)"),
+        };
         format!(
-            "{} ship(s), {} wake(s) ({anchored} of a ship, {} free){why}",
+            "{} ship(s), {} wake(s) ({anchored} of a ship, {} free{promoted}){why}",
             self.ships.len(),
             self.wakes.len(),
             self.wakes.len() - anchored

@@ -150,6 +150,7 @@ impl SeaFindings {
                     "course_deg",
                     "course_sigma_deg",
                     "along_hull",
+                    "promoted",
                     "length_m",
                     "speed_offset_ms",
                     "speed_kelvin_ms",
@@ -194,17 +195,18 @@ impl SeaFindings {
                 picture.put_pixel(c as u32, r as u32, colour);
             }
         };
-        // the wakes whole, the faint lines dotted (one picture pixel in four), each in its
-        // signature's colour; a line is stepped every half picture pixel
-        let wakes = self.wakes.iter().map(|w| (w.start, w.end, w.signature, false));
-        let faint = self
-            .faint_lines()
-            .into_iter()
-            .map(|(_, s, l)| (l.start, l.end, s, true));
-        for (start, end, signature, dotted) in wakes.chain(faint) {
+        // the wakes whole, a promoted faint line dashed (three picture pixels in four), the
+        // faint lines dotted (one in four), each in its signature's colour; a line is stepped
+        // every half picture pixel, and `lit` of each 8 steps are drawn
+        let wakes = self
+            .wakes
+            .iter()
+            .map(|w| (w.start, w.end, w.signature, if w.promoted { 6 } else { 8 }));
+        let faint = self.faint_lines().into_iter().map(|(_, s, l)| (l.start, l.end, s, 2));
+        for (start, end, signature, lit) in wakes.chain(faint) {
             let colour = wake_colour(signature);
             let steps = ((end.0 - start.0).hypot(end.1 - start.1) / scale * 2.0).ceil().max(1.0);
-            for i in (0..=steps as usize).filter(|i| !dotted || i % 8 < 2) {
+            for i in (0..=steps as usize).filter(|i| i % 8 < lit) {
                 let t = i as f64 / steps;
                 put(start.0 + t * (end.0 - start.0), start.1 + t * (end.1 - start.1), colour);
             }
@@ -276,6 +278,7 @@ fn wake_entry(
         "contrast": w.contrast,
         "z": w.z,
         "along_hull": w.along_hull,
+        "promoted": w.promoted,
         "arms": w.arms,
         "azimuth_offset_m": w.offset_m,
         "speed_offset": offset,
@@ -293,7 +296,8 @@ mod tests {
     use wakelab_ships::Geometry;
 
     /// Each wake's `signature` in `detections.json` is written in words: the synthetic ship's
-    /// 3 dB trough is a "dark trough", and an arm is a "bright arm".
+    /// 3 dB trough is a "dark trough", and an arm is a "bright arm". Whether it is a promoted
+    /// faint line is written as `promoted`.
     #[test]
     fn a_wakes_signature_is_written_in_words() {
         let image = ship_scene(1600, 300, (700, 150), 0);
@@ -301,6 +305,15 @@ mod tests {
         let (_, wake) = whole_search(&image, &g);
         let entry = wake_entry(&wake, wake.start, wake.end, None, None, None);
         assert_eq!(entry["signature"], "dark trough");
+        assert_eq!(entry["promoted"], false);
+        let promoted = Wake {
+            promoted: true,
+            ..wake.clone()
+        };
+        assert_eq!(
+            wake_entry(&promoted, wake.start, wake.end, None, None, None)["promoted"],
+            true
+        );
         assert_eq!(json!(Signature::BrightArm), "bright arm");
         assert_ne!(wake_colour(Signature::Trough), wake_colour(Signature::BrightArm));
     }
@@ -328,6 +341,18 @@ mod tests {
                 .contains("; 1 ship(s) without a wake (why: each ship's `no_wake` in detections.json)"),
             "{}",
             found.describe()
+        );
+        assert!(found
+            .describe()
+            .starts_with("2 ship(s), 1 wake(s) (1 of a ship, 0 free)"));
+        let mut promoted = found.clone();
+        promoted.wakes[0].promoted = true;
+        assert!(
+            promoted
+                .describe()
+                .starts_with("2 ship(s), 1 wake(s) (1 of a ship, 0 free; 1 promoted from a faint line, no other wake found (`promoted`))"),
+            "{}",
+            promoted.describe()
         );
         let points = found.points();
         let (ships, _, features) = found.entries(&points, None, true);

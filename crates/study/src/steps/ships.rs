@@ -23,6 +23,7 @@ use wakelab_core::units::RadarBand;
 use wakelab_core::{WakelabConfig, WakelabError};
 use wakelab_dataset::study::Study;
 use wakelab_ships::cfar::CfarOptions;
+use wakelab_ships::promotion::promote_best_faint_line;
 use wakelab_ships::radon::SearchImage;
 use wakelab_ships::wake::ship_wake;
 use wakelab_ships::wake::WakeOptions;
@@ -265,7 +266,11 @@ fn run_scene(
     if let Some(i) = found_ship {
         let ship = &found.ships.ships[i];
         let twin = SearchImage::new(plain.view(), &g, BACKGROUND_M);
-        wake_found_without = ship_wake(&twin, ship, i, &wakes).is_ok();
+        // as the search would report it: its wake, or its best faint line promoted to one
+        wake_found_without = match ship_wake(&twin, ship, i, &wakes) {
+            Ok(_) => true,
+            Err(refused) => promote_best_faint_line(&twin, &found.ships.ships, &[(i, *refused)], &wakes).is_some(),
+        };
         if let Some(cnn) = cnn {
             let spacing = c.scene.pixel_spacing;
             cnn_with = Some(cnn.score(&wake_image, (ship.row, ship.col), spacing)?);

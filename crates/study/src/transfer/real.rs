@@ -464,6 +464,8 @@ pub fn score_real(
                             faint_lines: 0,
                             faint_on_wake: 0,
                             missed_under_faint: 0,
+                            promoted: 0,
+                            promoted_found: 0,
                             skipped: Some(why),
                         });
                     }

@@ -116,7 +116,7 @@ pub fn markdown(real: &RealResults) -> String {
     md + &search_markdown(real)
 }
 
-const SEARCH_HEADER: [&str; 16] = [
+const SEARCH_HEADER: [&str; 18] = [
     "image",
     "wakes",
     "ships",
@@ -133,6 +133,8 @@ const SEARCH_HEADER: [&str; 16] = [
     "faint_lines",
     "faint_on_wake",
     "missed_under_faint",
+    "promoted",
+    "promoted_found",
 ];
 
 fn search_row(s: &SearchScore) -> Vec<String> {
@@ -166,6 +168,8 @@ fn search_row(s: &SearchScore) -> Vec<String> {
             s.faint_lines,
             s.faint_on_wake,
             s.missed_under_faint,
+            s.promoted,
+            s.promoted_found,
         ]
         .map(|n| n.to_string()),
     )
@@ -233,8 +237,8 @@ fn describe_together(s: &SearchSummary) -> String {
 /// The faint lines: how many, how many on a drawn wake, and what a reviewer of them sees.
 fn describe_faint(s: &SearchSummary) -> String {
     format!(
-        "{} faint line(s), {} on a drawn wake; a wake found or under a faint line in {}/{} wake images; no-wake images with a faint line {}/{}",
-        s.faint_lines, s.faint_on_wake, s.images_found_or_faint, s.wake_images, s.no_wake_images_with_faint, s.no_wake_images
+        "{} faint line(s), {} on a drawn wake; a wake found or under a faint line in {}/{} wake images; no-wake images with a faint line {}/{}; wakes promoted from a faint line (among the wakes above) {}, {} on a drawn wake",
+        s.faint_lines, s.faint_on_wake, s.images_found_or_faint, s.wake_images, s.no_wake_images_with_faint, s.no_wake_images, s.promoted, s.promoted_found
     )
 }
 
@@ -272,7 +276,8 @@ fn search_markdown(real: &RealResults) -> String {
     );
     let _ = writeln!(
         md,
-        "\nWhere a ship's best trough or arm passes every test but its significance, `detect` gives it as a faint line (`faint_line` in the ship's `no_wake`, dotted on the overlay), for an analyst to review, not as a wake. Scored by the rule above: {}.",
+        "\nWhere a ship's best trough or arm passes every test but its significance, `detect` gives it as a faint line (`faint_line` in the ship's `no_wake`, dotted on the overlay), for an analyst to review, not as a wake; where an image's search reports no wake at all, its faint line of the largest z is promoted to its wake when that z is at least {} (`promoted`, dashed on the overlay; counted among the wakes above). Scored by the rule above: {}.",
+        wakelab_ships::wake::WakeOptions::default().promote_min_z,
         describe_faint(s)
     );
     if let Some(ships) = describe_ships(s) {

@@ -75,6 +75,12 @@ pub struct SearchScore {
     pub faint_on_wake: usize,
     #[serde(default)]
     pub missed_under_faint: usize,
+    /// Reported wakes promoted from a faint line (`promoted`: the image's search found no
+    /// other), and those of them that found a drawn wake.
+    #[serde(default)]
+    pub promoted: usize,
+    #[serde(default)]
+    pub promoted_found: usize,
     /// Why the image was not searched.
     pub skipped: Option<String>,
 }
@@ -154,19 +160,22 @@ pub fn score_search(wakes: &[Vec<(f64, f64)>], lonlat: bool, written: &Value, sp
         }
         found
     };
-    // each reported wake's ends, and whether a CNN window lies on it
+    // each reported wake's ends, whether a CNN window lies on it, and whether it is a
+    // promoted faint line
     let reported: Vec<_> = written["wakes"]
         .as_array()
         .into_iter()
         .flatten()
         .filter_map(|w| {
             let windows = w["cnn_windows"].as_array().is_some_and(|l| !l.is_empty());
-            wake_ends(w, lonlat).map(|ends| (ends, windows))
+            let promoted = w["promoted"].as_bool() == Some(true);
+            wake_ends(w, lonlat).map(|ends| (ends, windows, promoted))
         })
         .collect();
     let mut best: Vec<Option<f64>> = vec![None; wakes.len()];
     let (mut false_wakes, mut seen_by_both, mut seen_by_both_found) = (0, 0, 0);
-    for &(ends, windows) in &reported {
+    let (mut promoted, mut promoted_found) = (0, 0);
+    for &(ends, windows, is_promoted) in &reported {
         let found = finds(ends);
         for &(i, axis) in &found {
             best[i] = Some(best[i].map_or(axis, |b: f64| b.min(axis)));
@@ -175,6 +184,8 @@ pub fn score_search(wakes: &[Vec<(f64, f64)>], lonlat: bool, written: &Value, sp
         false_wakes += usize::from(!found_one);
         seen_by_both += usize::from(windows);
         seen_by_both_found += usize::from(windows && found_one);
+        promoted += usize::from(is_promoted);
+        promoted_found += usize::from(is_promoted && found_one);
     }
     let faint: Vec<_> = faint_lines(written).filter_map(|l| wake_ends(l, lonlat)).collect();
     let mut under_faint = vec![false; wakes.len()];
@@ -201,6 +212,8 @@ pub fn score_search(wakes: &[Vec<(f64, f64)>], lonlat: bool, written: &Value, sp
         seen_by_both_found,
         faint_lines: faint.len(),
         faint_on_wake,
+        promoted,
+        promoted_found,
         skipped: None,
     }
 }
@@ -259,6 +272,12 @@ pub struct SearchSummary {
     pub images_found_or_faint: usize,
     #[serde(default)]
     pub no_wake_images_with_faint: usize,
+    /// Over all images searched: the wakes promoted from a faint line, and those on a drawn
+    /// wake.
+    #[serde(default)]
+    pub promoted: usize,
+    #[serde(default)]
+    pub promoted_found: usize,
     /// Images not searched.
     pub skipped: usize,
 }
@@ -308,6 +327,8 @@ pub fn summarise_search(scores: &[SearchScore]) -> SearchSummary {
         faint_on_wake: searched.iter().map(|s| s.faint_on_wake).sum(),
         images_found_or_faint: with.iter().filter(|s| s.found > 0 || s.missed_under_faint > 0).count(),
         no_wake_images_with_faint: without.iter().filter(|s| s.faint_lines > 0).count(),
+        promoted: searched.iter().map(|s| s.promoted).sum(),
+        promoted_found: searched.iter().map(|s| s.promoted_found).sum(),
         skipped: scores.len() - searched.len(),
     }
 }
@@ -350,9 +371,9 @@ mod tests {
                              "bright_arm": {"faint_line": null}}},
             ],
             "wakes": [
-                {"product_start": [130.0, 100.0], "product_end": [130.0 + along, 300.0], "cnn_windows": [0]},
-                {"product_start": [50.0, 200.0], "product_end": [150.0, 200.0], "cnn_windows": [1, 2]},
-                {"product_start": [180.0, 100.0], "product_end": [180.0, 300.0], "cnn_windows": []},
+                {"product_start": [130.0, 100.0], "product_end": [130.0 + along, 300.0], "cnn_windows": [0], "promoted": true},
+                {"product_start": [50.0, 200.0], "product_end": [150.0, 200.0], "cnn_windows": [1, 2], "promoted": false},
+                {"product_start": [180.0, 100.0], "product_end": [180.0, 300.0], "cnn_windows": [], "promoted": true},
             ]
         });
         let s = score_search(&drawn, false, &written, (10.0, 10.0));
@@ -366,6 +387,8 @@ mod tests {
         assert_eq!((s.seen_by_both, s.seen_by_both_found), (2, 1));
         // three faint lines, two on drawn wakes; the second drawn wake, missed, lies under one
         assert_eq!((s.faint_lines, s.faint_on_wake, s.missed_under_faint), (3, 2, 1));
+        // two marked promoted: the first, on a drawn wake, and the third, 800 m off it
+        assert_eq!((s.promoted, s.promoted_found), (2, 1));
     }
 
     /// The summary: images with a wake found, wakes found, false wakes per wake image, clean
@@ -388,6 +411,8 @@ mod tests {
             faint_lines: 0,
             faint_on_wake: 0,
             missed_under_faint: 0,
+            promoted: 0,
+            promoted_found: 0,
             skipped: None,
         };
         let ships = |drawn, found, false_ships| ShipScore {
@@ -398,6 +423,8 @@ mod tests {
         let scores = [
             SearchScore {
                 drawn_ships: Some(ships(3, 2, 1)),
+                promoted: 1,
+                promoted_found: 1,
                 ..score(2, 1, 1, vec![4.0])
             },
             SearchScore {
@@ -439,6 +466,7 @@ mod tests {
         assert_eq!(s.images_found_one_false, 2);
         assert_eq!((s.faint_lines, s.faint_on_wake, s.images_found_or_faint), (4, 1, 3));
         assert_eq!(s.no_wake_images_with_faint, 1);
+        assert_eq!((s.promoted, s.promoted_found), (1, 1));
         // without drawn ships there is no rate of false ships, and the summary still reads
         // back from real.json (a NaN was written as null and failed to read, which dropped
         // the section from later reports)

@@ -13,6 +13,9 @@ the held-out sets, those with none the wake-free images. Prints, per threshold a
 with a wake found / with at most one false wake / false wakes, and where the rule fires (+ on a
 drawn wake, - not); then, on the tuning set, the ships with no drawn wake whose best line (a
 reported wake off any drawn one, or a faint line) reaches each z: the strict search's own rate.
+Since 2026-11-30 (fifteenth session) `detect` applies the rule at 4.5 itself (`promoted` in
+its wakes): on its outputs the "shipped" line holds the rule, lower thresholds add to it, and
+higher ones cannot take its promoted wakes back (replay them on an older binary's outputs).
 Pure Python, no packages.
 """
 import json, os, sys

@@ -20,6 +20,8 @@ how often a wake seen by both searches, or by one alone, lies on a drawn wake. A
 (certified wake-free) is scored apart: whether any wake, and any CNN window, is reported there.
 Every reported ship's own CNN window (`cnn_probability`) is scored against the line search from
 the ship: a ship is a wake's when it lies within 500 m of a drawn wake's line.
+The wakes `detect` promoted from a faint line (`promoted`: an image with no other wake, its
+best faint line at z 4.5 or more) are listed apart, each on a drawn wake or not.
 Where the GeoJSON's "wakelab" member says "ships_drawn": true, its Polygons of "kind": "ship" are
 scored too: a drawn ship is found when a reported ship's centre lies within 50 m of its box, and
 every other reported ship is false.
@@ -64,6 +66,7 @@ def main():
     by_kind = {}
     ship_records = []
     faint_records = []
+    promoted = []
     for name in sorted(f[:-8] for f in os.listdir(src) if f.endswith(".geojson")):
         drawn_json = json.load(open(os.path.join(src, name + ".geojson")))
         meta = drawn_json.get("wakelab", {})
@@ -162,6 +165,9 @@ def main():
         # seen by both, or by the line search alone, is a drawn one; and a window on no
         # reported wake lies within 500 m of a drawn one
         for r, w in zip(reported, found["wakes"] or []):
+            if w.get("promoted"):
+                # a faint line `detect` promoted to the image's wake, having found no other
+                promoted.append(f"{name} {'+' if any(match(r, d) for d in drawn) else '-'}{w['z']:.2f}")
             seen_by_both = bool(w.get("cnn_windows"))
             key = "both" if seen_by_both else "line_only"
             totals[key] += 1
@@ -184,6 +190,8 @@ def main():
     print(f"read together: wakes seen by both {t['both']}, on a drawn wake {t['both_true']}; by the line search "
           f"alone {t['line_only']}, on a drawn wake {t['line_only_true']}; CNN windows on no reported wake "
           f"{t['cnn_only']}, within 500 m of a drawn wake {t['cnn_only_near']} (images with wakes drawn)")
+    if promoted:
+        print(f"promoted faint lines (`promoted`; + on a drawn wake, - not): {len(promoted)}: {', '.join(promoted)}")
     if t["ship_images"]:
         print(f"ships: {t['ships_found']} of {t['ships_drawn']} found in {t['ship_images']} images, "
               f"{t['ships_false']} false ({t['ships_false'] / t['ship_images']:.2f} per image)")

@@ -216,9 +216,9 @@ pub fn write_scan(dir: &Path, scanned: &Scanned, detection: &Detection) -> Resul
         legend.push((Rgb([0, 255, 255]), "square: ship".into()));
         legend.push((wake_colour(Signature::Trough), "line: wake, dark trough".into()));
         legend.push((wake_colour(Signature::BrightArm), "line: wake, bright arm".into()));
-        if sea.wakes.iter().any(|w| w.promoted) {
+        if let Some(promoted) = sea.wakes.iter().find(|w| w.promoted) {
             legend.push((
-                wake_colour(Signature::Trough),
+                wake_colour(promoted.signature),
                 "dashed: faint line promoted, no other wake found".into(),
             ));
         }

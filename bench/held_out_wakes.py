@@ -17,7 +17,11 @@ Usage:
   --third     the third held-out set (bench/held_out_wakes_3/: 6 images of
               three more repositories, named in the GeoJSONs as for --second)
   --fourth    the fourth (bench/held_out_wakes_4/: SSDD chips of
-              Lemon-L7/efficient-pytorch-ship, taken whole as for --second)
+              Lemon-L7/efficient-pytorch-ship, taken whole as for --second);
+              its drawings are written to OUT_DIR too, each with SSDD's own
+              ship boxes (VOCdevkit/VOC2007/Annotations/ID.xml at the same
+              commit) added as Polygons of "kind": "ship" and "ships_drawn":
+              true, so that score_real_wakes.py scores the ship search
   --mirrors   folder holding the four repositories (default /work/.mirror);
               each is looked up as DIR/OWNER+NAME/repo, DIR/OWNER+NAME or
               DIR/NAME (bare repository or a clone with a work tree)
@@ -80,6 +84,7 @@ OSW = ('libzzluo/OpenSARWake', 'cc86027e4005d84daaa6b4314d2799ef1583b4f5')
 TSX = ('oktaykarakus/AssenSAR-Wake-Detector', 'd7f7fc2ccb642df185a5327336db06104be72990')
 JAS = ('jascubero/Automated-ship-detection', '59ea6f7455ed2815a663f6c7cba5321742f03923')
 KUN = ('kunal15145/Ship_Wake_Detection', '9480d4852e8f5f76088760375c3a1aa1e722d8f8')
+SSDD = ('Lemon-L7/efficient-pytorch-ship', '05b50517ad00c01ab513e53832e9dd25edace7a0')
 LIVE = 'Dataset/Live SAR images Dataset/'
 # kun_NN: (file, crop as (y0, y1, x0, x1) or None)
 KUN_FILES = [('Live3.png', None), ('live1.png', None), ('live5.png', None),
@@ -198,6 +203,37 @@ def second_set(mirrors, folder='held_out_wakes_2'):
 THIRD_CROPS = {'eob_01': (34, 758, 0, 1086)}
 
 
+def ssdd_ship_boxes(mirrors, chip):
+    """SSDD's boxes of the chip `chip` (its 6-digit ID) as (xmin, ymin, xmax, ymax) pixels."""
+    xml = blob(mirrors, SSDD, f'VOCdevkit/VOC2007/Annotations/{chip}.xml').decode()
+    boxes = re.findall(r'<xmin>([\d.]+)</xmin>\s*<ymin>([\d.]+)</ymin>\s*'
+                       r'<xmax>([\d.]+)</xmax>\s*<ymax>([\d.]+)</ymax>', xml)
+    if not boxes:
+        sys.exit(f'SSDD {chip}: no ship box in its annotation')
+    return [tuple(float(v) for v in b) for b in boxes]
+
+
+def fourth_drawings(mirrors, out_dir):
+    """The fourth set's drawings in `out_dir`, each with SSDD's ship boxes added."""
+    here = os.path.join(os.path.dirname(os.path.abspath(__file__)), 'held_out_wakes_4')
+    for f in sorted(os.listdir(here)):
+        if not f.endswith('.geojson'):
+            continue
+        with open(os.path.join(here, f)) as g:
+            drawing = json.load(g)
+        for x0, y0, x1, y1 in ssdd_ship_boxes(mirrors, f[len('ssdd_'):-len('.geojson')]):
+            drawing['features'].append({
+                'type': 'Feature',
+                'properties': {'kind': 'ship', 'source': 'SSDD annotation'},
+                'geometry': {'type': 'Polygon',
+                             'coordinates': [[[x0, y0], [x1, y0], [x1, y1], [x0, y1], [x0, y0]]]}})
+        drawing['wakelab']['ships_drawn'] = True
+        path = os.path.join(out_dir, f)
+        with open(path + '.tmp', 'w') as g:
+            json.dump(drawing, g, indent=1)
+        os.replace(path + '.tmp', path)
+
+
 def third_set(mirrors):
     """The third set: sources as the second's (a path may hold spaces), crops and overlays as the
     docstring says."""
@@ -252,6 +288,8 @@ def main():
         path = os.path.join(a.out_dir, name + '.png')
         Image.fromarray(np.ascontiguousarray(images[name], dtype=np.uint8), 'L').save(path + '.tmp', format='PNG')
         os.replace(path + '.tmp', path)
+    if a.fourth:
+        fourth_drawings(a.mirrors, a.out_dir)
     if a.compare:
         for name in sorted(images):
             old = np.asarray(Image.open(os.path.join(a.compare, name + '.png')))

@@ -15,8 +15,6 @@
 //!   failed;
 //! - [`promotion`]: where a search finds no wake at all, its best faint line promoted to one at
 //!   a lower significance;
-//! - [`regrid`]: a ship search's findings moved from the image's own pixels to the coarser grid
-//!   its wakes are sought on, and into a tile of it;
 //! - [`sidelobes`]: the directions of the scene's sidelobe streaks, measured on its bright
 //!   targets, along which no bright arm is sought;
 //! - [`free_wake`]: the free wakes, whose ship has left the image or is not seen, by the Radon
@@ -34,7 +32,6 @@ pub mod lines;
 pub mod promotion;
 pub mod radon;
 pub mod refusal;
-pub mod regrid;
 pub mod sidelobes;
 pub mod wake;
 
@@ -134,29 +131,14 @@ pub fn search_polarised(
     cfar: &CfarOptions,
     wakes: &WakeOptions,
 ) -> Findings {
-    // ships are sought in the whole image, so that the land's bright returns still stand in
-    // the backgrounds and still reject their sidelobes (a bright target masked out would leave
-    // its sidelobes at sea as ships); a target whose centre lies on land is not a ship
-    let ships = find_ships(cross.unwrap_or(image), geometry, cfar);
-    search_from_ships(image, ships, geometry, cfar, wakes)
-}
-
-/// [`search_polarised`] with the ships already sought: on the image's own pixels where `image`
-/// is that image averaged to a coarser grid (their findings placed on it by
-/// [`ShipSearch::coarsened`]), so that the ships are sought at the finest pixels the product
-/// has and their wakes on the grid the wake searches were set on. Those on the land found in
-/// `image` are set apart, as [`search_polarised`] does.
-pub fn search_from_ships(
-    image: ArrayView2<f32>,
-    mut ships: ShipSearch,
-    geometry: &Geometry,
-    cfar: &CfarOptions,
-    wakes: &WakeOptions,
-) -> Findings {
     let land = cfar
         .land
         .map(|o| land::land_mask(image, geometry, &o))
         .filter(|l| l.iter().any(|&v| v));
+    // ships are sought in the whole image, so that the land's bright returns still stand in
+    // the backgrounds and still reject their sidelobes (a bright target masked out would leave
+    // its sidelobes at sea as ships); a target whose centre lies on land is not a ship
+    let mut ships = find_ships(cross.unwrap_or(image), geometry, cfar);
     let sea_image = land.as_ref().map(|l| {
         let at = |s: &cfar::Ship| {
             let (r, c) = (s.row.round().max(0.0) as usize, s.col.round().max(0.0) as usize);

@@ -7,7 +7,7 @@
 //! the scan's notes.
 
 use crate::sea_findings::{
-    ceiling_note, product_geometry, search_image, ships_at_own_pixels, SeaFindings, SeaStream, ShipSearch, TILE_ROWS,
+    ceiling_note, product_geometry, search_image, SeaFindings, SeaStream, ShipSearch, TILE_ROWS,
 };
 use anyhow::Result;
 use std::path::Path;
@@ -281,12 +281,6 @@ pub fn scan_opened(opened: OpenedProduct, scanner: Scanner, progress: ScanProgre
     });
     let masked = product.report.masked;
     let read = product.image.dim();
-    // a display image's ships, sought on its own pixels before it is averaged
-    let display = product.meta.is_display_stretch();
-    let own_pixels = scanner
-        .search_sea
-        .filter(|_| band.is_radar() && cross.is_none() && ships_at_own_pixels(display, factor))
-        .map(|search| ships_on_own_pixels(&product, info, factor, search, &mut notes));
     let (image, frame) = if factor == (1.0, 1.0) {
         (product.image, product.frame.clone())
     } else {
@@ -302,9 +296,10 @@ pub fn scan_opened(opened: OpenedProduct, scanner: Scanner, progress: ScanProgre
     let sea = scanner.search_sea.filter(|_| band.is_radar()).map(|search| {
         let (geometry, sea_notes) = product_geometry(&product.meta, scanned_spacing(&product.meta, info, factor));
         notes.extend(sea_notes);
+        let display = product.meta.is_display_stretch();
         let (cfar, pfa_note) = search.cfar(display);
         notes.extend(pfa_note);
-        if display && own_pixels.is_none() {
+        if display {
             notes.extend(ceiling_note(cross.as_ref().map_or(image.view(), |c| c.0.view()), &cfar));
         }
         notes.extend(cross.as_ref().map(|c| cross_note(&c.1)));
@@ -314,7 +309,6 @@ pub fn scan_opened(opened: OpenedProduct, scanner: Scanner, progress: ScanProgre
             geometry,
             cfar,
             Some(info.input_size),
-            own_pixels.clone(),
         )
     });
     let sea = sea.map(|s| score_ship_windows(s, &scanner)).transpose()?;
@@ -335,35 +329,6 @@ pub fn scan_opened(opened: OpenedProduct, scanner: Scanner, progress: ScanProgre
         detection: scan.finish()?,
         sea,
     })
-}
-
-/// The ships of `product` (a display image, read whole) sought on its own pixels with the
-/// settings `search` gives, placed on the grid of the image averaged over blocks of `factor`
-/// pixels ([`ships_at_own_pixels`]), and the notes that say so.
-fn ships_on_own_pixels(
-    product: &wakelab_products::Product,
-    info: &ModelInfo,
-    factor: (f64, f64),
-    search: ShipSearch,
-    notes: &mut Vec<String>,
-) -> wakelab_ships::cfar::ShipSearch {
-    // the scanned grid's tests per km^2: as many false alarms (factor^2 more pixels are
-    // tested) and the same least area of a ship
-    let (scanned, _) = search.cfar(true);
-    let pixels = factor.0 * factor.1;
-    let cfar = wakelab_ships::cfar::CfarOptions {
-        pfa: scanned.pfa / pixels,
-        min_pixels: (scanned.min_pixels as f64 * pixels).round() as usize,
-        ..scanned
-    };
-    let own = scanned_spacing(&product.meta, info, (1.0, 1.0));
-    let (geometry, _) = product_geometry(&product.meta, own);
-    notes.push(format!(
-        "ships: sought on the image's own {:.2} x {:.2} m pixels, then placed on the scanned grid: averaging a display's grey levels (read as dB) keeps each block's brightest, which lifts the sea toward its ships",
-        own.0, own.1
-    ));
-    notes.extend(ceiling_note(product.image.view(), &cfar));
-    wakelab_ships::cfar::find_ships(product.image.view(), &geometry, &cfar).coarsened(factor)
 }
 
 /// The CNN's wake probability of the window centred on each ship's return (issue 39's CNN on

@@ -21,9 +21,9 @@ pub use stream::{sea_margin_m, SeaStream, TILE_ROWS};
 use ndarray::ArrayView2;
 use std::ops::Range;
 use wakelab_products::ProductMeta;
-use wakelab_ships::cfar::{self, CfarOptions, Ship};
+use wakelab_ships::cfar::{CfarOptions, Ship};
 use wakelab_ships::wake::{NoWake, Wake, WakeOptions};
-use wakelab_ships::{search_from_ships, search_polarised, Geometry};
+use wakelab_ships::{search_polarised, Geometry};
 
 /// The ships and wakes found in a scanned product, in the scanned grid's pixels, with the
 /// geometry that placed them.
@@ -62,10 +62,6 @@ pub struct SeaFindings {
     /// Each ship's window's wake probability by the CNN (None: not scored, as a scan scores no
     /// window more than half off the image); empty where no CNN scored them.
     pub ship_cnn: Vec<Option<f64>>,
-    /// The ships sought beforehand on the product's own pixels and placed on the scanned grid
-    /// ([`cfar::ShipSearch::coarsened`]; a display image's, [`ships_at_own_pixels`]): each
-    /// tile takes those that lie in it instead of seeking its own. None: each tile seeks them.
-    pub ships_sought: Option<cfar::ShipSearch>,
 }
 
 /// The `side` x `side` window of `image` centred on (`row`, `col`) (fractional pixels), NaN
@@ -208,35 +204,19 @@ pub fn ceiling_note(image: ArrayView2<f32>, cfar: &CfarOptions) -> Option<String
     })
 }
 
-/// Whether an image averaged over blocks of `factor` (rows, columns) of its pixels to the
-/// detector's spacing has its ships sought on its own pixels first: a display-stretched
-/// (`display`) image's are. A display's grey levels are read as dB, so the area mean of their
-/// linear values (10^(g/10)) is ruled by each block's brightest pixels: averaged 3 m to 20 m
-/// the sea's local deviation shrank by a median 1.3 on the fourth held-out set's chips, not
-/// the 6.7 of independent speckle, while the block maxima lifted the sea toward its ships
-/// clipped at the grey scale's ceiling; the CFAR on the scanned grid found 17 of the 23 ships
-/// SSDD boxed on those chips and none of the 6 whose wakes were drawn (docs/results.md, "Ships
-/// on a display image's own pixels"). Calibrated images keep the search on the scanned grid:
-/// their area mean is the multilook under which the simulated figures were made.
-pub fn ships_at_own_pixels(display: bool, factor: (f64, f64)) -> bool {
-    display && factor != (1.0, 1.0)
-}
-
 /// The searches on `image` (linear sigma0 as scanned), the ships sought (with `cfar`) in
 /// `cross` (the product's cross-polarised band on the same grid, named `polarisation`) where one
-/// is given, or taken from `ships` (sought beforehand and placed on this grid) where given: tile
-/// by tile as a streamed product's ([`SeaStream`]), so that memory holds one tile's search.
+/// is given: tile by tile as a streamed product's ([`SeaStream`]), so that memory holds one
+/// tile's search.
 pub fn search_image(
     image: ArrayView2<f32>,
     cross: Option<(ArrayView2<f32>, &str)>,
     geometry: Geometry,
     cfar: CfarOptions,
     ship_window: Option<usize>,
-    ships: Option<cfar::ShipSearch>,
 ) -> SeaFindings {
     let mut stream = SeaStream::new(geometry, cfar, image.ncols(), TILE_ROWS, cross.map(|c| c.1.to_string()))
-        .with_ship_windows(ship_window)
-        .with_ships(ships);
+        .with_ship_windows(ship_window);
     stream.push(0, image, cross.map(|c| c.0));
     stream.finish()
 }
@@ -261,7 +241,6 @@ impl SeaFindings {
             ship_window_side: None,
             ship_windows: Vec::new(),
             ship_cnn: Vec::new(),
-            ships_sought: None,
         }
     }
 
@@ -277,11 +256,7 @@ impl SeaFindings {
         origin: (usize, usize),
         own: (Range<usize>, Range<usize>),
     ) {
-        let wakes = WakeOptions::default();
-        let found = match &self.ships_sought {
-            Some(all) => search_from_ships(tile, all.within(origin, tile.dim()), &self.geometry, &self.cfar, &wakes),
-            None => search_polarised(tile, cross, &self.geometry, &self.cfar, &wakes),
-        };
+        let found = search_polarised(tile, cross, &self.geometry, &self.cfar, &WakeOptions::default());
         let shift = (origin.0 as f64, origin.1 as f64);
         let owned = |(row, col): (f64, f64)| {
             own.0.contains(&((row + shift.0).max(0.0) as usize)) && own.1.contains(&((col + shift.1).max(0.0) as usize))

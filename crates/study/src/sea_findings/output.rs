@@ -324,7 +324,7 @@ mod tests {
         let mut image = ship_scene(1600, 300, (700, 150), 0);
         image.slice_mut(ndarray::s![294..306, 49..52]).fill(3.0);
         let g = Geometry::along_rows(10.0, 35.0, None);
-        let found = super::super::search_image(image.view(), None, g, CfarOptions::default(), None, None);
+        let found = super::super::search_image(image.view(), None, g, CfarOptions::default(), None);
         assert_eq!(found.ships.len(), 2, "{:?}", found.ships);
         found
     }

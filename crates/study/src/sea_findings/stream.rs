@@ -70,13 +70,6 @@ impl SeaStream {
         self
     }
 
-    /// Ships sought beforehand on the product's own pixels and placed on this grid, which each
-    /// tile then takes instead of seeking its own ([`SeaFindings::ships_sought`]).
-    pub fn with_ships(mut self, ships: Option<wakelab_ships::cfar::ShipSearch>) -> Self {
-        self.findings.ships_sought = ships;
-        self
-    }
-
     fn held_to(&self) -> usize {
         self.held_from + self.held.nrows()
     }
@@ -233,7 +226,7 @@ mod tests {
         let g = Geometry::along_rows(10.0, 35.0, None);
         let (ship, wake) = whole_search(&image, &g);
         assert_same(
-            &search_image(image.view(), None, g, CfarOptions::default(), None, None),
+            &search_image(image.view(), None, g, CfarOptions::default(), None),
             &ship,
             &wake,
         );
@@ -265,7 +258,7 @@ mod tests {
         for (tr, tc) in targets {
             image.slice_mut(ndarray::s![tr - 2..=tr + 2, tc - 1..=tc + 1]).fill(3.0);
         }
-        let found = search_image(image.view(), None, g, CfarOptions::default(), None, None);
+        let found = search_image(image.view(), None, g, CfarOptions::default(), None);
         let axes = &found.sidelobe_axes_deg;
         assert_eq!(axes.len(), 2, "{axes:?}");
         for want in [15.0, 105.0] {

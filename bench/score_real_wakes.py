@@ -24,7 +24,8 @@ The wakes `detect` promoted from a faint line (`promoted`: an image with no othe
 best faint line at z 4.5 or more) are listed apart, each on a drawn wake or not.
 Where the GeoJSON's "wakelab" member says "ships_drawn": true, its Polygons of "kind": "ship" are
 scored too: a drawn ship is found when a reported ship's centre lies within 50 m of its box, and
-every other reported ship is false.
+every other reported ship is false. Where it also says "wakes_drawn": false (bench/ssdd_ships.py),
+only its ships are scored.
 Pure Python, no packages.
 """
 import json, math, os, subprocess, sys
@@ -108,6 +109,9 @@ def main():
             totals["ships_found"] += ships_found
             totals["ships_false"] += ships_false
             print(f"{name}: ships drawn {len(boxes)}, found {ships_found}, false {ships_false}")
+        if meta.get("wakes_drawn") is False:
+            # ships alone were drawn (bench/ssdd_ships.py): the image says nothing of its wakes
+            continue
         # each reported ship's own CNN window (`cnn_probability`, centred on its return): the
         # ship is a wake's when it lies within 500 m of a drawn wake's line; the line search
         # found its wake when a reported wake starts from it

@@ -1,0 +1,104 @@
+#!/usr/bin/env python3
+"""SSDD chips with SSDD's own ship boxes, to score `wakelab detect`'s ship search on chips no
+rule was set on.
+
+usage: ssdd_ships.py OUT_DIR [--every N] [--mirrors DIR]
+
+Writes OUT_DIR/ssdd_ID.png (the chip's R channel; the JPEGs are grey, R = G = B) and
+OUT_DIR/ssdd_ID.geojson (each box a Polygon of "kind": "ship", "ships_drawn": true and
+"wakes_drawn": false, so that bench/score_real_wakes.py scores the ships alone) for every Nth
+chip (default 3), in ID order, of SSDD's train split (IDs ending in neither 1 nor 9: the test
+split's chips set the display ship search's false-alarm probability and the bright arm's cap),
+leaving out the fourth held-out wake set's chips and 000006 (docs/results.md). The chips are
+those of Lemon-L7/efficient-pytorch-ship at commit 05b50517 (VOCdevkit/VOC2007; the
+repository is MIT, SSDD is released for research with citation), read with `git show` from
+DIR/Lemon-L7+efficient-pytorch-ship (or DIR/efficient-pytorch-ship; default /work/.mirror).
+
+SSDD states no pixel spacing per chip. A chip is taken at 3 m where its longest box is over 40
+pixels, else at 10 m: the fourth set's rule. Chips that would fill under half of the shipped
+detector's 64-pixel window once averaged to 20 m (`detect` refuses them) are left out and
+counted. `wakelab run --study transfer --real DIR` does not read "wakes_drawn" and would take
+these chips for wake-free images: score them with bench/score_real_wakes.py. Needs numpy and
+Pillow.
+"""
+import argparse
+import io
+import json
+import os
+import re
+import subprocess
+import sys
+
+import numpy as np
+from PIL import Image
+
+SSDD = ('Lemon-L7/efficient-pytorch-ship', '05b50517ad00c01ab513e53832e9dd25edace7a0')
+WINDOW = 64
+SCANNED_M = 20.0
+
+
+def git_dir(mirrors):
+    owner, name = SSDD[0].split('/')
+    for d in (f'{owner}+{name}/repo', f'{owner}+{name}', name):
+        p = os.path.join(mirrors, d)
+        if os.path.isdir(os.path.join(p, '.git')):
+            return os.path.join(p, '.git')
+        if os.path.isdir(p):
+            return p
+    sys.exit(f'{SSDD[0]} not found under {mirrors}: git clone https://github.com/{SSDD[0]} {mirrors}/{name}')
+
+
+def show(git, path, text=False):
+    return subprocess.run(['git', '--git-dir', git, 'show', f'{SSDD[1]}:{path}'], check=True,
+                          capture_output=True, text=text).stdout
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__.split('\n')[0])
+    ap.add_argument('out_dir')
+    ap.add_argument('--every', type=int, default=3)
+    ap.add_argument('--mirrors', default='/work/.mirror')
+    a = ap.parse_args()
+    git = git_dir(a.mirrors)
+    here = os.path.join(os.path.dirname(os.path.abspath(__file__)), 'held_out_wakes_4')
+    fourth = {f[len('ssdd_'):-len('.geojson')] for f in os.listdir(here) if f.endswith('.geojson')}
+    listing = subprocess.run(['git', '--git-dir', git, 'ls-tree', '--name-only', SSDD[1],
+                              'VOCdevkit/VOC2007/Annotations/'], check=True, capture_output=True, text=True)
+    ids = sorted(os.path.basename(p)[:-len('.xml')] for p in listing.stdout.split() if p.endswith('.xml'))
+    train = [i for i in ids if i[-1] not in '19' and i not in fourth and i != '000006']
+    os.makedirs(a.out_dir, exist_ok=True)
+    kept, small, empty = 0, 0, 0
+    for chip in train[::a.every]:
+        xml = show(git, f'VOCdevkit/VOC2007/Annotations/{chip}.xml', text=True)
+        boxes = [tuple(float(v) for v in b) for b in re.findall(
+            r'<xmin>([\d.]+)</xmin>\s*<ymin>([\d.]+)</ymin>\s*<xmax>([\d.]+)</xmax>\s*<ymax>([\d.]+)</ymax>', xml)]
+        if not boxes:
+            empty += 1
+            continue
+        rgb = np.asarray(Image.open(io.BytesIO(show(git, f'VOCdevkit/VOC2007/JPEGImages/{chip}.jpg'))).convert('RGB'))
+        spacing = 3 if max(max(x1 - x0, y1 - y0) for x0, y0, x1, y1 in boxes) > 40 else 10
+        # detect's area average to 20 m keeps floor(n / factor) pixels a side
+        rows, cols = (int(n * spacing // SCANNED_M) for n in rgb.shape[:2])
+        if 2 * min(rows, WINDOW) * min(cols, WINDOW) < WINDOW * WINDOW:
+            small += 1
+            continue
+        Image.fromarray(np.ascontiguousarray(rgb[..., 0]), 'L').save(os.path.join(a.out_dir, f'ssdd_{chip}.png'))
+        drawing = {
+            'type': 'FeatureCollection',
+            'wakelab': {'coordinates': 'pixel', 'pixel_spacing_m': spacing, 'scale': 'display',
+                        'ships_drawn': True, 'wakes_drawn': False},
+            'notes': f'SOURCE {SSDD[0]}@{SSDD[1]}:VOCdevkit/VOC2007/JPEGImages/{chip}.jpg; boxes from its annotation',
+            'features': [{'type': 'Feature', 'properties': {'kind': 'ship', 'source': 'SSDD annotation'},
+                          'geometry': {'type': 'Polygon',
+                                       'coordinates': [[[x0, y0], [x1, y0], [x1, y1], [x0, y1], [x0, y0]]]}}
+                         for x0, y0, x1, y1 in boxes],
+        }
+        with open(os.path.join(a.out_dir, f'ssdd_{chip}.geojson'), 'w') as g:
+            json.dump(drawing, g)
+        kept += 1
+    print(f'{kept} chips written of {len(train[::a.every])} taken ({len(train)} in the train split less the fourth '
+          f'set and 000006); left out: {small} under half a window at 20 m, {empty} without a box')
+
+
+if __name__ == '__main__':
+    main()

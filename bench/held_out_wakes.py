@@ -204,12 +204,11 @@ THIRD_CROPS = {'eob_01': (34, 758, 0, 1086)}
 
 
 def ssdd_ship_boxes(mirrors, chip):
-    """SSDD's boxes of the chip `chip` (its 6-digit ID) as (xmin, ymin, xmax, ymax) pixels."""
+    """SSDD's boxes of the chip `chip` (its 6-digit ID) as (xmin, ymin, xmax, ymax) pixels (bench/ssdd_ships.py
+    reads them too)."""
     xml = blob(mirrors, SSDD, f'VOCdevkit/VOC2007/Annotations/{chip}.xml').decode()
     boxes = re.findall(r'<xmin>([\d.]+)</xmin>\s*<ymin>([\d.]+)</ymin>\s*'
                        r'<xmax>([\d.]+)</xmax>\s*<ymax>([\d.]+)</ymax>', xml)
-    if not boxes:
-        sys.exit(f'SSDD {chip}: no ship box in its annotation')
     return [tuple(float(v) for v in b) for b in boxes]
 
 
@@ -221,7 +220,10 @@ def fourth_drawings(mirrors, out_dir):
             continue
         with open(os.path.join(here, f)) as g:
             drawing = json.load(g)
-        for x0, y0, x1, y1 in ssdd_ship_boxes(mirrors, f[len('ssdd_'):-len('.geojson')]):
+        boxes = ssdd_ship_boxes(mirrors, f[len('ssdd_'):-len('.geojson')])
+        if not boxes:
+            sys.exit(f'{f}: no ship box in its SSDD annotation')
+        for x0, y0, x1, y1 in boxes:
             drawing['features'].append({
                 'type': 'Feature',
                 'properties': {'kind': 'ship', 'source': 'SSDD annotation'},

@@ -12,45 +12,31 @@ split's chips set the display ship search's false-alarm probability and the brig
 leaving out the fourth held-out wake set's chips and 000006 (docs/results.md). The chips are
 those of Lemon-L7/efficient-pytorch-ship at commit 05b50517 (VOCdevkit/VOC2007; the
 repository is MIT, SSDD is released for research with citation), read with `git show` from
-DIR/Lemon-L7+efficient-pytorch-ship (or DIR/efficient-pytorch-ship; default /work/.mirror).
+DIR/Lemon-L7+efficient-pytorch-ship (or DIR/efficient-pytorch-ship; default /work/.mirror), as
+bench/held_out_wakes.py reads them (its functions are used here).
 
 SSDD states no pixel spacing per chip. A chip is taken at 3 m where its longest box is over 40
 pixels, else at 10 m: the fourth set's rule. Chips that would fill under half of the shipped
 detector's 64-pixel window once averaged to 20 m (`detect` refuses them) are left out and
 counted. `wakelab run --study transfer --real DIR` does not read "wakes_drawn" and would take
-these chips for wake-free images: score them with bench/score_real_wakes.py. Needs numpy and
-Pillow.
+these chips for wake-free images: score them with bench/score_real_wakes.py. Needs what
+bench/held_out_wakes.py needs (numpy, Pillow, scipy).
 """
 import argparse
 import io
 import json
 import os
-import re
 import subprocess
 import sys
 
 import numpy as np
 from PIL import Image
 
-SSDD = ('Lemon-L7/efficient-pytorch-ship', '05b50517ad00c01ab513e53832e9dd25edace7a0')
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from held_out_wakes import SSDD, blob, git_dir, ssdd_ship_boxes  # noqa: E402
+
 WINDOW = 64
 SCANNED_M = 20.0
-
-
-def git_dir(mirrors):
-    owner, name = SSDD[0].split('/')
-    for d in (f'{owner}+{name}/repo', f'{owner}+{name}', name):
-        p = os.path.join(mirrors, d)
-        if os.path.isdir(os.path.join(p, '.git')):
-            return os.path.join(p, '.git')
-        if os.path.isdir(p):
-            return p
-    sys.exit(f'{SSDD[0]} not found under {mirrors}: git clone https://github.com/{SSDD[0]} {mirrors}/{name}')
-
-
-def show(git, path, text=False):
-    return subprocess.run(['git', '--git-dir', git, 'show', f'{SSDD[1]}:{path}'], check=True,
-                          capture_output=True, text=text).stdout
 
 
 def main():
@@ -59,7 +45,7 @@ def main():
     ap.add_argument('--every', type=int, default=3)
     ap.add_argument('--mirrors', default='/work/.mirror')
     a = ap.parse_args()
-    git = git_dir(a.mirrors)
+    git = git_dir(a.mirrors, SSDD[0])
     here = os.path.join(os.path.dirname(os.path.abspath(__file__)), 'held_out_wakes_4')
     fourth = {f[len('ssdd_'):-len('.geojson')] for f in os.listdir(here) if f.endswith('.geojson')}
     listing = subprocess.run(['git', '--git-dir', git, 'ls-tree', '--name-only', SSDD[1],
@@ -69,13 +55,13 @@ def main():
     os.makedirs(a.out_dir, exist_ok=True)
     kept, small, empty = 0, 0, 0
     for chip in train[::a.every]:
-        xml = show(git, f'VOCdevkit/VOC2007/Annotations/{chip}.xml', text=True)
-        boxes = [tuple(float(v) for v in b) for b in re.findall(
-            r'<xmin>([\d.]+)</xmin>\s*<ymin>([\d.]+)</ymin>\s*<xmax>([\d.]+)</xmax>\s*<ymax>([\d.]+)</ymax>', xml)]
+        boxes = ssdd_ship_boxes(a.mirrors, chip)
         if not boxes:
             empty += 1
             continue
-        rgb = np.asarray(Image.open(io.BytesIO(show(git, f'VOCdevkit/VOC2007/JPEGImages/{chip}.jpg'))).convert('RGB'))
+        rgb = np.asarray(Image.open(io.BytesIO(blob(a.mirrors, SSDD, f'VOCdevkit/VOC2007/JPEGImages/{chip}.jpg'))).convert('RGB'))
+        if not ((rgb[..., 0] == rgb[..., 1]).all() and (rgb[..., 0] == rgb[..., 2]).all()):
+            sys.exit(f'SSDD {chip}: not a grey image (R, G and B differ)')
         spacing = 3 if max(max(x1 - x0, y1 - y0) for x0, y0, x1, y1 in boxes) > 40 else 10
         # detect's area average to 20 m keeps floor(n / factor) pixels a side
         rows, cols = (int(n * spacing // SCANNED_M) for n in rgb.shape[:2])

@@ -4,7 +4,8 @@ rule was set on.
 
 usage: ssdd_ships.py OUT_DIR [--every N] [--mirrors DIR]
 
-Writes OUT_DIR/ssdd_ID.png (the chip's R channel; the JPEGs are grey, R = G = B) and
+Writes OUT_DIR/ssdd_ID.png (the chip's R channel; the JPEGs are grey, R = G = B, but for a few
+whose differing pixels are listed) and
 OUT_DIR/ssdd_ID.geojson (each box a Polygon of "kind": "ship", "ships_drawn": true and
 "wakes_drawn": false, so that bench/score_real_wakes.py scores the ships alone) for every Nth
 chip (default 3), in ID order, of SSDD's train split (IDs ending in neither 1 nor 9: the test
@@ -53,7 +54,7 @@ def main():
     ids = sorted(os.path.basename(p)[:-len('.xml')] for p in listing.stdout.split() if p.endswith('.xml'))
     train = [i for i in ids if i[-1] not in '19' and i not in fourth and i != '000006']
     os.makedirs(a.out_dir, exist_ok=True)
-    kept, small, empty = 0, 0, 0
+    kept, small, empty, coloured = 0, 0, 0, []
     for chip in train[::a.every]:
         boxes = ssdd_ship_boxes(a.mirrors, chip)
         if not boxes:
@@ -61,7 +62,7 @@ def main():
             continue
         rgb = np.asarray(Image.open(io.BytesIO(blob(a.mirrors, SSDD, f'VOCdevkit/VOC2007/JPEGImages/{chip}.jpg'))).convert('RGB'))
         if not ((rgb[..., 0] == rgb[..., 1]).all() and (rgb[..., 0] == rgb[..., 2]).all()):
-            sys.exit(f'SSDD {chip}: not a grey image (R, G and B differ)')
+            coloured.append(f'{chip} ({(rgb[..., 0] != rgb[..., 2]).mean():.1%})')
         spacing = 3 if max(max(x1 - x0, y1 - y0) for x0, y0, x1, y1 in boxes) > 40 else 10
         # detect's area average to 20 m keeps floor(n / factor) pixels a side
         rows, cols = (int(n * spacing // SCANNED_M) for n in rgb.shape[:2])
@@ -84,6 +85,9 @@ def main():
         kept += 1
     print(f'{kept} chips written of {len(train[::a.every])} taken ({len(train)} in the train split less the fourth '
           f'set and 000006); left out: {small} under half a window at 20 m, {empty} without a box')
+    if coloured:
+        print(f'{len(coloured)} of them hold pixels whose R, G and B differ (their R channel taken as for the '
+              f'others): ' + ', '.join(coloured))
 
 
 if __name__ == '__main__':

@@ -2,7 +2,7 @@
 """SSDD chips with SSDD's own ship boxes, to score `wakelab detect`'s ship search on chips no
 rule was set on.
 
-usage: ssdd_ships.py OUT_DIR [--every N] [--mirrors DIR]
+usage: ssdd_ships.py OUT_DIR [--every N] [--test-split] [--mirrors DIR]
 
 Writes OUT_DIR/ssdd_ID.png (the chip's R channel; the JPEGs are grey, R = G = B, but for a few
 whose differing pixels are listed) and
@@ -19,7 +19,8 @@ bench/held_out_wakes.py reads them (its functions are used here).
 SSDD states no pixel spacing per chip. A chip is taken at 3 m where its longest box is over 40
 pixels, else at 10 m: the fourth set's rule. Chips that would fill under half of the shipped
 detector's 64-pixel window once averaged to 20 m (`detect` refuses them) are left out and
-counted. `wakelab run --study transfer --real DIR` does not read "wakes_drawn" and would take
+counted. With --test-split, every chip of the test split instead (IDs ending in 1 or 9), all
+taken at 10 m as the 2026-11-28 ship study took them. `wakelab run --study transfer --real DIR` does not read "wakes_drawn" and would take
 these chips for wake-free images: score them with bench/score_real_wakes.py. Needs what
 bench/held_out_wakes.py needs (numpy, Pillow, scipy).
 """
@@ -44,6 +45,7 @@ def main():
     ap = argparse.ArgumentParser(description=__doc__.split('\n')[0])
     ap.add_argument('out_dir')
     ap.add_argument('--every', type=int, default=3)
+    ap.add_argument('--test-split', action='store_true')
     ap.add_argument('--mirrors', default='/work/.mirror')
     a = ap.parse_args()
     git = git_dir(a.mirrors, SSDD[0])
@@ -53,6 +55,8 @@ def main():
                               'VOCdevkit/VOC2007/Annotations/'], check=True, capture_output=True, text=True)
     ids = sorted(os.path.basename(p)[:-len('.xml')] for p in listing.stdout.split() if p.endswith('.xml'))
     train = [i for i in ids if i[-1] not in '19' and i not in fourth and i != '000006']
+    if a.test_split:
+        train, a.every = [i for i in ids if i[-1] in '19'], 1
     os.makedirs(a.out_dir, exist_ok=True)
     kept, small, empty, coloured = 0, 0, 0, []
     for chip in train[::a.every]:
@@ -63,7 +67,7 @@ def main():
         rgb = np.asarray(Image.open(io.BytesIO(blob(a.mirrors, SSDD, f'VOCdevkit/VOC2007/JPEGImages/{chip}.jpg'))).convert('RGB'))
         if not ((rgb[..., 0] == rgb[..., 1]).all() and (rgb[..., 0] == rgb[..., 2]).all()):
             coloured.append(f'{chip} ({(rgb[..., 0] != rgb[..., 2]).mean():.1%})')
-        spacing = 3 if max(max(x1 - x0, y1 - y0) for x0, y0, x1, y1 in boxes) > 40 else 10
+        spacing = 3 if max(max(x1 - x0, y1 - y0) for x0, y0, x1, y1 in boxes) > 40 and not a.test_split else 10
         # detect's area average to 20 m keeps floor(n / factor) pixels a side
         rows, cols = (int(n * spacing // SCANNED_M) for n in rgb.shape[:2])
         if 2 * min(rows, WINDOW) * min(cols, WINDOW) < WINDOW * WINDOW:
@@ -83,8 +87,8 @@ def main():
         with open(os.path.join(a.out_dir, f'ssdd_{chip}.geojson'), 'w') as g:
             json.dump(drawing, g)
         kept += 1
-    print(f'{kept} chips written of {len(train[::a.every])} taken ({len(train)} in the train split less the fourth '
-          f'set and 000006); left out: {small} under half a window at 20 m, {empty} without a box')
+    split = 'test split' if a.test_split else 'train split less the fourth set and 000006'
+    print(f'{kept} chips written of {len(train[::a.every])} taken ({len(train)} in the {split}); left out: {small} under half a window at 20 m, {empty} without a box')
     if coloured:
         print(f'{len(coloured)} of them hold pixels whose R, G and B differ (their R channel taken as for the '
               f'others): ' + ', '.join(coloured))

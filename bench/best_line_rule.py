@@ -18,10 +18,11 @@ its wakes): on its outputs the "shipped" line holds the rule, lower thresholds a
 higher ones cannot take its promoted wakes back (replay them on an older binary's outputs).
 Pure Python, no packages.
 """
-import json, os, sys
+import os, sys
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 from score_real_wakes import segment_distance, line_angle  # noqa: E402
+from threshold_cv import drawing_and_result  # noqa: E402
 
 TOL_M = float(os.environ.get("TOL_M", "300"))
 
@@ -31,12 +32,8 @@ def ends(entry):
 
 
 def image(src, out, name):
-    drawn_json = json.load(open(os.path.join(src, name + ".geojson")))
-    tol = TOL_M / float(drawn_json.get("wakelab", {}).get("pixel_spacing_m", 10))
-    drawn = [(f["geometry"]["coordinates"][0], f["geometry"]["coordinates"][-1])
-             for f in drawn_json["features"] if f["properties"].get("kind") == "wake"]
-    found = json.load(open(os.path.join(out, name, "detections.json")))
-    on = lambda a, b: any(segment_distance(a, b, c, d) <= tol and line_angle(a, b, c, d) <= 20 for c, d in drawn)
+    meta, drawn, found, on = drawing_and_result(src, out, name)
+    tol = TOL_M / float(meta.get("pixel_spacing_m", 10))
     wakes = found["wakes"] or []
     reported = [ends(w) for w in wakes]
     by_ship = {w["ship"]: w for w in wakes if w.get("ship") is not None}

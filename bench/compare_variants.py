@@ -15,29 +15,21 @@ DIR of ship chips is a set of its own. For each set left out, the variant that d
 the others is chosen (ties to the first given: the shipped one) and scored on the set left out.
 Pure Python, no packages.
 """
-import json
 import os
 import sys
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from score_real_wakes import line_angle, segment_distance  # noqa: E402
-from threshold_cv import TOL_M, ends, set_of  # noqa: E402
+from threshold_cv import drawing_and_result, ends, leave_one_set_out, set_of  # noqa: E402
 
 
 def counts(src, out, name):
     """(the image's set, whether it counts) for the drawing `name` of `src` and its result in `out`."""
-    drawing = json.load(open(os.path.join(src, name + '.geojson')))
-    meta = drawing.get('wakelab', {})
-    found = json.load(open(os.path.join(out, name, 'detections.json')))
+    meta, drawn, found, on = drawing_and_result(src, out, name)
     reported = [ends(w) for w in found['wakes'] or []]
     if meta.get('wakes_drawn') is False:
         return f'ship chips {os.path.basename(os.path.normpath(src))}', not reported
-    tol = TOL_M / float(meta.get('pixel_spacing_m', 10))
-    drawn = [(f['geometry']['coordinates'][0], f['geometry']['coordinates'][-1])
-             for f in drawing['features'] if f['properties'].get('kind') == 'wake']
     if not drawn:
         return set_of(name), not reported
-    on = lambda a, b: any(segment_distance(a, b, c, d) <= tol and line_angle(a, b, c, d) <= 20 for c, d in drawn)
     false = sum(not on(*r) for r in reported)
     return set_of(name), any(on(*r) for r in reported) and false <= 1
 
@@ -66,22 +58,9 @@ def main():
                     score[label, group] = score.get((label, group), 0) + counted
                     if label == variants[0][0]:
                         sizes[group] = sizes.get(group, 0) + 1
-    sets = sorted(sizes)
     labels = [v[0] for v in variants]
-    print('images counted per set (' + ', '.join(f'{s} of {sizes[s]}' for s in sets) + '), all')
-    for label in labels:
-        print(f'  {label}: ' + ' '.join(f'{score[label, s]:3d}' for s in sets)
-              + f'  {sum(score[label, s] for s in sets):4d}')
-    print('leave one set out: the variant best on the others, scored on the one left out')
-    total, shipped = 0, 0
-    for s in sets:
-        others = [t for t in sets if t != s]
-        best = max(labels, key=lambda v: (sum(score[v, t] for t in others), -labels.index(v)))
-        total += score[best, s]
-        shipped += score[labels[0], s]
-        print(f'  {s}: chose {best}, {score[best, s]} of {sizes[s]} ({labels[0]}: {score[labels[0], s]})')
-    print(f'  all sets left out in turn: {total} of {sum(sizes.values())} ({labels[0]}: {shipped})')
-
+    # ties go to the one given first: the shipped one
+    leave_one_set_out(score, sizes, labels, str, 'variants', rank=lambda v: -labels.index(v))
 
 if __name__ == '__main__':
     main()

@@ -22,13 +22,9 @@ import os, sys
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 from score_real_wakes import segment_distance, line_angle  # noqa: E402
-from threshold_cv import drawing_and_result  # noqa: E402
+from threshold_cv import drawing_and_result, ends  # noqa: E402
 
 TOL_M = float(os.environ.get("TOL_M", "300"))
-
-
-def ends(entry):
-    return ((entry["product_start"][1], entry["product_start"][0]), (entry["product_end"][1], entry["product_end"][0]))
 
 
 def image(src, out, name):

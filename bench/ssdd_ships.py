@@ -48,6 +48,8 @@ def main():
     ap.add_argument('--test-split', action='store_true')
     ap.add_argument('--mirrors', default='/work/.mirror')
     a = ap.parse_args()
+    if a.every < 1:
+        sys.exit(f'--every {a.every}: a whole number of at least 1 (every Nth chip)')
     git = git_dir(a.mirrors, SSDD[0])
     here = os.path.join(os.path.dirname(os.path.abspath(__file__)), 'held_out_wakes_4')
     fourth = {f[len('ssdd_'):-len('.geojson')] for f in os.listdir(here) if f.endswith('.geojson')}

@@ -57,12 +57,15 @@ def drawing_and_result(src, out, name):
     """The drawing `name` of `src` and its result in `out`: (its "wakelab" member, the drawn wakes
     as (apex, end), the detections.json, and whether a line (a, b) lies on a drawn wake by
     score_real_wakes.py's rule)."""
+    result = os.path.join(out, name, 'detections.json')
+    if not os.path.exists(result):
+        sys.exit(f'{result}: missing; run bench/score_real_wakes.py {src} {out} with the build to score first')
     drawing = json.load(open(os.path.join(src, name + '.geojson')))
     meta = drawing.get('wakelab', {})
     tol = TOL_M / float(meta.get('pixel_spacing_m', 10))
     drawn = [(f['geometry']['coordinates'][0], f['geometry']['coordinates'][-1])
              for f in drawing['features'] if f['properties'].get('kind') == 'wake']
-    found = json.load(open(os.path.join(out, name, 'detections.json')))
+    found = json.load(open(result))
     on = lambda a, b: any(segment_distance(a, b, c, d) <= tol and line_angle(a, b, c, d) <= 20 for c, d in drawn)
     return meta, drawn, found, on
 

@@ -77,6 +77,12 @@ pub struct TransferPlan {
     /// the embedded study, which reads line sums; reading pixels, the Table 4.1 classifier
     /// learnt nothing with it (see docs/results.md).
     pub look_alike_training: bool,
+    /// A folder of real SAR images without wakes (each with its `NAME.geojson`, as `--real`
+    /// reads them), onto whose windows training also draws each simulated wake that shows, each
+    /// beside the same window without it: the detectors learn the wake on a real sensor's
+    /// clutter, not only on the simulator's (`wakelab run --sea-images DIR`). None: simulated
+    /// sea only.
+    pub sea_images: Option<std::path::PathBuf>,
     pub seed: u64,
 }
 
@@ -110,6 +116,7 @@ impl Default for TransferPlan {
             wakeless_ships: [0, 6],
             look_alike_fraction: 0.3,
             look_alike_training: false,
+            sea_images: None,
             seed: 0,
         }
     }
@@ -211,6 +218,13 @@ impl TransferPlan {
                 "alarms_per_1000_km2",
                 self.alarms_per_1000_km2,
                 "in (0, 1000]",
+            ));
+        }
+        if let Some(dir) = self.sea_images.as_ref().filter(|d| !d.is_dir()) {
+            return Err(plan_error(
+                "sea_images",
+                dir.display(),
+                "a folder of real SAR images without wakes, each with its NAME.geojson",
             ));
         }
         Ok(())

@@ -239,6 +239,24 @@ pub fn load_study(name: &str) -> Result<wakelab_dataset::study::Study> {
     })
 }
 
+/// `study` with its transfer plan's `sea_images` set to `dir` where one is given (`wakelab run
+/// --sea-images DIR`); refused for a study without a `[transfer]` table.
+pub fn with_sea_images(
+    mut study: wakelab_dataset::study::Study,
+    dir: Option<&Path>,
+) -> Result<wakelab_dataset::study::Study> {
+    let Some(dir) = dir else { return Ok(study) };
+    let plan = study.transfer.as_mut().ok_or_else(|| {
+        anyhow::anyhow!(
+            "--sea-images {}: only the transfer study draws its wakes onto real sea (pass --study transfer)",
+            dir.display()
+        )
+    })?;
+    plan.sea_images = Some(dir.to_path_buf());
+    plan.validate().map_err(|e| anyhow::anyhow!("--sea-images: {e}"))?;
+    Ok(study)
+}
+
 /// What a finished study run leaves: its steps' times (for the summary) and the report's files.
 pub struct StudyOutcome {
     pub run: steps::StudyRun,

@@ -62,9 +62,8 @@ pub struct RunArgs {
 
 #[derive(Args, Debug, Clone)]
 pub struct StudyArgs {
-    /// Study: `default` (embedded, about 11 minutes on a 2-core machine), `paper` (the spec's
-    /// scale and recipe), `transfer` (detectors for real C-band images, RUN/detectors/) or a
-    /// study TOML file (see configs/study/default.toml).
+    /// Study: `default` (embedded, about 11 minutes on a 2-core machine), `paper` (the spec's scale and
+    /// recipe), `transfer` (detectors for real C-band images, RUN/detectors/) or a study TOML file.
     #[arg(long, value_name = "NAME|FILE")]
     pub study: Option<String>,
     /// `quick` (the default study) or `paper` (the paper study); --study wins when both are given.
@@ -101,6 +100,9 @@ pub struct StudyArgs {
     /// Score the transfer study's detectors, and detect's classic ship and wake searches, on real images: DIR holds each with NAME.geojson of its wakes.
     #[arg(long, value_name = "DIR")]
     pub real: Option<PathBuf>,
+    /// The transfer study also draws its wakes onto real SAR images without wakes (DIR, each with NAME.geojson).
+    #[arg(long, value_name = "DIR")]
+    pub sea_images: Option<PathBuf>,
 }
 
 /// A learning stage that `wakelab run --stage` runs on its own.

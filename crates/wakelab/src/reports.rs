@@ -5,11 +5,10 @@ use crate::Result;
 
 /// `wakelab idp`.
 pub fn idp(args: &IdpArgs) -> Result<()> {
-    let (json, write) = (args.json, args.write.as_deref());
     let cfg = args.config.load()?;
     let idp = wakelab_hydro::initial_data_plane(&cfg);
-    emit(&idp.scalars, json)?;
-    if let Some(dir) = write {
+    emit(&idp.scalars, args.json)?;
+    if let Some(dir) = args.write.as_deref() {
         for f in wakelab_hydro::output::write_idp_fields(dir, &cfg)? {
             eprintln!("wrote {}", f.display());
         }
@@ -19,8 +18,7 @@ pub fn idp(args: &IdpArgs) -> Result<()> {
 
 /// `wakelab spectrum`.
 pub fn spectrum(args: &SpectrumArgs) -> Result<()> {
-    let cfg = args.config.load_with(args.wind, args.incidence)?;
-    let report = wakelab_surface::spectrum_report::spectrum_report(&cfg);
+    let report = wakelab_surface::spectrum_report::spectrum_report(&args.config.load_with(args.wind, args.incidence)?);
     emit(&report, args.json)
 }
 

@@ -265,6 +265,22 @@ fn every_bad_input_is_refused_by_name_without_a_panic_or_leftovers() {
             1,
             &["a_file/sub", "Not a directory"],
         ),
+        case(
+            "real sea for a study without transfer",
+            "run --study {dir}/ok.toml --sea-images {dir} --out {out} --quiet",
+            1,
+            &["--sea-images", "only the transfer study", "--study transfer"],
+        ),
+        case(
+            "real sea that is no folder",
+            "run --study transfer --sea-images {dir}/a_file --out {out} --quiet",
+            1,
+            &[
+                "transfer.sea_images",
+                "a_file",
+                "a folder of real SAR images without wakes",
+            ],
+        ),
     ];
     for c in &cases {
         let out = dir.join(format!("out-{}", c.name.replace(' ', "_")));

@@ -22,6 +22,7 @@
 pub mod look_alikes;
 pub mod real;
 mod real_report;
+pub mod real_sea;
 pub mod real_search;
 pub mod real_ships;
 pub mod report;
@@ -87,6 +88,11 @@ fn training_windows(
     let base = study.base_config()?;
     let mut per_footprint: Vec<windows::TrackedWindows> = plan.footprints.iter().map(|_| Default::default()).collect();
     let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(plan.seed ^ 0x3E1D_0005);
+    let spacings: Vec<f64> = plan.footprints.iter().map(|&f| plan.spacing(f)).collect();
+    let sea = match &plan.sea_images {
+        Some(dir) => real_sea::load(dir, &spacings)?,
+        None => spacings.iter().map(|_| Vec::new()).collect(),
+    };
     let (mut rendered, mut shown) = (0, 0);
     display.step(1, "training scenes", plan.scenes as u64, "scenes");
     for j in 0..plan.scenes {
@@ -103,7 +109,7 @@ fn training_windows(
             pair.without = delivery.apply(&pair.without, pair.spacing);
             shown += usize::from(delivery.display.is_some());
             rendered += 1;
-            for (windows, &footprint) in per_footprint.iter_mut().zip(&plan.footprints) {
+            for ((windows, &footprint), sea) in per_footprint.iter_mut().zip(&plan.footprints).zip(&sea) {
                 let factor = (plan.spacing(footprint) / SPACING).round() as usize;
                 let scene = windows::training_windows(
                     &pair,
@@ -112,6 +118,7 @@ fn training_windows(
                     factor,
                     plan.window,
                     &anchors,
+                    sea,
                     &mut rng,
                 );
                 windows.examples.extend(scene.examples);
@@ -168,8 +175,10 @@ pub fn run_transfer(
     std::fs::create_dir_all(dir).map_err(|e| WakelabError::io(dir, e))?;
     wakelab_core::io::write_atomically(dir.join("study.toml"), toml::to_string(study)?.as_bytes())?;
     let start = Instant::now();
+    // the real sea's files by name and size: a folder whose images change trains afresh
+    let sea = plan.sea_images.as_deref().map(real_sea::listing).unwrap_or_default();
     let key = fnv_hex(&format!(
-        "{:?} {plan:?} {} {RESULTS_FORMAT}",
+        "{:?} {plan:?} {sea} {} {RESULTS_FORMAT}",
         study.base_config()?,
         env!("CARGO_PKG_VERSION")
     ));

@@ -6,6 +6,7 @@
 //! waves, rain cells, fronts; [`super::look_alikes`]). Each is made an input exactly as `wakelab detect` makes one: the image
 //! averaged by whole pixels to the detector's spacing, then [`detector_input`].
 
+use super::real_sea::{self, SeaImage};
 use super::visibility::{self, Line};
 use crate::steps::context::at_factor;
 use crate::steps::open_sea::{distance_to_segment, SeaPair};
@@ -159,7 +160,10 @@ pub(crate) struct TrackedWindows {
 /// are as delivered): those on the track and their twins (where `shown_only`, only those where
 /// the wake shows in `calibrated`, the same pair before delivery: [`wake_shows`]), the darkest
 /// window of the sea without the ship, and windows of that sea on up to [`ON_LOOK_ALIKES`] of
-/// the look-alikes' `anchors` (scene pixels), drawn at random.
+/// the look-alikes' `anchors` (scene pixels), drawn at random; and each wake that shows drawn
+/// onto [`real_sea::PER_WAKE`] windows of the real images `sea` (at this spacing), beside them
+/// as they are ([`real_sea::wake_on_real_sea`]).
+#[allow(clippy::too_many_arguments)]
 pub(crate) fn training_windows(
     pair: &SeaPair,
     calibrated: &SeaPair,
@@ -167,6 +171,7 @@ pub(crate) fn training_windows(
     factor: usize,
     n: usize,
     anchors: &[(f64, f64)],
+    sea: &[SeaImage],
     rng: &mut impl rand::Rng,
 ) -> TrackedWindows {
     let (with, without) = (at_factor(&pair.with, factor), at_factor(&pair.without, factor));
@@ -195,6 +200,18 @@ pub(crate) fn training_windows(
         if shows || !shown_only {
             examples.push(example(&with, corner, n, 1));
             examples.push(example(&without, corner, n, 0));
+        }
+        if shows {
+            let (r, c) = corner;
+            let (with, without) = (
+                truth.0.slice(s![r..r + n, c..c + n]),
+                truth.1.slice(s![r..r + n, c..c + n]),
+            );
+            for _ in 0..if sea.is_empty() { 0 } else { real_sea::PER_WAKE } {
+                if let Some((window, ceiling)) = real_sea::sea_window(sea, n, rng) {
+                    examples.extend(real_sea::wake_on_real_sea(with, without, window, ceiling));
+                }
+            }
         }
     }
     examples.push(example(&without, darkest_corner(&without, n), n, 0));
@@ -233,7 +250,7 @@ mod tests {
             spacing: 10.0,
             km2: 6.5536,
         };
-        let windows = training_windows(&pair, &pair, true, 2, 64, &[(25.0, 215.0)], &mut rng);
+        let windows = training_windows(&pair, &pair, true, 2, 64, &[(25.0, 215.0)], &[], &mut rng);
         assert_eq!((windows.on_track, windows.shown), (ON_TRACK, ON_TRACK));
         let examples = windows.examples;
         assert_eq!(examples.len(), 2 * ON_TRACK + 2);
@@ -257,7 +274,7 @@ mod tests {
             with: pair.without.clone(),
             ..pair.clone()
         };
-        let shown = training_windows(&pair, &same, true, 2, 64, &[], &mut rng);
+        let shown = training_windows(&pair, &same, true, 2, 64, &[], &[], &mut rng);
         assert_eq!((shown.on_track, shown.shown), (ON_TRACK, 0));
         assert_eq!(shown.examples.iter().map(|e| e.label).collect::<Vec<_>>(), vec![0]);
     }

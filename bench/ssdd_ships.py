@@ -2,7 +2,7 @@
 """SSDD chips with SSDD's own ship boxes, to score `wakelab detect`'s ship search on chips no
 rule was set on.
 
-usage: ssdd_ships.py OUT_DIR [--every N] [--test-split] [--mirrors DIR]
+usage: ssdd_ships.py OUT_DIR [--every N] [--test-split | --sea] [--mirrors DIR]
 
 Writes OUT_DIR/ssdd_ID.png (the chip's R channel; the JPEGs are grey, R = G = B, but for a few
 whose differing pixels are listed) and
@@ -20,7 +20,10 @@ SSDD states no pixel spacing per chip. A chip is taken at 3 m where its longest 
 pixels, else at 10 m: the fourth set's rule. Chips that would fill under half of the shipped
 detector's 64-pixel window once averaged to 20 m (`detect` refuses them) are left out and
 counted. With --test-split, every chip of the test split instead (IDs ending in 1 or 9), all
-taken at 10 m as the 2026-11-28 ship study took them. `wakelab run --study transfer --real DIR` does not read "wakes_drawn" and would take
+taken at 10 m as the 2026-11-28 ship study took them. With --sea, every chip of the train
+split less also the 210 chips the fourth set's screeners looked at closely for wakes
+(bench/held_out_wakes_4/screened.txt: every candidate among them): real sea for
+`wakelab run --study transfer --sea-images DIR`, which refuses an image with a wake drawn. `wakelab run --study transfer --real DIR` does not read "wakes_drawn" and would take
 these chips for wake-free images: score them with bench/score_real_wakes.py. Needs what
 bench/held_out_wakes.py needs (numpy, Pillow, scipy).
 """
@@ -45,7 +48,9 @@ def main():
     ap = argparse.ArgumentParser(description=__doc__.split('\n')[0])
     ap.add_argument('out_dir')
     ap.add_argument('--every', type=int, default=3)
-    ap.add_argument('--test-split', action='store_true')
+    split = ap.add_mutually_exclusive_group()
+    split.add_argument('--test-split', action='store_true')
+    split.add_argument('--sea', action='store_true')
     ap.add_argument('--mirrors', default='/work/.mirror')
     a = ap.parse_args()
     if a.every < 1:
@@ -59,6 +64,10 @@ def main():
     train = [i for i in ids if i[-1] not in '19' and i not in fourth and i != '000006']
     if a.test_split:
         train, a.every = [i for i in ids if i[-1] in '19'], 1
+    if a.sea:
+        with open(os.path.join(here, 'screened.txt')) as f:
+            screened = set(f.read().split())
+        train, a.every = [i for i in train if i not in screened], 1
     os.makedirs(a.out_dir, exist_ok=True)
     kept, small, empty, coloured = 0, 0, 0, []
     for chip in train[::a.every]:
@@ -89,7 +98,8 @@ def main():
         with open(os.path.join(a.out_dir, f'ssdd_{chip}.geojson'), 'w') as g:
             json.dump(drawing, g)
         kept += 1
-    split = 'test split' if a.test_split else 'train split less the fourth set and 000006'
+    split = ('test split' if a.test_split else 'train split less the fourth set, 000006'
+             + (' and the screened chips' if a.sea else ''))
     print(f'{kept} chips written of {len(train[::a.every])} taken ({len(train)} in the {split}); left out: {small} under half a window at 20 m, {empty} without a box')
     if coloured:
         print(f'{len(coloured)} of them hold pixels whose R, G and B differ (their R channel taken as for the '

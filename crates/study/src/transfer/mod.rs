@@ -172,6 +172,9 @@ pub fn run_transfer(
         .transfer
         .clone()
         .ok_or_else(|| anyhow::anyhow!("the study has no [transfer] table"))?;
+    if let Some(sea) = &plan.sea_images {
+        real_sea::listed(sea)?;
+    }
     std::fs::create_dir_all(dir).map_err(|e| WakelabError::io(dir, e))?;
     wakelab_core::io::write_atomically(dir.join("study.toml"), toml::to_string(study)?.as_bytes())?;
     let start = Instant::now();
@@ -487,6 +490,12 @@ mod tests {
         // the wake shows in at most those
         assert_eq!(d.track_windows, d.wake_windows, "{d:?}");
         assert!(d.track_windows_shown <= d.track_windows, "{d:?}");
+        // the wake and its twin per window on the track, and the darkest window of each scene
+        assert_eq!(
+            d.training_windows,
+            2 * d.track_windows + results.training_scenes,
+            "{d:?}"
+        );
         // every window on the track is measured, with and without its wake
         let measured = |v: Option<visibility::Spread>| v.map_or(0, |v| v.count);
         assert_eq!(measured(d.track_visibility), d.track_windows, "{d:?}");
@@ -605,5 +614,38 @@ mod tests {
             md.contains("## Real images") && md.contains("| wake.npy | 1280 | 1 |"),
             "{md}"
         );
+
+        // --sea-images: the image without a wake as real sea; each wake that shows is drawn
+        // onto PER_WAKE of its windows, each beside the window as it is
+        let sea_dir = dir.path().join("sea_images");
+        std::fs::create_dir_all(&sea_dir).unwrap();
+        for file in ["sea.npy", "sea.geojson"] {
+            std::fs::copy(real.join(file), sea_dir.join(file)).unwrap();
+        }
+        let mut on_real_sea = study.clone();
+        on_real_sea.transfer.as_mut().unwrap().sea_images = Some(sea_dir.clone());
+        let run = dir.path().join("on_real_sea");
+        run_transfer(&on_real_sea, &run, &device, None, true).unwrap();
+        let results = load_transfer(&run).unwrap();
+        let d = &results.detectors[0];
+        let drawn = 2 * real_sea::PER_WAKE * d.track_windows_shown;
+        assert!(d.track_windows_shown >= 1, "{d:?}");
+        assert_eq!(
+            d.training_windows,
+            2 * d.track_windows + results.training_scenes + drawn,
+            "{d:?}"
+        );
+        assert_eq!(d.wake_windows, d.track_windows + drawn / 2, "{d:?}");
+        let md = std::fs::read_to_string(run.join("report/transfer.md")).unwrap();
+        assert!(md.contains(&format!("real images of `{}`", sea_dir.display())), "{md}");
+        // an image with a wake drawn is refused, by name
+        std::fs::copy(real.join("wake.geojson"), sea_dir.join("sea.geojson")).unwrap();
+        let refused = dir.path().join("refused");
+        let e = format!(
+            "{:#}",
+            run_transfer(&on_real_sea, &refused, &device, None, true).unwrap_err()
+        );
+        assert!(e.contains("sea.npy has 1 wake(s) drawn"), "{e}");
+        assert!(!refused.exists());
     }
 }

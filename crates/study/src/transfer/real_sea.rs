@@ -13,7 +13,7 @@
 //! the wake then stands as many spreads out of the real sea as it stood out of the simulated
 //! one, whatever the real image's scale: sigma0, dB, or a display stretch of unknown gain.
 
-use super::real::annotations;
+use super::real::{annotations, Annotation};
 use crate::product_scan::open_product;
 use crate::Result;
 use anyhow::{anyhow, Context};
@@ -36,10 +36,9 @@ pub struct SeaImage {
     pub ceiling: f32,
 }
 
-/// Every image of `dir` (each with its `NAME.geojson`, as `--real` reads them; none may draw a
-/// wake), read as `detect` reads it, in dB, area-averaged to each of `spacings` (m). An image
-/// coarser than a spacing is left out of that spacing's list.
-pub fn load(dir: &Path, spacings: &[f64]) -> Result<Vec<Vec<SeaImage>>> {
+/// The images of `dir`, each with its `NAME.geojson` as `--real` reads them, refused by name
+/// where one draws a wake. Reads no pixels: a run checks its folder before it writes anything.
+pub fn listed(dir: &Path) -> Result<Vec<Annotation>> {
     let geojson = |e: &std::fs::DirEntry| e.path().extension().is_some_and(|x| x == "geojson");
     let entries = std::fs::read_dir(dir)
         .with_context(|| format!("transfer.sea_images {}: not a readable folder", dir.display()))?;
@@ -50,17 +49,24 @@ pub fn load(dir: &Path, spacings: &[f64]) -> Result<Vec<Vec<SeaImage>>> {
         ));
     }
     let listed = annotations(dir).with_context(|| format!("transfer.sea_images {}", dir.display()))?;
+    if let Some(a) = listed.iter().find(|a| !a.wakes.is_empty()) {
+        return Err(anyhow!(
+            "transfer.sea_images: {} has {} wake(s) drawn; training draws wakes onto images without one \
+             (score images with wakes with --real instead)",
+            a.image.display(),
+            a.wakes.len()
+        ));
+    }
+    Ok(listed)
+}
+
+/// Every image of `dir` ([`listed`]), read as `detect` reads it, in dB, area-averaged to each
+/// of `spacings` (m). An image coarser than a spacing is left out of that spacing's list.
+pub fn load(dir: &Path, spacings: &[f64]) -> Result<Vec<Vec<SeaImage>>> {
+    let listed = listed(dir)?;
     let mut out: Vec<Vec<SeaImage>> = spacings.iter().map(|_| Vec::new()).collect();
     for annotation in listed {
         let path = &annotation.image;
-        if !annotation.wakes.is_empty() {
-            return Err(anyhow!(
-                "transfer.sea_images: {} has {} wake(s) drawn; training draws wakes onto images without one \
-                 (score images with wakes with --real instead)",
-                path.display(),
-                annotation.wakes.len()
-            ));
-        }
         let read = ReadOptions {
             scale: annotation.scale,
             exclude: annotation.exclude.clone(),

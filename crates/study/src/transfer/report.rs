@@ -137,6 +137,14 @@ pub fn markdown(results: &TransferResults) -> String {
             ClassifierHead::GlobalMax => ", its last map pooled to each channel's largest response",
         },
     );
+    if let Some(dir) = &p.sea_images {
+        let _ = writeln!(
+            md,
+            "Each training wake that shows was also drawn onto {} windows of the real images of `{}` (`--sea-images`), each beside the same real window without it (counted in `training_windows`).\n",
+            super::real_sea::PER_WAKE,
+            dir.display()
+        );
+    }
     let _ = writeln!(
         md,
         "Each detector's threshold holds {} alarm(s) per 1,000 km^2 on the calibration step's open sea with slicks; \"unseen\" is open sea it was neither trained nor thresholded on. The look-alike test set is that unseen sea again with {}-{} ships without a wake per scene and an internal-wave packet, a rain cell and a current front each in {:.0} % of the scenes; its alarms within 500 m of a ship without a wake are counted apart as well. A wake is found when an alarm lies within 500 m of its track.\n",

@@ -44,6 +44,19 @@ pub struct Annotation {
     pub ships: Option<Vec<DrawnShip>>,
 }
 
+impl Annotation {
+    /// How `detect` reads the image: the scale, the pixels to leave out and the spacing its
+    /// GeoJSON states.
+    pub fn read_options(&self) -> ReadOptions {
+        ReadOptions {
+            scale: self.scale,
+            exclude: self.exclude.clone(),
+            pixel_spacing: self.pixel_spacing,
+            ..Default::default()
+        }
+    }
+}
+
 /// How one detector did on one image.
 #[derive(Debug, Clone, Serialize, Deserialize)]
 pub struct RealScore {
@@ -227,12 +240,7 @@ pub fn score_image(
     search: bool,
 ) -> Result<(RealScore, Option<SearchScore>)> {
     let image = &annotation.image;
-    let read = ReadOptions {
-        scale: annotation.scale,
-        exclude: annotation.exclude.clone(),
-        pixel_spacing: annotation.pixel_spacing,
-        ..Default::default()
-    };
+    let read = annotation.read_options();
     let request = DetectRequest {
         image,
         model: Some(model),

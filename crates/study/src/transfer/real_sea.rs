@@ -22,7 +22,7 @@ use rand::RngExt;
 use std::path::Path;
 use wakelab_learn::data::{median, robust_normalise, RadarScale};
 use wakelab_learn::train::Example;
-use wakelab_products::{ReadOptions, Source};
+use wakelab_products::Source;
 use wakelab_schema::band::Band;
 
 /// Real windows each simulated wake window is drawn onto.
@@ -67,13 +67,7 @@ pub fn load(dir: &Path, spacings: &[f64]) -> Result<Vec<Vec<SeaImage>>> {
     let mut out: Vec<Vec<SeaImage>> = spacings.iter().map(|_| Vec::new()).collect();
     for annotation in listed {
         let path = &annotation.image;
-        let read = ReadOptions {
-            scale: annotation.scale,
-            exclude: annotation.exclude.clone(),
-            pixel_spacing: annotation.pixel_spacing,
-            ..Default::default()
-        };
-        let opened = open_product(path, &read, Band::C, true, &mut |_, _| {})?;
+        let opened = open_product(path, &annotation.read_options(), Band::C, true, &mut |_, _| {})?;
         let product = match opened.source {
             Source::Whole(product) => *product,
             Source::Rows(rows) => rows.read_all(&mut |_, _| {})?,

@@ -61,7 +61,8 @@ pub fn listed(dir: &Path) -> Result<Vec<Annotation>> {
 }
 
 /// Every image of `dir` ([`listed`]), read as `detect` reads it, in dB, area-averaged to each
-/// of `spacings` (m). An image coarser than a spacing is left out of that spacing's list.
+/// of `spacings` (m). An image coarser than a spacing is left out of that spacing's list; a
+/// spacing left without any image is refused, naming it.
 pub fn load(dir: &Path, spacings: &[f64]) -> Result<Vec<Vec<SeaImage>>> {
     let listed = listed(dir)?;
     let mut out: Vec<Vec<SeaImage>> = spacings.iter().map(|_| Vec::new()).collect();
@@ -98,6 +99,12 @@ pub fn load(dir: &Path, spacings: &[f64]) -> Result<Vec<Vec<SeaImage>>> {
                 .fold(f32::NEG_INFINITY, f32::max);
             images.push(SeaImage { db, ceiling });
         }
+    }
+    if let Some((_, &spacing)) = out.iter().zip(spacings).find(|(images, _)| images.is_empty()) {
+        return Err(anyhow!(
+            "transfer.sea_images {}: no image is as fine as a detector's {spacing} m pixels; give images of {spacing} m or finer",
+            dir.display()
+        ));
     }
     Ok(out)
 }
@@ -244,6 +251,8 @@ mod tests {
         let mean: f32 = loaded[0][0].db.mean().unwrap();
         assert!((mean - 103.0).abs() < 0.5, "{mean}");
         assert!(loaded[0][0].ceiling <= 106.0 && loaded[0][0].ceiling > 100.0);
+        let e = format!("{:#}", load(d, &[5.0, 20.0]).unwrap_err());
+        assert!(e.contains("no image is as fine as a detector's 5 m pixels"), "{e}");
         sea(
             "b",
             10.0,

@@ -3,6 +3,7 @@
 wakes on real sea").
 
 usage: transfer_real_sets.py RUN [RUN ...]
+       transfer_real_sets.py --majority RUN,RUN,... RUN,RUN,...
 
 Each RUN is a `wakelab run --study transfer --out RUN --real DIR` directory; its
 RUN/transfer/real.json holds every image's score per detector (a wake found when a detection
@@ -12,7 +13,10 @@ the fourth, other wake-free images; as bench/threshold_cv.py names them): wake i
 wake found, with at most one false alarm (the transfer issue's target), with the map's peak on
 a wake, with the strongest detection on one, false alarms per wake image, and wake-free images
 without an alarm; then the line search's wakes seen by the CNN too, and how many of those lie on
-a drawn wake. Pure Python, no packages.
+a drawn wake. With --majority, two groups of runs (the same study at several seeds, with and
+without a change): the images whose verdict (a wake image: a wake found with at most one false
+alarm; a wake-free one: no alarm) the 1.28 km detector gets in most runs of one group and not
+of the other, each with its count per group. Pure Python, no packages.
 """
 import json
 import os
@@ -34,16 +38,49 @@ def row(label, scores):
             f"false per wake image {false:.2f}  wake-free clean {sum(s['detections'] == 0 for s in free)}/{len(free)}")
 
 
+def load(run):
+    path = os.path.join(run, 'transfer', 'real.json')
+    if not os.path.exists(path):
+        sys.exit(f'{path}: missing; run `wakelab run --study transfer --out {run} --real DIR` first')
+    with open(path) as f:
+        return json.load(f)
+
+
+def verdicts(run, footprint=1280.0):
+    out = {}
+    for s in load(run)['scores']:
+        if s['footprint'] != footprint or s.get('skipped'):
+            continue
+        if s['wakes'] > 0:
+            ok = (s['peak_on_wake'] or s['detections'] > s['false_alarms']) and s['false_alarms'] <= 1
+        else:
+            ok = s['detections'] == 0
+        out[os.path.splitext(s['image'])[0]] = ok
+    return out
+
+
+def majority(first, second):
+    groups = [[verdicts(r) for r in g.split(',')] for g in (first, second)]
+    names = sorted(set.intersection(*(set(v) for g in groups for v in g)))
+    counts = [{n: sum(v[n] for v in g) for n in names} for g in groups]
+    most = [{n for n in names if 2 * c[n] > len(g)} for c, g in zip(counts, groups)]
+    for label, names_ in (('the second group only', most[1] - most[0]), ('the first group only', most[0] - most[1])):
+        print(f'right in most runs of {label}: {len(names_)}')
+        for n in sorted(names_):
+            print(f'  {n:<12} {set_of(n):<16} {counts[0][n]} of {len(groups[0])}, {counts[1][n]} of {len(groups[1])}')
+    print(f'right in most runs: {len(most[0])} and {len(most[1])} of {len(names)} images')
+
+
 def main():
     runs = sys.argv[1:]
     if not runs:
         sys.exit(__doc__.split('\n\n')[1])
+    if runs[0] == '--majority':
+        if len(runs) != 3:
+            sys.exit('--majority takes two groups of runs, each a comma-separated list')
+        return majority(runs[1], runs[2])
     for run in runs:
-        path = os.path.join(run, 'transfer', 'real.json')
-        if not os.path.exists(path):
-            sys.exit(f'{path}: missing; run `wakelab run --study transfer --out {run} --real DIR` first')
-        with open(path) as f:
-            real = json.load(f)
+        real = load(run)
         for footprint in sorted({s['footprint'] for s in real['scores']}):
             scores = [s for s in real['scores'] if s['footprint'] == footprint and not s.get('skipped')]
             print(f'{run}, {footprint / 1000:.2f} km:')

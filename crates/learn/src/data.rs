@@ -246,20 +246,28 @@ pub fn detector_input(mut image: Array2<f32>, band: Band, scale: RadarScale) -> 
     robust_normalise(image)
 }
 
-/// (v - median) / (1.4826 MAD); where more than half the pixels share one value (MAD 0) the
-/// mean absolute deviation about the median stands in, and a constant image becomes all zeros.
+/// (v - median) / (1.4826 MAD), by [`robust_centre_and_spread`]; a constant image becomes all
+/// zeros.
 pub fn robust_normalise(mut image: Array2<f32>) -> Array2<f32> {
-    let centre = median(&image);
+    let (centre, scale) = robust_centre_and_spread(&image);
+    let inverse = if scale > 0.0 { 1.0 / scale } else { 0.0 };
+    image.mapv_inplace(|v| ((v - centre) as f64 * inverse) as f32);
+    image
+}
+
+/// The median of `image` and its robust spread, 1.4826 MAD, which [`robust_normalise`] divides
+/// by; where more than half the pixels share one value (MAD 0) the mean absolute deviation about
+/// the median stands in (0 for a constant image).
+pub fn robust_centre_and_spread(image: &Array2<f32>) -> (f32, f64) {
+    let centre = median(image);
     let deviations = image.mapv(|v| (v - centre).abs());
     let mad = median(&deviations) as f64 * 1.4826;
-    let scale = if mad > 0.0 {
+    let spread = if mad > 0.0 {
         mad
     } else {
         deviations.iter().map(|&d| d as f64).sum::<f64>() / deviations.len().max(1) as f64
     };
-    let inverse = if scale > 0.0 { 1.0 / scale } else { 0.0 };
-    image.mapv_inplace(|v| ((v - centre) as f64 * inverse) as f32);
-    image
+    (centre, spread)
 }
 
 /// The median of an image's finite values (the upper one of an even count).

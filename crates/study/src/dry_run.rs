@@ -186,12 +186,7 @@ fn training_seconds(work: &TrainingWork, side: usize, width: usize, classifier_r
 
 /// The dry run of `study` (see the module docs); unless `quiet`, says on stderr what it times.
 pub fn dry_run(study: &Study, device: &Device, quiet: bool) -> Result<DryRun> {
-    if study.transfer.is_some() {
-        anyhow::bail!(
-            "--dry-run estimates a chip study; study \"{}\" is a transfer study (its run time is in docs/results.md)",
-            study.study.name
-        );
-    }
+    crate::chip_study_only(study, "--dry-run")?;
     let progress = |what: &str| {
         if !quiet {
             eprintln!("  dry run: {what}");

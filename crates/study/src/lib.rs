@@ -239,6 +239,18 @@ pub fn load_study(name: &str) -> Result<wakelab_dataset::study::Study> {
     })
 }
 
+/// Refuses a transfer study where only a chip study's steps apply (`--dry-run`, `--emit-slurm`,
+/// `--stage`): its run is one step, `wakelab run --study transfer`.
+pub(crate) fn chip_study_only(study: &wakelab_dataset::study::Study, flag: &str) -> Result<()> {
+    if study.transfer.is_some() {
+        anyhow::bail!(
+            "{flag} applies to a chip study; study \"{}\" is a transfer study: run it whole with `wakelab run --study FILE` (its run time is in docs/results.md)",
+            study.study.name
+        );
+    }
+    Ok(())
+}
+
 /// `study` with its transfer plan's `sea_images` set to `dir` where one is given (`wakelab run
 /// --sea-images DIR`); refused for a study without a `[transfer]` table.
 pub fn with_sea_images(
@@ -351,6 +363,7 @@ pub fn run_one_step(
     device: &Device,
     quiet: bool,
 ) -> Result<StepTime> {
+    chip_study_only(study, "--stage")?;
     let display = Display::new(quiet, STEPS, dir);
     let result = steps::run_one_step(study, dir, step, device, &display);
     display.finish();

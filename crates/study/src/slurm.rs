@@ -50,6 +50,7 @@ impl SlurmRun {
         tasks: Option<usize>,
         cpus: Option<usize>,
     ) -> Result<Self> {
+        crate::chip_study_only(study, "--emit-slurm")?;
         let (tasks, cpus) = (tasks.unwrap_or(16), cpus.unwrap_or(2));
         check_tasks(tasks)?;
         if !(1..=1024).contains(&cpus) {

@@ -272,6 +272,21 @@ fn every_bad_input_is_refused_by_name_without_a_panic_or_leftovers() {
             &["--sea-images", "only the transfer study", "--study transfer"],
         ),
         case(
+            "a transfer study as Slurm jobs",
+            "run --study transfer --emit-slurm --out {out}",
+            1,
+            &[
+                "--emit-slurm applies to a chip study",
+                "\"transfer\" is a transfer study",
+            ],
+        ),
+        case(
+            "one stage of a transfer study",
+            "run --study transfer --stage held-out --out {out} --quiet",
+            1,
+            &["--stage applies to a chip study", "run it whole"],
+        ),
+        case(
             "real sea that is no folder",
             "run --study transfer --sea-images {dir}/a_file --out {out} --quiet",
             1,

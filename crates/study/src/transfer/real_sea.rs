@@ -20,7 +20,7 @@ use anyhow::{anyhow, Context};
 use ndarray::{s, Array2, ArrayView2, Axis};
 use rand::RngExt;
 use std::path::Path;
-use wakelab_learn::data::{median, robust_normalise, RadarScale};
+use wakelab_learn::data::{robust_centre_and_spread, robust_normalise, RadarScale};
 use wakelab_learn::train::Example;
 use wakelab_products::Source;
 use wakelab_schema::band::Band;
@@ -147,11 +147,9 @@ pub(crate) fn sea_window(images: &[SeaImage], n: usize, rng: &mut impl rand::Rng
     None
 }
 
-/// 1.4826 x the median absolute deviation: the robust spread the detector's input divides by.
+/// The robust spread the detector's input divides by ([`robust_centre_and_spread`]).
 fn spread(window: &ArrayView2<f32>) -> f32 {
-    let owned = window.to_owned();
-    let centre = median(&owned);
-    1.4826 * median(&owned.mapv(|v| (v - centre).abs()))
+    robust_centre_and_spread(&window.to_owned()).1 as f32
 }
 
 /// The simulated wake of the window pair `with` / `without` (calibrated sigma0, the same
@@ -189,6 +187,7 @@ pub(crate) fn wake_on_real_sea(
 mod tests {
     use super::*;
     use rand::SeedableRng;
+    use wakelab_learn::data::median;
 
     fn speckle(n: usize, looks: usize, rng: &mut impl rand::Rng) -> Array2<f32> {
         Array2::from_shape_fn((n, n), |_| {

@@ -83,6 +83,12 @@ pub struct TransferPlan {
     /// clutter, not only on the simulator's (`wakelab run --sea-images DIR`). None: simulated
     /// sea only.
     pub sea_images: Option<std::path::PathBuf>,
+    /// A folder of real SAR images with their wakes drawn (each with its `NAME.geojson` in
+    /// pixel coordinates, as `--real` reads them), from which training also takes windows along
+    /// each drawn wake (wakes) and windows clear of every drawn wake (no wake): the detectors
+    /// learn real wakes and the real clutter around them (`wakelab run --wake-images DIR`).
+    /// None: no real wake.
+    pub wake_images: Option<std::path::PathBuf>,
     pub seed: u64,
 }
 
@@ -117,6 +123,7 @@ impl Default for TransferPlan {
             look_alike_fraction: 0.3,
             look_alike_training: false,
             sea_images: None,
+            wake_images: None,
             seed: 0,
         }
     }
@@ -225,6 +232,13 @@ impl TransferPlan {
                 "sea_images",
                 dir.display(),
                 "a folder of real SAR images without wakes, each with its NAME.geojson",
+            ));
+        }
+        if let Some(dir) = self.wake_images.as_ref().filter(|d| !d.is_dir()) {
+            return Err(plan_error(
+                "wake_images",
+                dir.display(),
+                "a folder of real SAR images, each with its NAME.geojson drawing its wakes",
             ));
         }
         Ok(())

@@ -136,7 +136,7 @@ fn filled(mut window: Array2<f32>) -> Array2<f32> {
 
 /// A window of `band` (pixels in `scale`) as the detector's example: its no-data filled, then
 /// normalised ([`detector_input`]).
-fn window_example(window: Array2<f32>, band: Band, scale: RadarScale) -> Example {
+pub fn window_example(window: Array2<f32>, band: Band, scale: RadarScale) -> Example {
     Example {
         image: detector_input(filled(window), band, scale).insert_axis(Axis(0)),
         label: 0,

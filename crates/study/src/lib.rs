@@ -251,21 +251,28 @@ pub(crate) fn chip_study_only(study: &wakelab_dataset::study::Study, flag: &str)
     Ok(())
 }
 
-/// `study` with its transfer plan's `sea_images` set to `dir` where one is given (`wakelab run
-/// --sea-images DIR`); refused for a study without a `[transfer]` table.
-pub fn with_sea_images(
+/// `study` with its transfer plan's `sea_images` and `wake_images` set to the folders given
+/// (`wakelab run --sea-images DIR --wake-images DIR`); refused for a study without a
+/// `[transfer]` table.
+pub fn with_real_images(
     mut study: wakelab_dataset::study::Study,
-    dir: Option<&Path>,
+    sea: Option<&Path>,
+    wakes: Option<&Path>,
 ) -> Result<wakelab_dataset::study::Study> {
-    let Some(dir) = dir else { return Ok(study) };
-    let plan = study.transfer.as_mut().ok_or_else(|| {
-        anyhow::anyhow!(
-            "--sea-images {}: only the transfer study draws its wakes onto real sea (pass --study transfer)",
-            dir.display()
-        )
-    })?;
-    plan.sea_images = Some(dir.to_path_buf());
-    plan.validate().map_err(|e| anyhow::anyhow!("--sea-images: {e}"))?;
+    for (flag, dir) in [("--sea-images", sea), ("--wake-images", wakes)] {
+        let Some(dir) = dir else { continue };
+        let plan = study.transfer.as_mut().ok_or_else(|| {
+            anyhow::anyhow!(
+                "{flag} {}: only the transfer study trains on real images (pass --study transfer)",
+                dir.display()
+            )
+        })?;
+        match flag {
+            "--sea-images" => plan.sea_images = Some(dir.to_path_buf()),
+            _ => plan.wake_images = Some(dir.to_path_buf()),
+        }
+        plan.validate().map_err(|e| anyhow::anyhow!("{flag}: {e}"))?;
+    }
     Ok(study)
 }
 

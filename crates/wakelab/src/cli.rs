@@ -72,16 +72,13 @@ pub struct StudyArgs {
     /// Run directory (default: runs/<study name>).
     #[arg(long, value_name = "DIR")]
     pub out: Option<PathBuf>,
-    /// Backend for training: `auto` (the GPU backend of a build with `--features cuda` or
-    /// `--features wgpu`, else the CPU), cpu, wgpu or cuda.
+    /// Backend for training: `auto` (the GPU backend of a build with `--features cuda` or `--features wgpu`, else the CPU), cpu, wgpu or cuda.
     #[arg(long, default_value = "auto")]
     pub device: String,
-    /// Print each stage's work and its time on this CPU (from steps measured for about a minute)
-    /// and on a GPU (timed on the `--device` GPU, else an H100's measured rates), and the peak memory; write nothing.
+    /// Print each stage's work and its time on this CPU (from steps measured for about a minute) and on a GPU (timed on the `--device` GPU, else an H100's measured rates), and the peak memory; write nothing.
     #[arg(long, conflicts_with_all = ["emit_slurm", "stage"])]
     pub dry_run: bool,
-    /// Write a Slurm script, DIR/wakelab_run.slurm, running the study as jobs chained by `afterok`
-    /// (dataset shards; a job per learning input, one for held-out; fusion and the report).
+    /// Write a Slurm script, DIR/wakelab_run.slurm, running the study as jobs chained by `afterok` (dataset shards; a job per learning input, one for held-out; fusion and the report).
     #[arg(long, conflicts_with_all = ["stage", "input"])]
     pub emit_slurm: bool,
     /// Array tasks of the Slurm script's dataset step (with --emit-slurm).
@@ -90,8 +87,7 @@ pub struct StudyArgs {
     /// Cores per Slurm job (with --emit-slurm).
     #[arg(long, value_name = "N", requires = "emit_slurm")]
     pub cpus: Option<usize>,
-    /// Run one learning stage only, on the run directory's finished dataset (what the Slurm
-    /// jobs run): `learning` (one input, --input) or `held-out`; `wakelab run` reuses it.
+    /// Run one learning stage only, on the run directory's finished dataset (what the Slurm jobs run): `learning` (one input, --input) or `held-out`; `wakelab run` reuses it.
     #[arg(long, value_name = "learning|held-out")]
     pub stage: Option<StageName>,
     /// The input of `--stage learning`: a band (S, C, X, MWIR, LWIR) or bands as channels (S+X).
@@ -103,6 +99,9 @@ pub struct StudyArgs {
     /// The transfer study also draws its wakes onto real SAR images without wakes (DIR, each with NAME.geojson).
     #[arg(long, value_name = "DIR")]
     pub sea_images: Option<PathBuf>,
+    /// The transfer study also trains on real SAR images with their wakes drawn (DIR, each with NAME.geojson): windows along the wakes and clear of them.
+    #[arg(long, value_name = "DIR")]
+    pub wake_images: Option<PathBuf>,
 }
 
 /// A learning stage that `wakelab run --stage` runs on its own.

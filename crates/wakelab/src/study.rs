@@ -10,7 +10,8 @@ use wakelab_study::steps::OneStep;
 pub fn run_study_command(args: &StudyArgs, quiet: bool) -> Result<()> {
     let paper = args.preset == Some(Preset::Paper);
     let name = (args.study.clone()).unwrap_or_else(|| if paper { "paper" } else { "default" }.into());
-    let study = wakelab_study::with_sea_images(wakelab_study::load_study(&name)?, args.sea_images.as_deref())?;
+    let (sea, wakes) = (args.sea_images.as_deref(), args.wake_images.as_deref());
+    let study = wakelab_study::with_real_images(wakelab_study::load_study(&name)?, sea, wakes)?;
     let dir = (args.out.clone()).unwrap_or_else(|| PathBuf::from("runs").join(&study.study.name));
     if args.emit_slurm {
         let script = wakelab_study::slurm::emit_run_script(&name, &study, &dir, &args.device, args.tasks, args.cpus)?;

@@ -296,6 +296,18 @@ fn every_bad_input_is_refused_by_name_without_a_panic_or_leftovers() {
                 "a folder of real SAR images without wakes",
             ],
         ),
+        case(
+            "real wakes for a study without transfer",
+            "run --study {dir}/ok.toml --wake-images {dir} --out {out} --quiet",
+            1,
+            &["--wake-images", "only the transfer study", "--study transfer"],
+        ),
+        case(
+            "real wakes that are no folder",
+            "run --study transfer --wake-images {dir}/a_file --out {out} --quiet",
+            1,
+            &["transfer.wake_images", "a_file", "NAME.geojson drawing its wakes"],
+        ),
     ];
     for c in &cases {
         let out = dir.join(format!("out-{}", c.name.replace(' ', "_")));

@@ -25,6 +25,7 @@ mod real_report;
 pub mod real_sea;
 pub mod real_search;
 pub mod real_ships;
+pub mod real_wakes;
 pub mod report;
 pub mod results;
 pub mod scenes;
@@ -54,7 +55,7 @@ use wakelab_schema::metrics::roc_auc;
 use wakelab_schema::recipe::{Augmentation, Optimiser};
 
 /// The layout of `transfer.json` and what the study computes.
-const RESULTS_FORMAT: &str = "transfer-6";
+const RESULTS_FORMAT: &str = "transfer-7";
 /// The calibration step's open-sea scenes start here (its `FIRST_SCENE`).
 const THRESHOLD_SCENES: usize = 1000;
 /// Steps the transfer study's progress display counts.
@@ -84,13 +85,14 @@ fn training_windows(
     study: &Study,
     plan: &TransferPlan,
     display: &Display,
+    sea: &[Vec<real_sea::SeaImage>],
 ) -> Result<(Vec<windows::TrackedWindows>, usize, usize)> {
     let base = study.base_config()?;
     let mut per_footprint: Vec<windows::TrackedWindows> = plan.footprints.iter().map(|_| Default::default()).collect();
     let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(plan.seed ^ 0x3E1D_0005);
     let spacings: Vec<f64> = plan.footprints.iter().map(|&f| plan.spacing(f)).collect();
-    let sea = match &plan.sea_images {
-        Some(dir) => real_sea::load(dir, &spacings)?,
+    let wakes = match &plan.wake_images {
+        Some(dir) => real_wakes::load(dir, &spacings)?,
         None => spacings.iter().map(|_| Vec::new()).collect(),
     };
     let (mut rendered, mut shown) = (0, 0);
@@ -109,7 +111,7 @@ fn training_windows(
             pair.without = delivery.apply(&pair.without, pair.spacing);
             shown += usize::from(delivery.display.is_some());
             rendered += 1;
-            for ((windows, &footprint), sea) in per_footprint.iter_mut().zip(&plan.footprints).zip(&sea) {
+            for ((windows, &footprint), sea) in per_footprint.iter_mut().zip(&plan.footprints).zip(sea) {
                 let factor = (plan.spacing(footprint) / SPACING).round() as usize;
                 let scene = windows::training_windows(
                     &pair,
@@ -129,6 +131,11 @@ fn training_windows(
             }
         }
         display.advance(1, format!("{rendered} rendered"));
+    }
+    for (windows, images) in per_footprint.iter_mut().zip(&wakes) {
+        windows
+            .examples
+            .extend(real_wakes::windows(images, plan.window, &mut rng));
     }
     if plan.look_alike_training {
         for windows in &mut per_footprint {
@@ -175,11 +182,18 @@ pub fn run_transfer(
     if let Some(sea) = &plan.sea_images {
         real_sea::listed(sea)?;
     }
+    if let Some(wakes) = &plan.wake_images {
+        real_wakes::listed(wakes)?;
+        if let Some(real) = real {
+            refuse_images_trained_on(wakes, real)?;
+        }
+    }
     std::fs::create_dir_all(dir).map_err(|e| WakelabError::io(dir, e))?;
     wakelab_core::io::write_atomically(dir.join("study.toml"), toml::to_string(study)?.as_bytes())?;
     let start = Instant::now();
-    // the real sea's files by name and size: a folder whose images change trains afresh
-    let sea = plan.sea_images.as_deref().map(real_sea::listing).unwrap_or_default();
+    // the real images' files by name and size: a folder whose images change trains afresh
+    let listing = |dir: &Option<PathBuf>| dir.as_deref().map(real_sea::listing).unwrap_or_default();
+    let sea = format!("{} {}", listing(&plan.sea_images), listing(&plan.wake_images));
     let key = fnv_hex(&format!(
         "{:?} {plan:?} {sea} {} {RESULTS_FORMAT}",
         study.base_config()?,
@@ -217,6 +231,35 @@ pub fn run_transfer(
         results.seconds
     ));
     Ok(lines)
+}
+
+/// Refuses to score the images of `real` where one of them (by name and size) is among the
+/// images `wakes` trains on: a detector scored on its own training images measures nothing.
+fn refuse_images_trained_on(wakes: &Path, real: &Path) -> Result<()> {
+    // every file but the drawings, by name and size (a link read as its target)
+    let files = |dir: &Path| -> Vec<(std::ffi::OsString, u64)> {
+        (std::fs::read_dir(dir).into_iter().flatten().flatten())
+            .filter(|e| e.path().extension().is_none_or(|x| x != "geojson"))
+            .filter_map(|e| {
+                Some((
+                    e.file_name(),
+                    std::fs::metadata(e.path()).ok().filter(|m| m.is_file())?.len(),
+                ))
+            })
+            .collect()
+    };
+    let trained = files(wakes);
+    let shared: Vec<_> = files(real).into_iter().filter(|f| trained.contains(f)).collect();
+    match shared.first() {
+        Some((first, _)) => Err(anyhow::anyhow!(
+            "--real {} holds {} image(s) that transfer.wake_images {} trains on ({}, by name and size): score the detectors on images they were not trained on",
+            real.display(),
+            shared.len(),
+            wakes.display(),
+            first.to_string_lossy()
+        )),
+        None => Ok(()),
+    }
 }
 
 /// The images of `real_dir` scored by the study's detectors (written to `transfer/real.json`),
@@ -259,7 +302,12 @@ fn compute(
     key: String,
 ) -> Result<TransferResults> {
     let render_start = Instant::now();
-    let (examples, training_scenes, display_scenes) = training_windows(dir, study, plan, display)?;
+    let spacings: Vec<f64> = plan.footprints.iter().map(|&f| plan.spacing(f)).collect();
+    let sea = match &plan.sea_images {
+        Some(dir) => real_sea::load(dir, &spacings)?,
+        None => spacings.iter().map(|_| Vec::new()).collect(),
+    };
+    let (examples, training_scenes, display_scenes) = training_windows(dir, study, plan, display, &sea)?;
     let render_seconds = render_start.elapsed().as_secs_f64();
     display.step(2, "training", (plan.footprints.len() * plan.epochs) as u64, "epochs");
     let mut trained = Vec::new();
@@ -334,36 +382,18 @@ fn compute(
     })?;
     std::fs::create_dir_all(detectors_dir(dir)).map_err(|e| WakelabError::io(detectors_dir(dir), e))?;
     let mut detectors = Vec::new();
-    for (
-        (
-            (
-                (
-                    (
-                        scanner,
-                        (
-                            windows,
-                            wake_windows,
-                            seconds,
-                            last,
-                            (on_track, on_track_shown, track_visibility, sea_visibility),
-                        ),
-                    ),
-                    tally,
-                ),
-                unseen,
-            ),
-            alike,
-        ),
-        &footprint,
-    ) in scanners
-        .into_iter()
-        .zip(trained)
-        .zip(tallies)
+    let per_detector = (scanners.into_iter().zip(trained).zip(tallies))
         .zip(unseen)
         .zip(alike)
         .zip(&plan.footprints)
-    {
-        let threshold = threshold_for_alarm_rate(&tally.sea, km2, plan.alarms_per_1000_km2);
+        .zip(&sea);
+    for ((((((scanner, trained), tally), unseen), alike), &footprint), sea) in per_detector {
+        let (windows, wake_windows, seconds, last, visibility) = trained;
+        let (on_track, on_track_shown, track_visibility, sea_visibility) = visibility;
+        let simulated = threshold_for_alarm_rate(&tally.sea, km2, plan.alarms_per_1000_km2);
+        let real_sea = real_sea::threshold(&scanner, sea, plan.alarms_per_1000_km2, device)?;
+        let threshold = real_sea.as_ref().map_or(simulated, |r| simulated.max(r.threshold));
+        let real_sea = real_sea.map(|r| r.at(threshold));
         let (scores, labels) = window_scores(&unseen);
         let reliability_bins = reliability(&scores, &labels, RELIABILITY_BINS);
         let Scanner { detector, mut info, .. } = scanner;
@@ -412,6 +442,7 @@ fn compute(
                 wakes_found: alike.wakes_found(threshold, FOUND_WITHIN_M),
                 off_wake_alarms: per_1000(alike.off_wake_alarms(threshold, FOUND_WITHIN_M), alike_km2),
             },
+            real_sea,
             file,
         });
     }
@@ -638,6 +669,16 @@ mod tests {
         assert_eq!(d.wake_windows, d.track_windows + drawn / 2, "{d:?}");
         let md = std::fs::read_to_string(run.join("report/transfer.md")).unwrap();
         assert!(md.contains(&format!("real images of `{}`", sea_dir.display())), "{md}");
+        // the threshold also holds the rate on the real sea: its 6.55 km^2 allow no alarm at
+        // 1 per 1,000 km^2, so none of its alarms lies above the threshold
+        let r = d.real_sea.as_ref().expect("the real sea's threshold");
+        assert_eq!(r.images, 1, "{r:?}");
+        assert!((r.km2 - 6.5536).abs() < 1e-6, "{r:?}");
+        assert!(d.threshold >= r.threshold && r.alarms_at_threshold == 0.0, "{d:?}");
+        assert!(
+            md.contains("also holds that rate on the real sea of `--sea-images` (7 km^2 in 1 image(s) scanned)"),
+            "{md}"
+        );
         // an image with a wake drawn is refused, by name
         std::fs::copy(real.join("wake.geojson"), sea_dir.join("sea.geojson")).unwrap();
         let refused = dir.path().join("refused");
@@ -646,6 +687,45 @@ mod tests {
             run_transfer(&on_real_sea, &refused, &device, None, true).unwrap_err()
         );
         assert!(e.contains("sea.npy has 1 wake(s) drawn"), "{e}");
+        assert!(!refused.exists());
+
+        // --wake-images: the folder of both images, its one drawn wake giving PER_WAKE windows
+        // along it, and the two images as many clear of it each (the sea's none to be clear of)
+        let mut on_real_wakes = study.clone();
+        on_real_wakes.transfer.as_mut().unwrap().wake_images = Some(real.clone());
+        let run = dir.path().join("on_real_wakes");
+        run_transfer(&on_real_wakes, &run, &device, None, true).unwrap();
+        let results = load_transfer(&run).unwrap();
+        let d = &results.detectors[0];
+        let per_wake = real_wakes::PER_WAKE;
+        assert_eq!(
+            d.training_windows,
+            2 * d.track_windows + results.training_scenes + 3 * per_wake,
+            "{d:?}"
+        );
+        assert_eq!(d.wake_windows, d.track_windows + per_wake, "{d:?}");
+        let md = std::fs::read_to_string(run.join("report/transfer.md")).unwrap();
+        assert!(
+            md.contains(&format!("real images of `{}` (`--wake-images`)", real.display())),
+            "{md}"
+        );
+        // scoring the images it trained on is refused before anything is written, as is a
+        // folder without a wake drawn
+        let refused = dir.path().join("refused_wakes");
+        let e = format!(
+            "{:#}",
+            run_transfer(&on_real_wakes, &refused, &device, Some(&real), true).unwrap_err()
+        );
+        assert!(e.contains("holds 2 image(s) that transfer.wake_images"), "{e}");
+        on_real_wakes.transfer.as_mut().unwrap().wake_images = Some(sea_dir.join("none"));
+        std::fs::create_dir_all(sea_dir.join("none")).unwrap();
+        std::fs::copy(real.join("sea.npy"), sea_dir.join("none/sea.npy")).unwrap();
+        std::fs::copy(real.join("sea.geojson"), sea_dir.join("none/sea.geojson")).unwrap();
+        let e = format!(
+            "{:#}",
+            run_transfer(&on_real_wakes, &refused, &device, None, true).unwrap_err()
+        );
+        assert!(e.contains("no image with a wake drawn"), "{e}");
         assert!(!refused.exists());
     }
 }

@@ -14,13 +14,18 @@
 //! one, whatever the real image's scale: sigma0, dB, or a display stretch of unknown gain.
 
 use super::real::{annotations, Annotation};
+use super::results::RealSeaThreshold;
 use crate::product_scan::open_product;
+use crate::steps::open_sea::Scanner;
 use crate::Result;
 use anyhow::{anyhow, Context};
 use ndarray::{s, Array2, ArrayView2, Axis};
 use rand::RngExt;
 use std::path::Path;
+use wakelab_learn::calibration::threshold_for_alarm_rate;
 use wakelab_learn::data::{robust_centre_and_spread, robust_normalise, RadarScale};
+use wakelab_learn::detect::{detect_image, fills_half_a_window, ScanOptions};
+use wakelab_learn::device::Device;
 use wakelab_learn::train::Example;
 use wakelab_products::Source;
 use wakelab_schema::band::Band;
@@ -64,25 +69,50 @@ pub fn listed(dir: &Path) -> Result<Vec<Annotation>> {
 /// of `spacings` (m). An image coarser than a spacing is left out of that spacing's list; a
 /// spacing left without any image is refused, naming it.
 pub fn load(dir: &Path, spacings: &[f64]) -> Result<Vec<Vec<SeaImage>>> {
-    let listed = listed(dir)?;
     let mut out: Vec<Vec<SeaImage>> = spacings.iter().map(|_| Vec::new()).collect();
-    for annotation in listed {
-        let path = &annotation.image;
-        let opened = open_product(path, &annotation.read_options(), Band::C, true, &mut |_, _| {})?;
-        let product = match opened.source {
-            Source::Whole(product) => *product,
-            Source::Rows(rows) => rows.read_all(&mut |_, _| {})?,
-        };
-        let spacing = product.meta.pixel_spacing.as_ref().ok_or_else(|| {
-            anyhow!(
-                "transfer.sea_images: {} states no pixel spacing: give it as \"wakelab\": {{\"pixel_spacing_m\": M}} in its GeoJSON",
-                path.display()
-            )
-        })?;
-        for (images, &target) in out.iter_mut().zip(spacings) {
+    for annotation in listed(dir)? {
+        for (images, averaged) in out.iter_mut().zip(averaged_db(&annotation, spacings, "sea_images")?) {
+            if let Some((db, _)) = averaged {
+                let ceiling = db
+                    .iter()
+                    .copied()
+                    .filter(|v| v.is_finite())
+                    .fold(f32::NEG_INFINITY, f32::max);
+                images.push(SeaImage { db, ceiling });
+            }
+        }
+    }
+    refuse_a_spacing_left_empty(&out, spacings, dir, "sea_images")?;
+    Ok(out)
+}
+
+/// An image in dB averaged to a detector's spacing, and its pixels per averaged pixel (rows,
+/// columns).
+pub(crate) type Averaged = (Array2<f32>, (f64, f64));
+
+/// The image of `annotation`, read as `detect` reads it, in dB (NaN for no data), area-averaged
+/// to each of `spacings` (m), with the image's pixels per averaged pixel (rows, columns); None
+/// for a spacing finer than the image's. An image without a stated spacing is refused, naming
+/// the plan's `field`.
+pub(crate) fn averaged_db(annotation: &Annotation, spacings: &[f64], field: &str) -> Result<Vec<Option<Averaged>>> {
+    let path = &annotation.image;
+    let opened = open_product(path, &annotation.read_options(), Band::C, true, &mut |_, _| {})?;
+    let product = match opened.source {
+        Source::Whole(product) => *product,
+        Source::Rows(rows) => rows.read_all(&mut |_, _| {})?,
+    };
+    let spacing = product.meta.pixel_spacing.as_ref().ok_or_else(|| {
+        anyhow!(
+            "transfer.{field}: {} states no pixel spacing: give it as \"wakelab\": {{\"pixel_spacing_m\": M}} in its GeoJSON",
+            path.display()
+        )
+    })?;
+    Ok(spacings
+        .iter()
+        .map(|&target| {
             let factor = (target / spacing.rows, target / spacing.columns);
             if factor.0 < 1.0 || factor.1 < 1.0 {
-                continue;
+                return None;
             }
             let averaged = wakelab_products::resample::area_average(&product.image, factor.0, factor.1);
             let db = averaged.mapv(|v| {
@@ -92,21 +122,72 @@ pub fn load(dir: &Path, spacings: &[f64]) -> Result<Vec<Vec<SeaImage>>> {
                     f32::NAN
                 }
             });
-            let ceiling = db
-                .iter()
-                .copied()
-                .filter(|v| v.is_finite())
-                .fold(f32::NEG_INFINITY, f32::max);
-            images.push(SeaImage { db, ceiling });
-        }
-    }
-    if let Some((_, &spacing)) = out.iter().zip(spacings).find(|(images, _)| images.is_empty()) {
-        return Err(anyhow!(
-            "transfer.sea_images {}: no image is as fine as a detector's {spacing} m pixels; give images of {spacing} m or finer",
+            Some((db, factor))
+        })
+        .collect())
+}
+
+/// Refuses a detector spacing for which no image of `dir` is fine enough, naming the plan's
+/// `field`: its detector would train on simulated windows alone.
+pub(crate) fn refuse_a_spacing_left_empty<T>(
+    per_spacing: &[Vec<T>],
+    spacings: &[f64],
+    dir: &Path,
+    field: &str,
+) -> Result<()> {
+    match per_spacing.iter().zip(spacings).find(|(images, _)| images.is_empty()) {
+        Some((_, &spacing)) => Err(anyhow!(
+            "transfer.{field} {}: no image is as fine as a detector's {spacing} m pixels; give images of {spacing} m or finer",
             dir.display()
-        ));
+        )),
+        None => Ok(()),
     }
-    Ok(out)
+}
+
+/// The threshold at which `scanner` raises at most `per_1000_km2` alarms per 1,000 km^2 on the
+/// real sea `images` (dB at its spacing), scanned as the simulated open sea is (half-window
+/// stride, its separate alarms: [`threshold_for_alarm_rate`]); None without images. Images too
+/// small for a scan (under half a window) are left out. Item 5 of issue 38 sets the threshold
+/// for a stated rate on simulated open sea; where the user gives real sea, the detector's
+/// threshold holds the rate on both.
+pub(crate) fn threshold(
+    scanner: &Scanner,
+    images: &[SeaImage],
+    per_1000_km2: f64,
+    device: &Device,
+) -> Result<Option<RealSeaThreshold>> {
+    if images.is_empty() {
+        return Ok(None);
+    }
+    let n = scanner.info.input_size;
+    let spacing = scanner.info.pixel_spacing.unwrap_or(f64::NAN);
+    let options = ScanOptions {
+        stride: Some((n / 2).max(1)),
+        scale: RadarScale::Db,
+        threshold: Some(0.0),
+        ..ScanOptions::default()
+    };
+    let (mut alarms, mut km2, mut scanned) = (Vec::new(), 0.0, 0);
+    for image in images.iter().filter(|i| fills_half_a_window(i.db.dim(), n)) {
+        let found = detect_image(
+            &scanner.detector,
+            &scanner.info,
+            &image.db,
+            options,
+            device,
+            &mut |_, _| {},
+        )?;
+        alarms.extend(found.detections.iter().map(|d| d.score));
+        km2 += image.db.iter().filter(|v| v.is_finite()).count() as f64 * spacing * spacing / 1e6;
+        scanned += 1;
+    }
+    Ok(Some(RealSeaThreshold {
+        images: scanned,
+        km2,
+        threshold: threshold_for_alarm_rate(&alarms, km2, per_1000_km2),
+        alarms_at_threshold: f64::NAN,
+        alarms,
+    }))
 }
 
 /// The files of `dir`, each name with its size in bytes, in name order (empty where `dir`

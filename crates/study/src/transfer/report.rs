@@ -145,14 +145,37 @@ pub fn markdown(results: &TransferResults) -> String {
             dir.display()
         );
     }
+    if let Some(dir) = &p.wake_images {
+        let _ = writeln!(
+            md,
+            "Training also took {} windows along each wake drawn on the real images of `{}` (`--wake-images`), and as many of the same images at least {} windows from every drawn wake, without a wake (counted in `training_windows`). Score the detectors on other images.\n",
+            super::real_wakes::PER_WAKE,
+            dir.display(),
+            super::real_wakes::CLEAR_OF_WAKES
+        );
+    }
     let _ = writeln!(
         md,
-        "Each detector's threshold holds {} alarm(s) per 1,000 km^2 on the calibration step's open sea with slicks; \"unseen\" is open sea it was neither trained nor thresholded on. The look-alike test set is that unseen sea again with {}-{} ships without a wake per scene and an internal-wave packet, a rain cell and a current front each in {:.0} % of the scenes; its alarms within 500 m of a ship without a wake are counted apart as well. A wake is found when an alarm lies within 500 m of its track.\n",
+        "Each detector's threshold holds {} alarm(s) per 1,000 km^2 on the calibration step's open sea with slicks (and on real sea, where given: below); \"unseen\" is open sea it was neither trained nor thresholded on. The look-alike test set is that unseen sea again with {}-{} ships without a wake per scene and an internal-wave packet, a rain cell and a current front each in {:.0} % of the scenes; its alarms within 500 m of a ship without a wake are counted apart as well. A wake is found when an alarm lies within 500 m of its track.\n",
         results.alarms_target,
         p.wakeless_ships[0],
         p.wakeless_ships[1],
         100.0 * p.look_alike_fraction,
     );
+    for d in &results.detectors {
+        if let Some(r) = &d.real_sea {
+            let _ = writeln!(
+                md,
+                "The {:.2} km detector's threshold also holds that rate on the real sea of `--sea-images` ({:.0} km^2 in {} image(s) scanned), where the rate alone needs {:.4}: it is {:.4}, with {:.1} alarms per 1,000 km^2 there.\n",
+                d.footprint / 1000.0,
+                r.km2,
+                r.images,
+                r.threshold,
+                d.threshold,
+                r.alarms_at_threshold
+            );
+        }
+    }
     md += "Of the training windows cut on a wake's track (`track_windows`), `track_windows_wake_shows` are those in which the wake shows against the sea at the detector's spacing: a strip along the track, averaged over the window, whose change from the same sea without the ship exceeds 3 times the sea profile's strip-to-strip deviation (speckle after averaging, the sea's texture, its slicks). In the others only the ship at the wake's apex, if in view, sets the window apart. `track_visibility` is the wake's visibility in those windows as delivered, measured as on real images (below): its strongest strip within 150 m of the track against the strips beyond 250 m, in the sea profile's strip-to-strip deviations; quartiles, and the share above 3. `sea_visibility` is the same measure on the same windows of the sea without the ship: the measure's floor (the largest of a dozen strips of speckle and sea).\n\n";
     md += &format!("| {} |\n", HEADER.join(" | "));
     md += &format!("|{}\n", " --- |".repeat(HEADER.len()));

@@ -57,7 +57,34 @@ pub struct TransferDetector {
     /// calibration error.
     pub reliability: Vec<ReliabilityBin>,
     pub calibration_error: f64,
+    /// The real wake-free sea of `--sea-images`, where given, on which the threshold also holds
+    /// the alarm rate.
+    #[serde(default)]
+    pub real_sea: Option<RealSeaThreshold>,
     pub file: PathBuf,
+}
+
+/// The threshold that holds the alarm rate on the real sea of `--sea-images`: the images
+/// scanned, their area, that threshold alone, and the alarms per 1,000 km^2 there at the
+/// detector's threshold (the larger of it and the simulated open sea's).
+#[derive(Debug, Clone, Serialize, Deserialize)]
+pub struct RealSeaThreshold {
+    pub images: usize,
+    pub km2: f64,
+    pub threshold: f64,
+    pub alarms_at_threshold: f64,
+    /// The separate alarms' probabilities, for the rate at any threshold.
+    #[serde(skip)]
+    pub alarms: Vec<f64>,
+}
+
+impl RealSeaThreshold {
+    /// The same with the alarms per 1,000 km^2 at `threshold`.
+    pub fn at(mut self, threshold: f64) -> Self {
+        let above = self.alarms.iter().filter(|&&p| p > threshold).count();
+        self.alarms_at_threshold = above as f64 * 1000.0 / self.km2.max(f64::MIN_POSITIVE);
+        self
+    }
 }
 
 /// What a detector does on the look-alike test set (issue 38, item 3).

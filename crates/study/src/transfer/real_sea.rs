@@ -69,21 +69,40 @@ pub fn listed(dir: &Path) -> Result<Vec<Annotation>> {
 /// of `spacings` (m). An image coarser than a spacing is left out of that spacing's list; a
 /// spacing left without any image is refused, naming it.
 pub fn load(dir: &Path, spacings: &[f64]) -> Result<Vec<Vec<SeaImage>>> {
-    let mut out: Vec<Vec<SeaImage>> = spacings.iter().map(|_| Vec::new()).collect();
-    for annotation in listed(dir)? {
-        for (images, averaged) in out.iter_mut().zip(averaged_db(&annotation, spacings, "sea_images")?) {
-            if let Some((db, _)) = averaged {
-                let ceiling = db
-                    .iter()
-                    .copied()
-                    .filter(|v| v.is_finite())
-                    .fold(f32::NEG_INFINITY, f32::max);
-                images.push(SeaImage { db, ceiling });
-            }
+    averaged_images(listed(dir)?, dir, spacings, "sea_images", |_, (db, _)| {
+        let ceiling = db
+            .iter()
+            .copied()
+            .filter(|v| v.is_finite())
+            .fold(f32::NEG_INFINITY, f32::max);
+        SeaImage { db, ceiling }
+    })
+}
+
+/// Each image of `listed` (of the folder `dir`, the plan's `field`) averaged to each of
+/// `spacings` ([`averaged_db`]) and made a `T` by `make`, per spacing. An image coarser than a
+/// spacing is left out of that spacing's list; a spacing left without any image is refused,
+/// naming it: its detector would train on simulated windows alone.
+pub(crate) fn averaged_images<T>(
+    listed: Vec<Annotation>,
+    dir: &Path,
+    spacings: &[f64],
+    field: &str,
+    make: impl Fn(&Annotation, Averaged) -> T,
+) -> Result<Vec<Vec<T>>> {
+    let mut out: Vec<Vec<T>> = spacings.iter().map(|_| Vec::new()).collect();
+    for annotation in listed {
+        for (images, averaged) in out.iter_mut().zip(averaged_db(&annotation, spacings, field)?) {
+            images.extend(averaged.map(|a| make(&annotation, a)));
         }
     }
-    refuse_a_spacing_left_empty(&out, spacings, dir, "sea_images")?;
-    Ok(out)
+    match out.iter().zip(spacings).find(|(images, _)| images.is_empty()) {
+        Some((_, &spacing)) => Err(anyhow!(
+            "transfer.{field} {}: no image is as fine as a detector's {spacing} m pixels; give images of {spacing} m or finer",
+            dir.display()
+        )),
+        None => Ok(out),
+    }
 }
 
 /// An image in dB averaged to a detector's spacing, and its pixels per averaged pixel (rows,
@@ -94,7 +113,7 @@ pub(crate) type Averaged = (Array2<f32>, (f64, f64));
 /// to each of `spacings` (m), with the image's pixels per averaged pixel (rows, columns); None
 /// for a spacing finer than the image's. An image without a stated spacing is refused, naming
 /// the plan's `field`.
-pub(crate) fn averaged_db(annotation: &Annotation, spacings: &[f64], field: &str) -> Result<Vec<Option<Averaged>>> {
+fn averaged_db(annotation: &Annotation, spacings: &[f64], field: &str) -> Result<Vec<Option<Averaged>>> {
     let path = &annotation.image;
     let opened = open_product(path, &annotation.read_options(), Band::C, true, &mut |_, _| {})?;
     let product = match opened.source {
@@ -125,23 +144,6 @@ pub(crate) fn averaged_db(annotation: &Annotation, spacings: &[f64], field: &str
             Some((db, factor))
         })
         .collect())
-}
-
-/// Refuses a detector spacing for which no image of `dir` is fine enough, naming the plan's
-/// `field`: its detector would train on simulated windows alone.
-pub(crate) fn refuse_a_spacing_left_empty<T>(
-    per_spacing: &[Vec<T>],
-    spacings: &[f64],
-    dir: &Path,
-    field: &str,
-) -> Result<()> {
-    match per_spacing.iter().zip(spacings).find(|(images, _)| images.is_empty()) {
-        Some((_, &spacing)) => Err(anyhow!(
-            "transfer.{field} {}: no image is as fine as a detector's {spacing} m pixels; give images of {spacing} m or finer",
-            dir.display()
-        )),
-        None => Ok(()),
-    }
 }
 
 /// The threshold at which `scanner` raises at most `per_1000_km2` alarms per 1,000 km^2 on the

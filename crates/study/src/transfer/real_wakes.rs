@@ -15,7 +15,7 @@
 //! as it is scanned.
 
 use super::real::{annotations, Annotation};
-use super::real_sea::{averaged_db, refuse_a_spacing_left_empty};
+use super::real_sea::averaged_images;
 use crate::steps::open_sea::distance_to_segment;
 use crate::Result;
 use anyhow::{anyhow, Context};
@@ -68,19 +68,18 @@ pub fn listed(dir: &Path) -> Result<Vec<Annotation>> {
 /// [`super::real_sea::load`] averages the real sea, its wakes placed on the averaged pixels. A
 /// spacing left without any image is refused, naming it.
 pub fn load(dir: &Path, spacings: &[f64]) -> Result<Vec<Vec<WakeImage>>> {
-    let mut out: Vec<Vec<WakeImage>> = spacings.iter().map(|_| Vec::new()).collect();
-    for annotation in listed(dir)? {
-        for (images, averaged) in out.iter_mut().zip(averaged_db(&annotation, spacings, "wake_images")?) {
-            if let Some((db, (rows, columns))) = averaged {
-                let wakes = (annotation.wakes.iter())
-                    .map(|wake| wake.iter().map(|&(x, y)| (y / rows, x / columns)).collect())
-                    .collect();
-                images.push(WakeImage { db, wakes });
-            }
-        }
-    }
-    refuse_a_spacing_left_empty(&out, spacings, dir, "wake_images")?;
-    Ok(out)
+    averaged_images(
+        listed(dir)?,
+        dir,
+        spacings,
+        "wake_images",
+        |annotation, (db, (rows, columns))| {
+            let wakes = (annotation.wakes.iter())
+                .map(|wake| wake.iter().map(|&(x, y)| (y / rows, x / columns)).collect())
+                .collect();
+            WakeImage { db, wakes }
+        },
+    )
 }
 
 /// The distance (averaged pixels) from `point` to the nearest of `wakes`.

@@ -5,6 +5,9 @@ wakes on real sea").
 usage: transfer_real_sets.py RUN [RUN ...]
        transfer_real_sets.py --majority RUN,RUN,... RUN,RUN,...
 
+A RUN may be RUN+RUN+...: the runs' images merged, each taken from the first run that scored it
+(the two folds of bench/transfer_folds.sh, OUT/A_SEED+OUT/B_SEED, score every image once).
+
 Each RUN is a `wakelab run --study transfer --out RUN --real DIR` directory; its
 RUN/transfer/real.json holds every image's score per detector (a wake found when a detection
 or the map's peak lies within 500 m of a drawn wake; every other detection a false alarm).
@@ -31,19 +34,29 @@ def row(label, scores):
     free = [s for s in scores if s['wakes'] == 0]
     found = [s for s in wake if s['peak_on_wake'] or s['detections'] > s['false_alarms']]
     one = sum(s['false_alarms'] <= 1 for s in found)
+    peak_alone = sum(s['peak_on_wake'] and s['detections'] <= s['false_alarms'] for s in wake)
     false = sum(s['false_alarms'] for s in wake) / max(1, len(wake))
     return (f"  {label:<16} found {len(found):>2}/{len(wake):<2} with <= 1 false {one:>2}  "
-            f"peak on a wake {sum(s['peak_on_wake'] for s in wake):>2}  "
+            f"peak on a wake {sum(s['peak_on_wake'] for s in wake):>2} (found by it alone {peak_alone:>2})  "
             f"strongest on a wake {sum(s['strongest_on_wake'] for s in wake):>2}  "
             f"false per wake image {false:.2f}  wake-free clean {sum(s['detections'] == 0 for s in free)}/{len(free)}")
 
 
 def load(run):
-    path = os.path.join(run, 'transfer', 'real.json')
-    if not os.path.exists(path):
-        sys.exit(f'{path}: missing; run `wakelab run --study transfer --out {run} --real DIR` first')
-    with open(path) as f:
-        return json.load(f)
+    """A run's real.json; for RUN+RUN+..., the runs' scores merged, an image (per footprint)
+    taken from the first run that scored it (bench/transfer_folds.sh's folds, A_SEED+B_SEED)."""
+    merged = {'scores': []}
+    for part in run.split('+'):
+        path = os.path.join(part, 'transfer', 'real.json')
+        if not os.path.exists(path):
+            sys.exit(f'{path}: missing; run `wakelab run --study transfer --out {part} --real DIR` first')
+        with open(path) as f:
+            real = json.load(f)
+        if '+' not in run:
+            return real
+        seen = {(s['image'], s['footprint']) for s in merged['scores']}
+        merged['scores'] += [s for s in real['scores'] if (s['image'], s['footprint']) not in seen]
+    return merged
 
 
 def verdicts(run, footprint=1280.0):

@@ -236,16 +236,10 @@ pub fn run_transfer(
 /// Refuses to score the images of `real` where one of them (by name and size) is among the
 /// images `wakes` trains on: a detector scored on its own training images measures nothing.
 fn refuse_images_trained_on(wakes: &Path, real: &Path) -> Result<()> {
-    // every file but the drawings, by name and size (a link read as its target)
+    // every file but the drawings, by name and size
     let files = |dir: &Path| -> Vec<(std::ffi::OsString, u64)> {
-        (std::fs::read_dir(dir).into_iter().flatten().flatten())
-            .filter(|e| e.path().extension().is_none_or(|x| x != "geojson"))
-            .filter_map(|e| {
-                Some((
-                    e.file_name(),
-                    std::fs::metadata(e.path()).ok().filter(|m| m.is_file())?.len(),
-                ))
-            })
+        (real_sea::files(dir).into_iter())
+            .filter(|(name, _)| Path::new(name).extension().is_none_or(|x| x != "geojson"))
             .collect()
     };
     let trained = files(wakes);

@@ -192,20 +192,25 @@ pub(crate) fn threshold(
     }))
 }
 
-/// The files of `dir`, each name with its size in bytes, in name order (empty where `dir`
-/// cannot be read: loading it then says why).
-pub fn listing(dir: &Path) -> String {
-    let mut files: Vec<String> = std::fs::read_dir(dir)
-        .into_iter()
-        .flatten()
-        .flatten()
-        .map(|e| {
-            let size = std::fs::metadata(e.path()).map(|m| m.len()).unwrap_or(0);
-            format!("{}:{size}", e.file_name().to_string_lossy())
+/// The files of `dir` (a link read as its target; folders left out), each name with its size
+/// in bytes, in name order; none where `dir` cannot be read (loading it then says why).
+pub(crate) fn files(dir: &Path) -> Vec<(std::ffi::OsString, u64)> {
+    let mut files: Vec<_> = (std::fs::read_dir(dir).into_iter().flatten().flatten())
+        .filter_map(|e| {
+            let metadata = std::fs::metadata(e.path()).ok().filter(|m| m.is_file())?;
+            Some((e.file_name(), metadata.len()))
         })
         .collect();
     files.sort();
-    files.join(" ")
+    files
+}
+
+/// [`files`] as `NAME:SIZE` words: what a run's reuse key holds of a folder.
+pub fn listing(dir: &Path) -> String {
+    let words: Vec<String> = (files(dir).iter())
+        .map(|(name, size)| format!("{}:{size}", name.to_string_lossy()))
+        .collect();
+    words.join(" ")
 }
 
 /// A window of side `n` of one of `images` drawn at random, every pixel of it valid and not all

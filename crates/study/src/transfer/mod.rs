@@ -673,6 +673,27 @@ mod tests {
             md.contains("also holds that rate on the real sea of `--sea-images` (7 km^2 in 1 image(s) scanned)"),
             "{md}"
         );
+        // its strongest alarms are reported on the image's own 256 x 256 pixels of 10 m,
+        // strongest first, at most STRONGEST
+        assert!(
+            !r.strongest.is_empty() && r.strongest.len() <= real_sea::STRONGEST,
+            "{r:?}"
+        );
+        for (a, next) in r.strongest.iter().zip(r.strongest.iter().skip(1)) {
+            assert!(a.probability >= next.probability, "{r:?}");
+        }
+        for a in &r.strongest {
+            assert_eq!(a.image, "sea.npy");
+            assert!((0.0..256.0).contains(&a.row) && (0.0..256.0).contains(&a.col), "{a:?}");
+            assert!((0.0..=1.0).contains(&a.probability), "{a:?}");
+        }
+        assert!(
+            md.contains(&format!(
+                "| sea.npy | {:.0} | {:.0} |",
+                r.strongest[0].row, r.strongest[0].col
+            )),
+            "{md}"
+        );
         // an image with a wake drawn is refused, by name
         std::fs::copy(real.join("wake.geojson"), sea_dir.join("sea.geojson")).unwrap();
         let refused = dir.path().join("refused");

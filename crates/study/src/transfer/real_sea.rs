@@ -14,7 +14,7 @@
 //! one, whatever the real image's scale: sigma0, dB, or a display stretch of unknown gain.
 
 use super::real::{annotations, Annotation};
-use super::results::RealSeaThreshold;
+use super::results::{RealSeaThreshold, SeaAlarm};
 use crate::product_scan::open_product;
 use crate::steps::open_sea::Scanner;
 use crate::Result;
@@ -33,12 +33,19 @@ use wakelab_schema::band::Band;
 /// Real windows each simulated wake window is drawn onto.
 pub const PER_WAKE: usize = 2;
 
+/// The real sea's alarms reported with their images, strongest first.
+pub const STRONGEST: usize = 10;
+
 /// One real image in dB, averaged to a detector's spacing, and its brightest value (a
-/// display's ceiling, or its brightest target): no drawn wake is brighter.
+/// display's ceiling, or its brightest target): no drawn wake is brighter. `name` and
+/// `pixels_per_cell` (the image's own pixels per averaged pixel: rows, columns) place an alarm
+/// back on the image as its user sees it.
 #[derive(Debug)]
 pub struct SeaImage {
     pub db: Array2<f32>,
     pub ceiling: f32,
+    pub name: String,
+    pub pixels_per_cell: (f64, f64),
 }
 
 /// The images of `dir`, each with its `NAME.geojson` as `--real` reads them, refused by name
@@ -69,14 +76,31 @@ pub fn listed(dir: &Path) -> Result<Vec<Annotation>> {
 /// of `spacings` (m). An image coarser than a spacing is left out of that spacing's list; a
 /// spacing left without any image is refused, naming it.
 pub fn load(dir: &Path, spacings: &[f64]) -> Result<Vec<Vec<SeaImage>>> {
-    averaged_images(listed(dir)?, dir, spacings, "sea_images", |_, (db, _)| {
-        let ceiling = db
-            .iter()
-            .copied()
-            .filter(|v| v.is_finite())
-            .fold(f32::NEG_INFINITY, f32::max);
-        SeaImage { db, ceiling }
-    })
+    averaged_images(
+        listed(dir)?,
+        dir,
+        spacings,
+        "sea_images",
+        |annotation, (db, pixels_per_cell)| {
+            let ceiling = db
+                .iter()
+                .copied()
+                .filter(|v| v.is_finite())
+                .fold(f32::NEG_INFINITY, f32::max);
+            let name = annotation
+                .image
+                .file_name()
+                .unwrap_or_default()
+                .to_string_lossy()
+                .into_owned();
+            SeaImage {
+                db,
+                ceiling,
+                name,
+                pixels_per_cell,
+            }
+        },
+    )
 }
 
 /// Each image of `listed` (of the folder `dir`, the plan's `field`) averaged to each of
@@ -151,7 +175,8 @@ fn averaged_db(annotation: &Annotation, spacings: &[f64], field: &str) -> Result
 /// stride, its separate alarms: [`threshold_for_alarm_rate`]); None without images. Images too
 /// small for a scan (under half a window) are left out. Item 5 of issue 38 sets the threshold
 /// for a stated rate on simulated open sea; where the user gives real sea, the detector's
-/// threshold holds the rate on both.
+/// threshold holds the rate on both. The [`STRONGEST`] alarms are kept with their images: a
+/// wake in the "wake-free" sea raises the threshold, and they are where a user looks for one.
 pub(crate) fn threshold(
     scanner: &Scanner,
     images: &[SeaImage],
@@ -169,7 +194,7 @@ pub(crate) fn threshold(
         threshold: Some(0.0),
         ..ScanOptions::default()
     };
-    let (mut alarms, mut km2, mut scanned) = (Vec::new(), 0.0, 0);
+    let (mut alarms, mut strongest, mut km2, mut scanned) = (Vec::new(), Vec::new(), 0.0, 0);
     for image in images.iter().filter(|i| fills_half_a_window(i.db.dim(), n)) {
         let found = detect_image(
             &scanner.detector,
@@ -180,6 +205,16 @@ pub(crate) fn threshold(
             &mut |_, _| {},
         )?;
         alarms.extend(found.detections.iter().map(|d| d.score));
+        let (rows, columns) = image.pixels_per_cell;
+        strongest.extend(found.detections.iter().map(|d| SeaAlarm {
+            image: image.name.clone(),
+            // in the image's own pixels, as `detect` places a detection on its product
+            row: d.row * rows,
+            col: d.col * columns,
+            probability: d.score,
+        }));
+        strongest.sort_by(|a, b| b.probability.total_cmp(&a.probability));
+        strongest.truncate(STRONGEST);
         km2 += image.db.iter().filter(|v| v.is_finite()).count() as f64 * spacing * spacing / 1e6;
         scanned += 1;
     }
@@ -189,6 +224,7 @@ pub(crate) fn threshold(
         threshold: threshold_for_alarm_rate(&alarms, km2, per_1000_km2),
         alarms_at_threshold: f64::NAN,
         alarms,
+        strongest,
     }))
 }
 

@@ -6,7 +6,7 @@
 
 use super::real::RealResults;
 use super::real_report;
-use super::results::{TransferDetector, TransferResults};
+use super::results::{RealSeaThreshold, TransferDetector, TransferResults};
 use crate::report::svg::{LinePlot, Series};
 use crate::Result;
 use std::fmt::Write;
@@ -62,6 +62,22 @@ const HEADER: [&str; 24] = [
     "look_alike_wakes_found",
     "window_auc",
 ];
+
+/// The real sea's strongest alarms, with their images: the first place to look for a wake left
+/// undrawn in the "wake-free" sea, which would raise the threshold.
+fn strongest_sea_alarms(r: &RealSeaThreshold) -> String {
+    if r.strongest.is_empty() {
+        return String::new();
+    }
+    let mut md = format!(
+        "Its {} strongest alarms there (pixels of each image as given; look there for a wake not drawn, which raises the threshold):\n\n| image | row | column | probability |\n| --- | --- | --- | --- |\n",
+        r.strongest.len()
+    );
+    for a in &r.strongest {
+        md += &format!("| {} | {:.0} | {:.0} | {:.4} |\n", a.image, a.row, a.col, a.probability);
+    }
+    md + "\n"
+}
 
 fn row(d: &TransferDetector) -> Vec<String> {
     vec![
@@ -174,6 +190,7 @@ pub fn markdown(results: &TransferResults) -> String {
                 d.threshold,
                 r.alarms_at_threshold
             );
+            md += &strongest_sea_alarms(r);
         }
     }
     md += "Of the training windows cut on a wake's track (`track_windows`), `track_windows_wake_shows` are those in which the wake shows against the sea at the detector's spacing: a strip along the track, averaged over the window, whose change from the same sea without the ship exceeds 3 times the sea profile's strip-to-strip deviation (speckle after averaging, the sea's texture, its slicks). In the others only the ship at the wake's apex, if in view, sets the window apart. `track_visibility` is the wake's visibility in those windows as delivered, measured as on real images (below): its strongest strip within 150 m of the track against the strips beyond 250 m, in the sea profile's strip-to-strip deviations; quartiles, and the share above 3. `sea_visibility` is the same measure on the same windows of the sea without the ship: the measure's floor (the largest of a dozen strips of speckle and sea).\n\n";

@@ -76,6 +76,20 @@ pub struct RealSeaThreshold {
     /// The separate alarms' probabilities, for the rate at any threshold.
     #[serde(skip)]
     pub alarms: Vec<f64>,
+    /// The strongest of them with their images ([`super::real_sea::STRONGEST`]), strongest
+    /// first: where a wake left undrawn in the "wake-free" sea would raise the threshold.
+    #[serde(default)]
+    pub strongest: Vec<SeaAlarm>,
+}
+
+/// One alarm on the real sea: its image's file name, its cell's centre in that image's own
+/// pixels (row down, column right) and its probability.
+#[derive(Debug, Clone, Serialize, Deserialize)]
+pub struct SeaAlarm {
+    pub image: String,
+    pub row: f64,
+    pub col: f64,
+    pub probability: f64,
 }
 
 impl RealSeaThreshold {

@@ -679,6 +679,9 @@ mod tests {
             !r.strongest.is_empty() && r.strongest.len() <= real_sea::STRONGEST,
             "{r:?}"
         );
+        // no alarm allowed on 6.55 km^2: the threshold is the strongest alarm's probability, taken
+        // from the separate list of every alarm, so the table's first row must be that alarm
+        assert_eq!(r.threshold, r.strongest[0].probability, "{r:?}");
         for (a, next) in r.strongest.iter().zip(r.strongest.iter().skip(1)) {
             assert!(a.probability >= next.probability, "{r:?}");
         }

@@ -19,6 +19,8 @@
 # /work/.mirror). OUT gets images/ (the four held-out sets, cut), wakes/ (links to the 47),
 # sea/ (the SSDD chips) and run/ (the study's output, run/detectors/C_transfer_*.safetensors).
 # SEED (default 0, the embedded study's) sets every draw; another seed writes run_seedSEED/.
+# STUDY (default: the embedded configs/study/transfer.toml) trains another study file instead,
+# its `seed = 0` line set to SEED, and writes run_NAME_seedSEED/ (NAME: the file's stem).
 # About 17 min on 2 cores with 61 images scored, once the images are cut (20 s).
 set -euo pipefail
 out=${1:?usage: bench/licensed_real_detectors.sh OUT [SCORE]}
@@ -53,7 +55,12 @@ done
 
 study=transfer
 run="$out/run"
-if [ "$seed" != 0 ]; then
+if [ -n "${STUDY:-}" ]; then
+  name=$(basename "$STUDY" .toml)
+  run="$out/run_${name}_seed$seed"
+  study="$out/${name}_seed$seed.toml"
+  sed "s/^seed = 0$/seed = $seed/" "$STUDY" >"$study"
+elif [ "$seed" != 0 ]; then
   run="$out/run_seed$seed"
   study="$out/transfer_seed$seed.toml"
   sed "s/^seed = 0$/seed = $seed/" "$here/../configs/study/transfer.toml" >"$study"

@@ -69,6 +69,10 @@ pub struct TransferPlan {
     /// look-alike test set (and of training, with `look_alike_training`), drawn uniformly
     /// from this range.
     pub wakeless_ships: [usize; 2],
+    /// Targets so bright that their sidelobes draw a line along the image's row and column
+    /// through them (the cross of a large ship or a platform), in each such scene, drawn
+    /// uniformly from this range.
+    pub strong_targets: [usize; 2],
     /// Chance of each of an internal-wave packet, a rain cell and a current front in such a
     /// scene.
     pub look_alike_fraction: f64,
@@ -120,6 +124,7 @@ impl Default for TransferPlan {
             display_fraction: 0.3,
             trend_db_per_km: 0.3,
             wakeless_ships: [0, 6],
+            strong_targets: [0, 0],
             look_alike_fraction: 0.3,
             look_alike_training: false,
             sea_images: None,
@@ -202,13 +207,17 @@ impl TransferPlan {
                 return Err(plan_error(name, v, "in [0, 1]"));
             }
         }
-        let [few, many] = self.wakeless_ships;
-        if few > many || many > 50 {
-            return Err(plan_error(
-                "wakeless_ships",
-                format!("[{few}, {many}]"),
-                "low <= high, both in [0, 50]",
-            ));
+        for (name, [few, many]) in [
+            ("wakeless_ships", self.wakeless_ships),
+            ("strong_targets", self.strong_targets),
+        ] {
+            if few > many || many > 50 {
+                return Err(plan_error(
+                    name,
+                    format!("[{few}, {many}]"),
+                    "low <= high, both in [0, 50]",
+                ));
+            }
         }
         if !(0.0..=3.0).contains(&self.trend_db_per_km) {
             return Err(plan_error(
@@ -271,6 +280,7 @@ mod tests {
         bad(|p| p.architecture = Architecture::Unet, "architecture");
         bad(|p| p.scenes = 1, "scenes");
         bad(|p| p.wakeless_ships = [4, 2], "wakeless_ships");
+        bad(|p| p.strong_targets = [0, 51], "strong_targets");
         bad(|p| p.look_alike_fraction = -0.1, "look_alike_fraction");
     }
 

@@ -1,6 +1,6 @@
 //! What analysts confuse with a wake (issue 38, item 3), drawn onto a rendered scene: ships
-//! without a visible wake (anchored, or too slow to leave one), internal-wave packets, rain
-//! cells and current fronts. The slicks and low-wind patches come from the surface model
+//! without a visible wake (anchored, or too slow to leave one), strong targets whose sidelobes
+//! cross the scene, internal-wave packets, rain cells and current fronts. The slicks and low-wind patches come from the surface model
 //! itself (`slicks`, `wind.variability`).
 //!
 //! Each feature changes the scene's mean backscatter, so it is applied to the speckled
@@ -95,6 +95,65 @@ impl WakelessShip {
     }
 }
 
+/// A target so bright (a large ship's superstructure, a platform, a corner reflector) that its
+/// impulse response's sidelobes draw a straight bright line along the image's row and column
+/// through it, kilometres long: a line with a bright point at its apex, as a wake's arm with its
+/// ship. On real images these crosses, and grids of them through anchored ships, are the
+/// strongest alarms of wake detectors trained without them (docs/results.md, "What sets the
+/// real sea's threshold").
+///
+/// An unweighted rectangular aperture's response is sinc^2 along each axis (Cumming & Wong
+/// 2005, Sec. 2.3): the first sidelobe 13.3 dB below the peak and the k-th falling as
+/// 1 / (pi k)^2; weighting lowers the near sidelobes (Taylor, Hamming: -25 to -40 dB) while the
+/// far ones still fall as 1 / k^2. So the line here is the peak times `sidelobe` / k^2 at k
+/// pixels, and it shows as far as that stays above the sea.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct StrongTarget {
+    /// The target's pixel (row, column).
+    pub centre: (f64, f64),
+    /// Its peak over the scene's mean intensity (dB).
+    pub peak_db: f64,
+    /// The first sidelobe below the peak (a factor).
+    pub sidelobe: f64,
+}
+
+impl StrongTarget {
+    /// Peaks 45-75 dB over the sea (a 10^5-10^7 m^2 target over 100 m^2 pixels of a sea at
+    /// -20 dB), first sidelobes -13 to -35 dB: lines from a few pixels to the whole scene.
+    fn draw(rng: &mut impl Rng, centre: (f64, f64)) -> Self {
+        Self {
+            centre,
+            peak_db: rng.random_range(45.0..75.0),
+            sidelobe: 10f64.powf(-rng.random_range(1.33..3.5)),
+        }
+    }
+
+    /// Pixels from the target where its line falls to the sea's mean: sqrt(peak x sidelobe).
+    pub fn line_reach(&self) -> f64 {
+        (10f64.powf(self.peak_db / 10.0) * self.sidelobe).sqrt()
+    }
+
+    /// Add the target and its cross to `image`, whose mean intensity is `sea` (the response
+    /// is deterministic: a point target's sidelobes carry no speckle of their own).
+    fn draw_onto(&self, image: &mut Array2<f32>, sea: f64) {
+        let (rows, cols) = image.dim();
+        let (r, c) = (self.centre.0.round() as isize, self.centre.1.round() as isize);
+        let peak = sea * 10f64.powf(self.peak_db / 10.0);
+        let at = |image: &mut Array2<f32>, rr: isize, cc: isize, v: f64| {
+            if (0..rows as isize).contains(&rr) && (0..cols as isize).contains(&cc) {
+                image[[rr as usize, cc as usize]] += v as f32;
+            }
+        };
+        at(image, r, c, peak);
+        for k in 1..rows.max(cols) as isize {
+            let v = peak * self.sidelobe / (k * k) as f64;
+            for (rr, cc) in [(r + k, c), (r - k, c), (r, c + k), (r, c - k)] {
+                at(image, rr, cc, v);
+            }
+        }
+    }
+}
+
 /// A packet of internal solitary waves (Alpers 1985): the surface current converges ahead of
 /// each crest and diverges behind it, roughening then smoothing the sea, so the SAR sees a
 /// bright band beside a dark one along each crest. Crests are arcs of one circle; the leading
@@ -138,6 +197,7 @@ pub struct Front {
 #[derive(Debug, Clone, Default, PartialEq)]
 pub struct LookAlikes {
     pub ships: Vec<WakelessShip>,
+    pub strong_targets: Vec<StrongTarget>,
     pub packets: Vec<InternalWavePacket>,
     pub rain_cells: Vec<RainCell>,
     pub fronts: Vec<Front>,
@@ -146,8 +206,8 @@ pub struct LookAlikes {
 impl LookAlikes {
     /// The look-alikes of a square scene of `side` pixels of `spacing` m: `ships` ships
     /// without a wake anywhere in it, and an internal-wave packet, a rain cell and a front each
-    /// with probability `chance`.
-    pub fn draw(rng: &mut impl Rng, side: usize, spacing: f64, ships: usize, chance: f64) -> Self {
+    /// with probability `chance`; then `strong` strong targets with their crosses.
+    pub fn draw(rng: &mut impl Rng, side: usize, spacing: f64, ships: usize, chance: f64, strong: usize) -> Self {
         let s = side as f64;
         let ships = (0..ships)
             .map(|_| {
@@ -194,8 +254,15 @@ impl LookAlikes {
                 line_width_m: rng.random_range(20.0..80.0),
             });
         }
+        let strong_targets = (0..strong)
+            .map(|_| {
+                let centre = (rng.random_range(0.0..s).floor(), rng.random_range(0.0..s).floor());
+                StrongTarget::draw(rng, centre)
+            })
+            .collect();
         Self {
             ships,
+            strong_targets,
             packets,
             rain_cells,
             fronts,
@@ -235,9 +302,9 @@ impl LookAlikes {
         db
     }
 
-    /// `image` (linear intensity of a `looks`-look scene, pixels of `spacing` m) with the
-    /// look-alikes drawn onto it.
-    pub fn apply(&self, image: &mut Array2<f32>, spacing: f64, looks: u32, rng: &mut impl Rng) {
+    /// `image` (linear intensity of a `looks`-look scene, pixels of `spacing` m, the sea's mean
+    /// intensity `sea`, which sets the strong targets' peaks) with the look-alikes drawn onto it.
+    pub fn apply(&self, image: &mut Array2<f32>, spacing: f64, looks: u32, sea: f64, rng: &mut impl Rng) {
         if !(self.packets.is_empty() && self.rain_cells.is_empty() && self.fronts.is_empty()) {
             image.indexed_iter_mut().for_each(|((r, c), v)| {
                 *v *= 10f64.powf(self.decibels_at((r as f64, c as f64), spacing) / 10.0) as f32;
@@ -246,15 +313,29 @@ impl LookAlikes {
         for ship in &self.ships {
             ship.draw_onto(image, spacing, looks, rng);
         }
+        for target in &self.strong_targets {
+            target.draw_onto(image, sea);
+        }
     }
 
     /// Points (pixels) on each look-alike inside a scene of `side` pixels where a window
-    /// centred shows it: the ships, a point of the leading crest and of the front, the rain
-    /// cell's centre.
+    /// centred shows it: the ships, each strong target and a point of its cross a third of its
+    /// reach (at most 60 pixels) away along the rows, a point of the leading crest and of the
+    /// front, the rain cell's centre.
     pub fn anchors(&self, side: usize, spacing: f64) -> Vec<(f64, f64)> {
         let s = side as f64;
         let inside = |p: &(f64, f64)| (0.0..s).contains(&p.0) && (0.0..s).contains(&p.1);
         let mut points: Vec<(f64, f64)> = self.ships.iter().map(|ship| ship.centre).collect();
+        for t in &self.strong_targets {
+            points.push(t.centre);
+            let along = (t.line_reach() / 3.0).clamp(1.0, 60.0);
+            let beside = if t.centre.0 + along < s {
+                t.centre.0 + along
+            } else {
+                t.centre.0 - along
+            };
+            points.push((beside, t.centre.1));
+        }
         for p in &self.packets {
             // the crest's point nearest the scene's centre
             let (dr, dc) = (0.5 * s - p.centre.0, 0.5 * s - p.centre.1);
@@ -307,6 +388,34 @@ mod tests {
         cross.draw_onto(&mut image, spacing, 100, &mut rng);
         let ratio = image[[100, 110]] / image[[100, 120]];
         assert!((ratio - 4.0).abs() < 0.5, "{ratio}");
+    }
+
+    /// A strong target's cross: the unweighted sinc^2 response's first sidelobe 13.3 dB below
+    /// the peak (Cumming & Wong 2005) and 1 / k^2 beyond, along the row and the column only; it
+    /// meets the sea's mean where `line_reach` says.
+    #[test]
+    fn a_strong_target_draws_its_cross_across_the_scene() {
+        let target = StrongTarget {
+            centre: (50.0, 200.0),
+            peak_db: 60.0,
+            sidelobe: 10f64.powf(-1.33),
+        };
+        // a sea exact in f32, so that an untouched pixel adds exactly nothing
+        let sea = 0.01f32 as f64;
+        let mut image = Array2::from_elem((400, 400), sea as f32);
+        target.draw_onto(&mut image, sea);
+        let added = |r: usize, c: usize| image[[r, c]] as f64 - sea;
+        let first = 10.0 * (added(50, 201) / added(50, 200)).log10();
+        assert!((first + 13.3).abs() < 0.05, "{first}");
+        assert!((added(50, 210) / added(50, 220) - 4.0).abs() < 1e-3);
+        assert!((added(51, 200) / added(60, 200) - 100.0).abs() < 1e-2);
+        // 1000 x 10^-1.33 gives a reach of 216 pixels: the line equals the sea there, along
+        // the column to row 266 and the row to column 416 (outside: the line is cut at the edge)
+        let reach = target.line_reach();
+        assert!((reach - 216.3).abs() < 0.5, "{reach}");
+        assert!((added(266, 200) / sea - 1.0).abs() < 0.01, "{}", added(266, 200) / sea);
+        assert_eq!(added(51, 201), 0.0);
+        assert_eq!(added(399, 399), 0.0);
     }
 
     /// The packet's solitons make bright and dark bands of the stated contrast at the leading
@@ -364,13 +473,19 @@ mod tests {
     fn the_anchors_lie_in_the_scene() {
         let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(3);
         for _ in 0..20 {
-            let l = LookAlikes::draw(&mut rng, 512, 10.0, 3, 1.0);
+            let l = LookAlikes::draw(&mut rng, 512, 10.0, 3, 1.0, 2);
             assert_eq!(
-                (l.ships.len(), l.packets.len(), l.rain_cells.len(), l.fronts.len()),
-                (3, 1, 1, 1)
+                (
+                    l.ships.len(),
+                    l.strong_targets.len(),
+                    l.packets.len(),
+                    l.rain_cells.len(),
+                    l.fronts.len()
+                ),
+                (3, 2, 1, 1, 1)
             );
             let anchors = l.anchors(512, 10.0);
-            assert!(anchors.len() >= 4, "{anchors:?}");
+            assert!(anchors.len() >= 8, "{anchors:?}");
             assert!(anchors
                 .iter()
                 .all(|&(r, c)| (0.0..512.0).contains(&r) && (0.0..512.0).contains(&c)));

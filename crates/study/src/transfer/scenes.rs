@@ -155,10 +155,17 @@ pub(crate) fn add_look_alikes(pair: &mut SeaPair, c: &WakelabConfig, plan: &Tran
     let [few, many] = plan.wakeless_ships;
     let ships = rng.random_range(few..=many);
     let side = pair.with.nrows().min(pair.with.ncols());
-    let look_alikes = LookAlikes::draw(&mut rng, side, pair.spacing, ships, plan.look_alike_fraction);
+    // drawn only when the plan asks for some: a study without them keeps its draws, and bytes
+    let strong = match plan.strong_targets {
+        [0, 0] => 0,
+        [few, many] => rng.random_range(few..=many),
+    };
+    let look_alikes = LookAlikes::draw(&mut rng, side, pair.spacing, ships, plan.look_alike_fraction, strong);
+    // the twin without the wake's mean: both twins get the same targets
+    let sea = pair.without.iter().map(|&v| v as f64).sum::<f64>() / pair.without.len().max(1) as f64;
     for image in [&mut pair.with, &mut pair.without] {
         let mut speckle = rng.clone();
-        look_alikes.apply(image, pair.spacing, c.sar.looks, &mut speckle);
+        look_alikes.apply(image, pair.spacing, c.sar.looks, sea, &mut speckle);
     }
     look_alikes
 }
@@ -222,11 +229,13 @@ mod tests {
 
     /// The look-alikes go onto both twins alike: a pair whose twins differ by a dark line keeps
     /// exactly that ratio everywhere (the ships' own speckle drawn the same in both), the ships
-    /// brighten the sea by their cross section, and their count is the plan's.
+    /// brighten the sea by their cross section, the strong targets peak their stated decibels
+    /// over the sea's mean, and their counts are the plan's.
     #[test]
     fn look_alikes_leave_the_twins_differing_by_the_wake_alone() {
         let (base, mut plan) = (WakelabConfig::default(), TransferPlan::default());
         plan.wakeless_ships = [3, 3];
+        plan.strong_targets = [2, 2];
         plan.look_alike_fraction = 1.0;
         let side = 256;
         let without = Array2::from_elem((side, side), 0.01f32);
@@ -241,7 +250,12 @@ mod tests {
         };
         let before = (pair.with.sum() as f64, pair.without.sum() as f64);
         let drawn = add_look_alikes(&mut pair, &base, &plan);
-        assert_eq!(drawn.ships.len(), 3);
+        assert_eq!((drawn.ships.len(), drawn.strong_targets.len()), (3, 2));
+        for t in &drawn.strong_targets {
+            let peak = pair.without[[t.centre.0 as usize, t.centre.1 as usize]] as f64;
+            let db = 10.0 * (peak / 0.01).log10();
+            assert!((db - t.peak_db).abs() < 0.1, "{db} against {}", t.peak_db);
+        }
         for ((r, c), &w) in pair.with.indexed_iter() {
             let o = pair.without[[r, c]];
             if r != 100 {

@@ -6,8 +6,9 @@
 //! 2. **Windows** of each footprint ([`windows::training_windows`]): the wake, its twin without
 //!    it, and the darkest window of the sea without it (the look-alikes as negatives); with
 //!    `look_alike_training`, also windows on the other look-alikes drawn on the scene
-//!    ([`look_alikes`]: ships without a wake, internal waves, rain cells, fronts), only the
-//!    wake windows where the wake shows, and the classes balanced.
+//!    ([`look_alikes`]: ships without a wake, strong targets' sidelobe crosses where the plan
+//!    asks, internal waves, rain cells, fronts), only the wake windows where the wake shows,
+//!    and the classes balanced.
 //! 3. **Training**: one classifier per footprint, the plan's recipe, rotations by any angle.
 //! 4. **Threshold**: each detector scans the calibration step's 40 open-sea scenes with slicks
 //!    (the same seas the chip detectors' thresholds were set on, so the two compare) and takes

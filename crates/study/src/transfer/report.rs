@@ -170,14 +170,16 @@ pub fn markdown(results: &TransferResults) -> String {
             super::real_wakes::CLEAR_OF_WAKES
         );
     }
+    let strong = match p.strong_targets {
+        [0, 0] => String::new(),
+        [few, many] => format!(" and {few}-{many} strong targets with their sidelobe crosses"),
+    };
     let _ = writeln!(
         md,
-        "Each detector's threshold holds {} alarm(s) per 1,000 km^2 on the calibration step's open sea with slicks (and on real sea, where given: below); \"unseen\" is open sea it was neither trained nor thresholded on. The look-alike test set is that unseen sea again with {}-{} ships without a wake and {}-{} strong targets with their sidelobe crosses per scene and an internal-wave packet, a rain cell and a current front each in {:.0} % of the scenes; its alarms within 500 m of a ship without a wake are counted apart as well. A wake is found when an alarm lies within 500 m of its track.\n",
+        "Each detector's threshold holds {} alarm(s) per 1,000 km^2 on the calibration step's open sea with slicks (and on real sea, where given: below); \"unseen\" is open sea it was neither trained nor thresholded on. The look-alike test set is that unseen sea again with {}-{} ships without a wake{strong} per scene and an internal-wave packet, a rain cell and a current front each in {:.0} % of the scenes; its alarms within 500 m of a ship without a wake are counted apart as well. A wake is found when an alarm lies within 500 m of its track.\n",
         results.alarms_target,
         p.wakeless_ships[0],
         p.wakeless_ships[1],
-        p.strong_targets[0],
-        p.strong_targets[1],
         100.0 * p.look_alike_fraction,
     );
     for d in &results.detectors {

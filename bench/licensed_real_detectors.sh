@@ -21,6 +21,8 @@
 # SEED (default 0, the embedded study's) sets every draw; another seed writes run_seedSEED/.
 # STUDY (default: the embedded configs/study/transfer.toml) trains another study file instead,
 # its `seed = 0` line set to SEED, and writes run_NAME_seedSEED/ (NAME: the file's stem).
+# OFFSHORE=1 takes the real sea without the SSDD chips that hold land (bench/ssdd_ships.py
+# --sea --offshore, into sea_offshore/) and adds _offshore to the run's folder.
 # About 17 min on 2 cores with 61 images scored, once the images are cut (20 s).
 set -euo pipefail
 out=${1:?usage: bench/licensed_real_detectors.sh OUT [SCORE]}
@@ -36,7 +38,16 @@ out=$(realpath "$out")
 [ -f "$out/images/s1lf_01.png" ] || python3 "$here/held_out_wakes.py" "$out/images" --second --mirrors "$mirrors" >/dev/null
 [ -f "$out/images/eob_01.png" ] || python3 "$here/held_out_wakes.py" "$out/images" --third --mirrors "$mirrors" >/dev/null
 [ -f "$out/images/ssdd_000028.png" ] || python3 "$here/held_out_wakes.py" "$out/images" --fourth --mirrors "$mirrors" >/dev/null
-[ -f "$out/sea/ssdd_000002.png" ] || python3 "$here/ssdd_ships.py" "$out/sea" --sea --mirrors "$mirrors"
+sea=sea
+offshore=()
+if [ "${OFFSHORE:-0}" = 1 ]; then
+  sea=sea_offshore
+  offshore=(--offshore)
+fi
+[ -f "$out/$sea/.written" ] || {
+  python3 "$here/ssdd_ships.py" "$out/$sea" --sea "${offshore[@]}" --mirrors "$mirrors"
+  touch "$out/$sea/.written"
+}
 
 licensed=$(
   for g in "$here"/held_out_wakes/osw_*.geojson "$here"/held_out_wakes_2/s1lf_*.geojson \
@@ -65,8 +76,9 @@ elif [ "$seed" != 0 ]; then
   study="$out/transfer_seed$seed.toml"
   sed "s/^seed = 0$/seed = $seed/" "$here/../configs/study/transfer.toml" >"$study"
 fi
+[ "$sea" = sea ] || run="${run}_offshore"
 real=()
 [ -z "$score" ] || real=(--real "$score")
-"$wakelab" run --study "$study" --sea-images "$out/sea" --wake-images "$out/wakes" "${real[@]}" \
+"$wakelab" run --study "$study" --sea-images "$out/$sea" --wake-images "$out/wakes" "${real[@]}" \
   --out "$run" --quiet
 sha256sum "$run"/detectors/C_transfer_*.safetensors

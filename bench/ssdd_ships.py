@@ -2,7 +2,7 @@
 """SSDD chips with SSDD's own ship boxes, to score `wakelab detect`'s ship search on chips no
 rule was set on.
 
-usage: ssdd_ships.py OUT_DIR [--every N] [--test-split | --sea] [--mirrors DIR]
+usage: ssdd_ships.py OUT_DIR [--every N] [--test-split | --sea [--offshore]] [--mirrors DIR]
 
 Writes OUT_DIR/ssdd_ID.png (the chip's R channel; the JPEGs are grey, R = G = B, but for a few
 whose differing pixels are listed) and
@@ -24,8 +24,11 @@ taken at 10 m as the 2026-11-28 ship study took them. With --sea, every chip of 
 split less also the 210 chips the fourth set's screeners looked at closely for wakes
 (bench/held_out_wakes_4/screened.txt: every candidate among them): real sea for
 `wakelab run --study transfer --sea-images DIR`, which refuses an image with a wake drawn. `wakelab run --study transfer --real DIR` does not read "wakes_drawn" and would take
-these chips for wake-free images: score them with bench/score_real_wakes.py. Needs what
-bench/held_out_wakes.py needs (numpy, Pillow, scipy).
+these chips for wake-free images: score them with bench/score_real_wakes.py. With --offshore
+too, the chips that hold land are left out (`land_share` over LAND_SHARE: harbours, river
+banks, coasts; docs/results.md, "Sidelobe crosses as look-alikes, and a seed ensemble", where
+the rule was set by eye on the chips either side of it). Needs what bench/held_out_wakes.py
+needs (numpy, Pillow, scipy).
 """
 import argparse
 import io
@@ -42,6 +45,25 @@ from held_out_wakes import SSDD, blob, git_dir, ssdd_ship_boxes  # noqa: E402
 
 WINDOW = 64
 SCANNED_M = 20.0
+# land: cells of CELL x CELL pixels off the ships whose median stands LAND_GREY grey levels over
+# the chip's median off the ships, in more than LAND_SHARE of the cells
+CELL, LAND_GREY, LAND_SHARE, SHIP_MARGIN = 8, 40, 0.01, 15
+
+
+def land_share(grey, boxes):
+    """The share of a chip's CELL-pixel cells, away from its ship boxes (grown by SHIP_MARGIN
+    pixels), that are bright texture: a cell's median LAND_GREY levels over the sea's. Open sea
+    with ships scored 0-0.016 in the chips looked at; harbours, river banks and coasts 0.02-0.25."""
+    h, w = grey.shape
+    ships = np.zeros((h, w), bool)
+    for x0, y0, x1, y1 in boxes:
+        ships[max(0, int(y0) - SHIP_MARGIN):int(y1) + SHIP_MARGIN, max(0, int(x0) - SHIP_MARGIN):int(x1) + SHIP_MARGIN] = True
+    sea = np.median(grey[~ships]) if (~ships).any() else np.median(grey)
+    hh, ww = h // CELL * CELL, w // CELL * CELL
+    cells = grey[:hh, :ww].astype(np.float32).reshape(hh // CELL, CELL, ww // CELL, CELL)
+    medians = np.median(cells.transpose(0, 2, 1, 3).reshape(hh // CELL, ww // CELL, -1), axis=2)
+    on_ship = ships[:hh, :ww].reshape(hh // CELL, CELL, ww // CELL, CELL).any(axis=(1, 3))
+    return float(((medians > sea + LAND_GREY) & ~on_ship).mean())
 
 
 def main():
@@ -51,8 +73,11 @@ def main():
     split = ap.add_mutually_exclusive_group()
     split.add_argument('--test-split', action='store_true')
     split.add_argument('--sea', action='store_true')
+    ap.add_argument('--offshore', action='store_true')
     ap.add_argument('--mirrors', default='/work/.mirror')
     a = ap.parse_args()
+    if a.offshore and not a.sea:
+        sys.exit('--offshore: only with --sea (real sea without land)')
     if a.every < 1:
         sys.exit(f'--every {a.every}: a whole number of at least 1 (every Nth chip)')
     git = git_dir(a.mirrors, SSDD[0])
@@ -69,7 +94,7 @@ def main():
             screened = set(f.read().split())
         train, a.every = [i for i in train if i not in screened], 1
     os.makedirs(a.out_dir, exist_ok=True)
-    kept, small, empty, coloured = 0, 0, 0, []
+    kept, small, empty, land, coloured = 0, 0, 0, 0, []
     for chip in train[::a.every]:
         boxes = ssdd_ship_boxes(a.mirrors, chip)
         if not boxes:
@@ -83,6 +108,9 @@ def main():
         rows, cols = (int(n * spacing // SCANNED_M) for n in rgb.shape[:2])
         if 2 * min(rows, WINDOW) * min(cols, WINDOW) < WINDOW * WINDOW:
             small += 1
+            continue
+        if a.offshore and land_share(rgb[..., 0], boxes) > LAND_SHARE:
+            land += 1
             continue
         Image.fromarray(np.ascontiguousarray(rgb[..., 0]), 'L').save(os.path.join(a.out_dir, f'ssdd_{chip}.png'))
         drawing = {
@@ -100,7 +128,8 @@ def main():
         kept += 1
     split = ('test split' if a.test_split else 'train split less the fourth set, 000006'
              + (' and the screened chips' if a.sea else ''))
-    print(f'{kept} chips written of {len(train[::a.every])} taken ({len(train)} in the {split}); left out: {small} under half a window at 20 m, {empty} without a box')
+    with_land = f', {land} with land' if a.offshore else ''
+    print(f'{kept} chips written of {len(train[::a.every])} taken ({len(train)} in the {split}); left out: {small} under half a window at 20 m, {empty} without a box{with_land}')
     if coloured:
         print(f'{len(coloured)} of them hold pixels whose R, G and B differ (their R channel taken as for the '
               f'others): ' + ', '.join(coloured))

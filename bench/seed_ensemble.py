@@ -25,18 +25,8 @@ import numpy as np
 from osgeo import gdal
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from score_real_wakes import CNN_RADIUS_M as WITHIN_M, point_segment  # noqa: E402
 from threshold_cv import set_of  # noqa: E402
-
-WITHIN_M = 500.0
-
-
-def segment_distance(p, a, b):
-    """Distance (m) from p to the segment a-b, all (x, y) in metres."""
-    (px, py), (ax, ay), (bx, by) = p, a, b
-    dx, dy = bx - ax, by - ay
-    length2 = dx * dx + dy * dy
-    t = 0.0 if length2 == 0 else max(0.0, min(1.0, ((px - ax) * dx + (py - ay) * dy) / length2))
-    return math.hypot(px - ax - t * dx, py - ay - t * dy)
 
 
 def wakes_of(geojson):
@@ -48,7 +38,7 @@ def to_wakes(row, col, wakes, spacing):
     """Metres from the product pixel (row, col) to the nearest drawn wake ([column, row] points)."""
     metres = lambda q: (q[0] * spacing[1], q[1] * spacing[0])
     p = (col * spacing[1], row * spacing[0])
-    return min((segment_distance(p, metres(a), metres(b)) for w in wakes for a, b in zip(w, w[1:])),
+    return min((point_segment(p, metres(a), metres(b)) for w in wakes for a, b in zip(w, w[1:])),
                default=math.inf)
 
 

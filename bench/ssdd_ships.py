@@ -53,7 +53,11 @@ CELL, LAND_GREY, LAND_SHARE, SHIP_MARGIN = 8, 40, 0.01, 15
 def land_share(grey, boxes):
     """The share of a chip's CELL-pixel cells, away from its ship boxes (grown by SHIP_MARGIN
     pixels), that are bright texture: a cell's median LAND_GREY levels over the sea's. Open sea
-    with ships scored 0-0.016 in the chips looked at; harbours, river banks and coasts 0.02-0.25."""
+    with ships scored 0-0.016 in the chips looked at; harbours, river banks and coasts 0.02-0.25.
+    Not `wakelab detect`'s own land mask (crates/ships/src/land.rs): it asks for land holding a
+    400 m disc, which a chip of 1-1.5 km rarely has (it found land on 2 of the 22 chips with the
+    strongest alarms, 6 of them harbours or river banks), and this screen leans on SSDD's ship
+    boxes, which a user's image lacks."""
     h, w = grey.shape
     ships = np.zeros((h, w), bool)
     for x0, y0, x1, y1 in boxes:

@@ -28,8 +28,9 @@ pub struct TransferPlan {
     /// Window side (pixels).
     pub window: usize,
     pub architecture: Architecture,
-    /// What the classifier reads of a window: `pixels` (the spec's input) or `line_sums` (the
-    /// window's Radon transform; a wake's line becomes a point).
+    /// What the classifier reads of a window: `pixels` (the spec's input), `line_sums` (the
+    /// window's Radon transform; a wake's line becomes a point) or `line_sums_ships_masked` (the
+    /// same with the ships' returns masked out first).
     pub input: InputForm,
     /// How the classifier decides from its last feature map: `flatten` (Table 4.1) or
     /// `global_max` (each channel's largest response, wherever in the window it lies).

@@ -18,6 +18,17 @@
 //! value is the sum of the clipped pixels on its line over the square root of their count, so
 //! that on uncorrelated noise of unit variance every value has unit variance, whatever the
 //! line's length.
+//!
+//! With [`InputForm::LineSumsShipsMasked`] the ships' returns are first taken out: every pixel
+//! more than [`SHIP`] robust deviations above the window's median, and its eight neighbours
+//! (the return's skirt), is set to the median (0). Why: clipped at +3, a large ship 15 pixels
+//! long is still a short bright line, 5-6 deviations in its line sum, as strong as a wake's arm;
+//! on real sea the line-sum detectors' strongest alarms were open-sea windows with one large ship
+//! and no wake (docs/results.md). A wake's arms and trough are a few dB from the sea (issue 38:
+//! real wakes' contrasts of 1-5 dB; Fig. 3.1-3.2), a ship's return 20-50 dB (Cumming & Wong
+//! 2005; the sea's NRCS near -20 dB against a ship's RCS of 10^3-10^5 m^2 over a pixel of a few
+//! hundred m^2), so a threshold between the two, in the window's robust deviations, keeps the
+//! wake and drops the ship wherever the window's speckle spread is 0.5-3 dB.
 
 use ndarray::Array2;
 use std::collections::HashMap;
@@ -28,12 +39,37 @@ use wakelab_schema::architecture::InputForm;
 /// are summed.
 pub const CLIP: f32 = 3.0;
 
+/// Pixels more than SHIP robust deviations above the window's median are a ship's return (with
+/// [`InputForm::LineSumsShipsMasked`]): 8 deviations is 4-24 dB at the 0.5-3 dB spreads of
+/// multi-looked sea, above a wake's few dB and below a ship's 20-50 dB.
+pub const SHIP: f32 = 8.0;
+
 /// What the network reads of a normalised window ([`crate::data::detector_input`]) in `form`.
 pub fn network_input(form: InputForm, window: Array2<f32>) -> Array2<f32> {
     match form {
         InputForm::Pixels => window,
         InputForm::LineSums => line_sums(&window),
+        InputForm::LineSumsShipsMasked => line_sums(&ships_masked(window)),
     }
+}
+
+/// The window with its ships' returns set to its median (0): every pixel above [`SHIP`] and its
+/// eight neighbours (see the module).
+pub fn ships_masked(mut window: Array2<f32>) -> Array2<f32> {
+    let (h, w) = window.dim();
+    let bright: Vec<(usize, usize)> = window
+        .indexed_iter()
+        .filter(|&(_, &v)| v > SHIP)
+        .map(|(at, _)| at)
+        .collect();
+    for (r, c) in bright {
+        for rr in r.saturating_sub(1)..(r + 2).min(h) {
+            for cc in c.saturating_sub(1)..(c + 2).min(w) {
+                window[[rr, cc]] = 0.0;
+            }
+        }
+    }
+    window
 }
 
 /// The line sums of a square window of side n: n directions by n offsets (see the module).
@@ -218,5 +254,38 @@ mod tests {
             assert_eq!(row.iter().filter(|&&v| v > 0.0).count(), 1);
         }
         assert_eq!(network_input(InputForm::Pixels, window.clone()), window);
+    }
+
+    /// A ship 15 pixels long, 30 deviations bright, beside an arm 3 deviations bright along a
+    /// whole row in unit-variance noise. Clipped line sums see the ship as a line of
+    /// 3 x 15 / sqrt(64) = 5.6 deviations (noise aside); masked, its line is noise (|v| < 4,
+    /// a 4-sigma bound), while the arm keeps its 3 sqrt(64) = 24 (within the noise's +-4).
+    #[test]
+    fn a_ships_return_is_masked_and_a_wakes_arm_kept() {
+        let n = 64;
+        let mut rng = ChaCha8Rng::seed_from_u64(5);
+        let mut window = Array2::from_shape_simple_fn((n, n), || {
+            let v: f64 = StandardNormal.sample(&mut rng);
+            v as f32
+        });
+        for c in 20..35 {
+            window[[40, c]] += 30.0;
+        }
+        window.row_mut(10).mapv_inplace(|v| v + 3.0);
+        let clipped = network_input(InputForm::LineSums, window.clone());
+        let masked = network_input(InputForm::LineSumsShipsMasked, window.clone());
+        // direction 32 (lines along the rows), offset bin 40: the ship's row
+        assert!(clipped[[32, 40]] > 5.6 - 4.0, "{}", clipped[[32, 40]]);
+        assert!(masked[[32, 40]].abs() < 4.0, "{}", masked[[32, 40]]);
+        for sums in [&clipped, &masked] {
+            assert!((sums[[32, 10]] - 24.0).abs() < 4.0, "{}", sums[[32, 10]]);
+        }
+        // the mask is the ship and its eight neighbours, nothing else
+        let changed = ships_masked(window.clone())
+            .iter()
+            .zip(window.iter())
+            .filter(|(a, b)| a != b)
+            .count();
+        assert_eq!(changed, 3 * 17);
     }
 }

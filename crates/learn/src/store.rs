@@ -107,7 +107,7 @@ impl ModelInfo {
                 match (self.head, self.input_form) {
                     (ClassifierHead::GlobalMax, _) => HEAD_FORMAT,
                     (ClassifierHead::Flatten, InputForm::Pixels) => FORMAT,
-                    (ClassifierHead::Flatten, InputForm::LineSums) => LINE_SUMS_FORMAT,
+                    (ClassifierHead::Flatten, InputForm::LineSums | InputForm::LineSumsShipsMasked) => LINE_SUMS_FORMAT,
                 }
                 .to_string(),
             ),
@@ -246,10 +246,13 @@ impl ModelInfo {
             ClassifierHead::Flatten => "",
             ClassifierHead::GlobalMax => "; its classifier pools its last map to each channel's largest response",
         };
-        (self.input_form == InputForm::LineSums || !pooled.is_empty()).then(|| match self.input_form {
+        (self.input_form != InputForm::Pixels || !pooled.is_empty()).then(|| match self.input_form {
             InputForm::LineSums => {
                 format!("the detector reads each window's line sums (its Radon transform), not its pixels{pooled}")
             }
+            InputForm::LineSumsShipsMasked => format!(
+                "the detector reads each window's line sums (its Radon transform) with its ships' returns masked out, not its pixels{pooled}"
+            ),
             InputForm::Pixels => format!("the detector reads each window's pixels{pooled}"),
         })
     }
@@ -604,6 +607,15 @@ mod tests {
             ModelInfo::from_metadata(&pixels, path).unwrap().input_form,
             InputForm::Pixels
         );
+        let masked = ModelInfo {
+            input_form: InputForm::LineSumsShipsMasked,
+            ..info(None)
+        };
+        let masked_meta = masked.to_metadata();
+        assert_eq!(masked_meta["wakelab.input_form"], "line_sums_ships_masked");
+        assert_eq!(masked_meta["wakelab.format"], LINE_SUMS_FORMAT);
+        assert_eq!(ModelInfo::from_metadata(&masked_meta, path).unwrap(), masked);
+        assert!(masked.input_note().is_some_and(|n| n.contains("masked")));
         let mut wrong = meta;
         wrong.insert("wakelab.input_form".into(), "radon".into());
         let message = ModelInfo::from_metadata(&wrong, path).unwrap_err().to_string();

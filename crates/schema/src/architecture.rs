@@ -81,27 +81,31 @@ impl std::fmt::Display for Architecture {
 
 /// What a classifier reads from its window: the window's normalised pixels (the spec's input,
 /// 4.2), or its line sums, the window's Radon transform (a line across the window, such as a
-/// wake's trough or arm, becomes one bright or dark point; see `wakelab_learn::line_sums`).
+/// wake's trough or arm, becomes one bright or dark point; see `wakelab_learn::line_sums`), or
+/// the line sums of the window with its ships' returns masked out (the same module), so that a
+/// decision rests on the wake and not on a bright ship.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default, Serialize, Deserialize)]
 #[serde(rename_all = "snake_case")]
 pub enum InputForm {
     #[default]
     Pixels,
     LineSums,
+    LineSumsShipsMasked,
 }
 
 impl InputForm {
-    pub const ALL: [InputForm; 2] = [InputForm::Pixels, InputForm::LineSums];
+    pub const ALL: [InputForm; 3] = [InputForm::Pixels, InputForm::LineSums, InputForm::LineSumsShipsMasked];
 
     pub fn name(self) -> &'static str {
         match self {
             InputForm::Pixels => "pixels",
             InputForm::LineSums => "line_sums",
+            InputForm::LineSumsShipsMasked => "line_sums_ships_masked",
         }
     }
 }
 
-/// A name: `pixels` or `line_sums`.
+/// A name: `pixels`, `line_sums` or `line_sums_ships_masked`.
 impl std::str::FromStr for InputForm {
     type Err = String;
     fn from_str(s: &str) -> Result<Self, Self::Err> {

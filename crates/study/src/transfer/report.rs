@@ -147,6 +147,7 @@ pub fn markdown(results: &TransferResults) -> String {
         match p.input {
             InputForm::Pixels => "the windows' pixels",
             InputForm::LineSums => "the windows' line sums (Radon transform)",
+            InputForm::LineSumsShipsMasked => "the windows' line sums (Radon transform), ships' returns masked out",
         },
         match p.head {
             ClassifierHead::Flatten => "",

@@ -24,11 +24,15 @@
 //! (the return's skirt), is set to the median (0). Why: clipped at +3, a large ship 15 pixels
 //! long is still a short bright line, 5-6 deviations in its line sum, as strong as a wake's arm;
 //! on real sea the line-sum detectors' strongest alarms were open-sea windows with one large ship
-//! and no wake (docs/results.md). A wake's arms and trough are a few dB from the sea (issue 38:
-//! real wakes' contrasts of 1-5 dB; Fig. 3.1-3.2), a ship's return 20-50 dB (Cumming & Wong
-//! 2005; the sea's NRCS near -20 dB against a ship's RCS of 10^3-10^5 m^2 over a pixel of a few
-//! hundred m^2), so a threshold between the two, in the window's robust deviations, keeps the
-//! wake and drops the ship wherever the window's speckle spread is 0.5-3 dB.
+//! and no wake (docs/results.md). A wake's arms and trough are a few dB from the sea (the
+//! spec's Figs. 3.1-3.2; the transfer study's simulated wakes), a ship's return 20-50 dB over it
+//! (a radar cross-section of 10^3-10^5 m^2 spread over a pixel of 100-400 m^2 is 4-30 dB of
+//! sigma0, against a sea near -20 dB), so a threshold between the two, in the window's robust
+//! deviations, keeps the wake and drops the ship wherever the window's speckle spread is 0.5-3
+//! dB. A display-stretched image read as dB spreads its sea wider (7-18 grey levels on SSDD's
+//! chips averaged to 20 m), so there a large ship's core is masked and part of its skirt stays.
+//! The mask did not find more real wakes (docs/results.md, "The ships' returns masked out of
+//! the line sums"); the embedded study reads `line_sums`.
 
 use ndarray::Array2;
 use std::collections::HashMap;
@@ -54,7 +58,8 @@ pub fn network_input(form: InputForm, window: Array2<f32>) -> Array2<f32> {
 }
 
 /// The window with its ships' returns set to its median (0): every pixel above [`SHIP`] and its
-/// eight neighbours (see the module).
+/// eight neighbours (see the module). The 3 x 3 ring is written here: the land mask's dilation
+/// (`wakelab_ships::land`) lives in a crate learn does not depend on.
 pub fn ships_masked(mut window: Array2<f32>) -> Array2<f32> {
     let (h, w) = window.dim();
     let bright: Vec<(usize, usize)> = window

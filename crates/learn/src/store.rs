@@ -591,36 +591,38 @@ mod tests {
     #[test]
     fn the_input_form_reads_back_from_the_metadata() {
         let path = Path::new("m.safetensors");
-        let lines = ModelInfo {
+        for (form, said) in [
+            (InputForm::LineSums, "line sums"),
+            (InputForm::LineSumsShipsMasked, "ships' returns masked out"),
+        ] {
+            let lines = ModelInfo {
+                input_form: form,
+                ..info(None)
+            };
+            let meta = lines.to_metadata();
+            assert_eq!(meta["wakelab.input_form"], form.name());
+            assert_eq!(meta["wakelab.format"], LINE_SUMS_FORMAT);
+            assert_eq!(ModelInfo::from_metadata(&meta, path).unwrap(), lines);
+            assert!(lines.input_note().is_some_and(|n| n.contains(said)));
+        }
+        let meta = ModelInfo {
             input_form: InputForm::LineSums,
             ..info(None)
-        };
-        let meta = lines.to_metadata();
-        assert_eq!(meta["wakelab.input_form"], "line_sums");
-        assert_eq!(meta["wakelab.format"], LINE_SUMS_FORMAT);
-        assert_eq!(ModelInfo::from_metadata(&meta, path).unwrap(), lines);
+        }
+        .to_metadata();
         let pixels = info(None).to_metadata();
         assert!(!pixels.contains_key("wakelab.input_form"));
         assert_eq!(pixels["wakelab.format"], FORMAT);
-        assert!(lines.input_note().is_some_and(|n| n.contains("line sums")) && info(None).input_note().is_none());
+        assert!(info(None).input_note().is_none());
         assert_eq!(
             ModelInfo::from_metadata(&pixels, path).unwrap().input_form,
             InputForm::Pixels
         );
-        let masked = ModelInfo {
-            input_form: InputForm::LineSumsShipsMasked,
-            ..info(None)
-        };
-        let masked_meta = masked.to_metadata();
-        assert_eq!(masked_meta["wakelab.input_form"], "line_sums_ships_masked");
-        assert_eq!(masked_meta["wakelab.format"], LINE_SUMS_FORMAT);
-        assert_eq!(ModelInfo::from_metadata(&masked_meta, path).unwrap(), masked);
-        assert!(masked.input_note().is_some_and(|n| n.contains("masked")));
         let mut wrong = meta;
         wrong.insert("wakelab.input_form".into(), "radon".into());
         let message = ModelInfo::from_metadata(&wrong, path).unwrap_err().to_string();
         assert!(
-            message.contains("input_form") && message.contains("pixels, line_sums"),
+            message.contains("input_form") && message.contains("pixels, line_sums, line_sums_ships_masked"),
             "{message}"
         );
     }

@@ -22,7 +22,10 @@
 # STUDY (default: the embedded configs/study/transfer.toml) trains another study file instead,
 # its `seed = 0` line set to SEED, and writes run_NAME_seedSEED/ (NAME: the file's stem).
 # OFFSHORE=1 takes the real sea without the SSDD chips that hold land (bench/ssdd_ships.py
-# --sea --offshore, into sea_offshore/) and adds _offshore to the run's folder.
+# --sea --offshore, into sea_offshore/) and adds _offshore to the run's folder. DISTINCT=1 keeps
+# one chip of each set of SSDD's copies and leaves out the sets where a faint wake was seen
+# (--distinct, into sea[_offshore]_distinct/; bench/held_out_wakes_4/sea_wakes.txt) and adds
+# _distinct.
 # About 17 min on 2 cores with 61 images scored, once the images are cut (20 s).
 set -euo pipefail
 out=${1:?usage: bench/licensed_real_detectors.sh OUT [SCORE]}
@@ -39,13 +42,20 @@ out=$(realpath "$out")
 [ -f "$out/images/eob_01.png" ] || python3 "$here/held_out_wakes.py" "$out/images" --third --mirrors "$mirrors" >/dev/null
 [ -f "$out/images/ssdd_000028.png" ] || python3 "$here/held_out_wakes.py" "$out/images" --fourth --mirrors "$mirrors" >/dev/null
 sea=sea
-offshore=()
+sea_flags=()
 if [ "${OFFSHORE:-0}" = 1 ]; then
   sea=sea_offshore
-  offshore=(--offshore)
+  sea_flags=(--offshore)
+fi
+if [ "${DISTINCT:-0}" = 1 ]; then
+  sea=${sea}_distinct
+  sea_flags+=(--distinct)
+  # a new list of chips seen with a wake asks for the set to be written again
+  [ "$out/$sea/.written" -nt "$here/held_out_wakes_4/sea_wakes.txt" ] || rm -f "$out/$sea/.written"
 fi
 [ -f "$out/$sea/.written" ] || {
-  python3 "$here/ssdd_ships.py" "$out/$sea" --sea "${offshore[@]}" --mirrors "$mirrors"
+  rm -rf "${out:?}/$sea"
+  python3 "$here/ssdd_ships.py" "$out/$sea" --sea "${sea_flags[@]}" --mirrors "$mirrors"
   touch "$out/$sea/.written"
 }
 
@@ -76,7 +86,8 @@ elif [ "$seed" != 0 ]; then
   study="$out/transfer_seed$seed.toml"
   sed "s/^seed = 0$/seed = $seed/" "$here/../configs/study/transfer.toml" >"$study"
 fi
-[ "$sea" = sea ] || run="${run}_offshore"
+if [ "${OFFSHORE:-0}" = 1 ]; then run="${run}_offshore"; fi
+if [ "${DISTINCT:-0}" = 1 ]; then run="${run}_distinct"; fi
 real=()
 [ -z "$score" ] || real=(--real "$score")
 "$wakelab" run --study "$study" --sea-images "$out/$sea" --wake-images "$out/wakes" "${real[@]}" \

@@ -2,7 +2,7 @@
 """SSDD chips with SSDD's own ship boxes, to score `wakelab detect`'s ship search on chips no
 rule was set on.
 
-usage: ssdd_ships.py OUT_DIR [--every N] [--test-split | --sea [--offshore]] [--mirrors DIR]
+usage: ssdd_ships.py OUT_DIR [--every N] [--test-split | --sea [--offshore] [--distinct]] [--mirrors DIR]
 
 Writes OUT_DIR/ssdd_ID.png (the chip's R channel; the JPEGs are grey, R = G = B, but for a few
 whose differing pixels are listed) and
@@ -27,7 +27,10 @@ split less also the 210 chips the fourth set's screeners looked at closely for w
 these chips for wake-free images: score them with bench/score_real_wakes.py. With --offshore
 too, the chips that hold land are left out (`land_share` over LAND_SHARE: harbours, river
 banks, coasts; docs/results.md, "Sidelobe crosses as look-alikes, and a seed ensemble", where
-the rule was set by eye on the chips either side of it). Needs what bench/held_out_wakes.py
+the rule was set by eye on the chips either side of it). With --distinct too, one chip of each
+set of copies (SSDD cut most scenes into several overlapping chips: `copies`), the largest, is
+kept, and the chips listed in bench/held_out_wakes_4/sea_wakes.txt (a faint wake seen on a
+second look, or a copy of one) are left out. Needs what bench/held_out_wakes.py
 needs (numpy, Pillow, scipy).
 """
 import argparse
@@ -48,6 +51,10 @@ SCANNED_M = 20.0
 # land: cells of CELL x CELL pixels off the ships whose median stands LAND_GREY grey levels over
 # the chip's median off the ships, in more than LAND_SHARE of the cells
 CELL, LAND_GREY, LAND_SHARE, SHIP_MARGIN = 8, 40, 0.01, 15
+# copies: ship boxes alike in size (within SIZE_SHARE) whose patches, 16 x 16, correlate over
+# SHIP_CORR, confirmed by the sea around the ship (3 boxes wide, the box itself out) correlating
+# over SEA_CORR at the best shift within SHIFT pixels
+SIZE_SHARE, SHIP_CORR, SEA_CORR, SHIFT = 0.25, 0.9, 0.5, 4
 
 
 def land_share(grey, boxes):
@@ -70,6 +77,85 @@ def land_share(grey, boxes):
     return float(((medians > sea + LAND_GREY) & ~on_ship).mean())
 
 
+def unit(v):
+    """`v` flattened, less its mean, over its norm: dot products of two are correlations."""
+    v = v.ravel().astype(np.float64) - v.mean()
+    return v / (np.linalg.norm(v) + 1e-9)
+
+
+def sea_around(grey, box, half, hole, shift):
+    """The sea around `box` (x0, y0, x1, y1): a crop of half-size `half` (columns, rows) centred
+    on the box moved by `shift` (columns, rows), less a centred hole of `hole` (columns, rows)
+    grown by 3 pixels (the ship); None where the crop leaves the chip."""
+    (x0, y0, x1, y1), (hw, hh), (dx, dy), (w, h) = box, half, shift, hole
+    cx, cy = (x0 + x1) / 2 + dx, (y0 + y1) / 2 + dy
+    r0, c0 = int(cy - hh), int(cx - hw)
+    if r0 < 0 or c0 < 0 or r0 + 2 * int(hh) > grey.shape[0] or c0 + 2 * int(hw) > grey.shape[1]:
+        return None
+    crop = grey[r0:r0 + 2 * int(hh), c0:c0 + 2 * int(hw)].astype(np.float32)
+    keep = np.ones(crop.shape, bool)
+    br, bc = int(hh - h / 2) - 3, int(hw - w / 2) - 3
+    keep[max(br, 0):br + int(h) + 6, max(bc, 0):bc + int(w) + 6] = False
+    return crop[keep]
+
+
+def copies(chips):
+    """The sets of chips (names) that show the same sea: SSDD cut one scene into overlapping
+    chips around the same ships. Two chips are copies when a ship box of each matches in size and
+    look (SHIP_CORR) and the sea around the two ships matches too (SEA_CORR): a ship alone is a
+    bright blob much like any other, speckle and swell around it are not. Among chips of different
+    scenes the sea correlated 0.0-0.3 in the offshore set; copies 0.6-1.0 (resampled ones less).
+    Checked on a synthetic scene of gamma speckle: two overlapping crops are one set, the same
+    ship pasted into another sea is not; a box drawn 3 pixels off on a 20-pixel ship escapes
+    (its patch correlates 0.80), so copies whose boxes SSDD drew apart may remain.
+    `chips`: name -> (grey, boxes). Sets, each in name order, singletons included."""
+    patches = []
+    for name, (grey, boxes) in chips.items():
+        for x0, y0, x1, y1 in boxes:
+            if x1 - x0 < 6 or y1 - y0 < 6:
+                continue
+            patch = Image.fromarray(grey[int(y0):int(y1), int(x0):int(x1)]).resize((16, 16), Image.BILINEAR)
+            patches.append((name, (x0, y0, x1, y1), unit(np.asarray(patch, np.float32))))
+    if not patches:
+        return [[n] for n in sorted(chips)]
+    looks = np.array([p[2] for p in patches])
+    alike = looks @ looks.T
+    parent = {n: n for n in chips}
+
+    def root(n):
+        while parent[n] != n:
+            parent[n] = parent[parent[n]]
+            n = parent[n]
+        return n
+
+    for i, (a, box_a, _) in enumerate(patches):
+        for j in np.nonzero(alike[i, i + 1:] > SHIP_CORR)[0] + i + 1:
+            b, box_b, _ = patches[j]
+            if root(a) == root(b):
+                continue
+            (wa, ha), (wb, hb) = ((x1 - x0, y1 - y0) for x0, y0, x1, y1 in (box_a, box_b))
+            if abs(wa - wb) > SIZE_SHARE * max(wa, wb) or abs(ha - hb) > SIZE_SHARE * max(ha, hb):
+                continue
+            hole = (max(wa, wb), max(ha, hb))
+            # the widest ring of sea that both chips hold around their ship
+            for half in ((1.5 * hole[0], 1.5 * hole[1]), hole):
+                sea = sea_around(chips[a][0], box_a, half, hole, (0, 0))
+                if sea is not None and sea_around(chips[b][0], box_b, half, hole, (0, 0)) is not None:
+                    break
+            else:
+                continue
+            sea = unit(sea)
+            best = max((float(sea @ unit(other)) for dy in range(-SHIFT, SHIFT + 1) for dx in range(-SHIFT, SHIFT + 1)
+                        for other in [sea_around(chips[b][0], box_b, half, hole, (dx, dy))]
+                        if other is not None and other.size == sea.size), default=-1.0)
+            if best > SEA_CORR:
+                parent[root(a)] = root(b)
+    sets = {}
+    for n in sorted(chips):
+        sets.setdefault(root(n), []).append(n)
+    return sorted(sets.values())
+
+
 def main():
     ap = argparse.ArgumentParser(description=__doc__.split('\n')[0])
     ap.add_argument('out_dir')
@@ -78,10 +164,13 @@ def main():
     split.add_argument('--test-split', action='store_true')
     split.add_argument('--sea', action='store_true')
     ap.add_argument('--offshore', action='store_true')
+    ap.add_argument('--distinct', action='store_true')
     ap.add_argument('--mirrors', default='/work/.mirror')
     a = ap.parse_args()
     if a.offshore and not a.sea:
         sys.exit('--offshore: only with --sea (real sea without land)')
+    if a.distinct and not a.sea:
+        sys.exit('--distinct: only with --sea (one chip of each set of copies)')
     if a.every < 1:
         sys.exit(f'--every {a.every}: a whole number of at least 1 (every Nth chip)')
     git = git_dir(a.mirrors, SSDD[0])
@@ -98,7 +187,7 @@ def main():
             screened = set(f.read().split())
         train, a.every = [i for i in train if i not in screened], 1
     os.makedirs(a.out_dir, exist_ok=True)
-    kept, small, empty, land, coloured = 0, 0, 0, 0, []
+    small, empty, land, coloured, chosen = 0, 0, 0, [], {}
     for chip in train[::a.every]:
         boxes = ssdd_ship_boxes(a.mirrors, chip)
         if not boxes:
@@ -116,7 +205,19 @@ def main():
         if a.offshore and land_share(rgb[..., 0], boxes) > LAND_SHARE:
             land += 1
             continue
-        Image.fromarray(np.ascontiguousarray(rgb[..., 0]), 'L').save(os.path.join(a.out_dir, f'ssdd_{chip}.png'))
+        chosen[chip] = (np.ascontiguousarray(rgb[..., 0]), boxes, spacing)
+    distinct = ''
+    if a.distinct:
+        with open(os.path.join(here, 'sea_wakes.txt')) as f:
+            seen = {line.split()[0] for line in f if line.strip() and not line.startswith('#')}
+        sets = copies({c: (grey, boxes) for c, (grey, boxes, _) in chosen.items()})
+        clean = [s for s in sets if not seen & set(s)]
+        largest = {max(s, key=lambda c: (chosen[c][0].size, -int(c))) for s in clean}
+        distinct = (f'; {len(sets)} sets of copies, {len(sets) - len(clean)} with a wake seen '
+                    f'({sum(len(s) for s in sets if seen & set(s))} chips) left out, the largest of each other set kept')
+        chosen = {c: v for c, v in chosen.items() if c in largest}
+    for chip, (grey, boxes, spacing) in chosen.items():
+        Image.fromarray(grey, 'L').save(os.path.join(a.out_dir, f'ssdd_{chip}.png'))
         drawing = {
             'type': 'FeatureCollection',
             'wakelab': {'coordinates': 'pixel', 'pixel_spacing_m': spacing, 'scale': 'display',
@@ -129,11 +230,10 @@ def main():
         }
         with open(os.path.join(a.out_dir, f'ssdd_{chip}.geojson'), 'w') as g:
             json.dump(drawing, g)
-        kept += 1
     split = ('test split' if a.test_split else 'train split less the fourth set, 000006'
              + (' and the screened chips' if a.sea else ''))
     with_land = f', {land} with land' if a.offshore else ''
-    print(f'{kept} chips written of {len(train[::a.every])} taken ({len(train)} in the {split}); left out: {small} under half a window at 20 m, {empty} without a box{with_land}')
+    print(f'{len(chosen)} chips written of {len(train[::a.every])} taken ({len(train)} in the {split}); left out: {small} under half a window at 20 m, {empty} without a box{with_land}{distinct}')
     if coloured:
         print(f'{len(coloured)} of them hold pixels whose R, G and B differ (their R channel taken as for the '
               f'others): ' + ', '.join(coloured))

@@ -26,7 +26,8 @@
 # one chip of each set of SSDD's copies and leaves out the sets where a faint wake was seen
 # (--distinct, into sea[_offshore]_distinct/; bench/held_out_wakes_4/sea_wakes.txt) and adds
 # _distinct.
-# About 17 min on 2 cores with 61 images scored, once the images are cut (20 s).
+# About 10-17 min on 2 cores with 61 images scored (machines differ twofold), once the images are
+# cut (20 s).
 set -euo pipefail
 out=${1:?usage: bench/licensed_real_detectors.sh OUT [SCORE]}
 score=${2:-}

@@ -13,6 +13,13 @@ smaller than a window) on a 60 x 60 grid, and the share of them within 500 m of 
 the chance that a peak placed at random is counted as found. Their sum per set (as
 bench/threshold_cv.py names the sets) is the number of images a detector with a random peak
 and no alarm would find. numpy and Pillow.
+
+Superseded since 2026-12-02 by the transfer report's own `peak_by_chance` (and
+bench/transfer_real_sets.py's "by chance"), which scores each image's very windows at random and
+places the peak by `detect`'s rule. This uniform model is not that: on the 23 held-out images it
+gives 9.4, where random windows give 4.6 through the rule `detect` had until then (the map's
+largest cell, which favours the image's corners) and 8.1 through today's (the strongest window's place); docs/results.md, "The map's peak placed by
+its strongest window". Kept so that the earlier sections' figures can be reproduced.
 """
 import glob
 import json

@@ -2,7 +2,7 @@
 
 usage: score_real_wakes.py DIR OUT [detect flags...]
 
-DIR holds NAME.png (or NAME.npy, NAME.tif) and NAME.geojson (LineStrings of "kind": "wake" in pixel coordinates, as
+DIR holds NAME.png (or NAME.npy, NAME.tif, NAME.tiff) and NAME.geojson (LineStrings of "kind": "wake" in pixel coordinates, as
 `wakelab run --real` reads them). Each image runs through `wakelab detect` (the binary in
 $WAKELAB, else target/release/wakelab) into OUT/NAME/ unless that holds a result already. A drawn
 wake is found when a reported wake's segment comes within TOL_M metres of it (default 300, in
@@ -73,7 +73,7 @@ def main():
         meta = drawn_json.get("wakelab", {})
         run = os.path.join(out, name)
         if not os.path.exists(os.path.join(run, "detections.json")):
-            image = next(os.path.join(src, name + e) for e in (".png", ".npy", ".tif") if os.path.exists(os.path.join(src, name + e)))
+            image = next(os.path.join(src, name + e) for e in (".png", ".npy", ".tif", ".tiff") if os.path.exists(os.path.join(src, name + e)))
             cmd = [binary, "--quiet", "detect", image, "--out", run,
                    "--scale", meta.get("scale", "display"),
                    "--pixel-spacing", str(meta.get("pixel_spacing_m", 10))] + flags

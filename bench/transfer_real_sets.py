@@ -16,7 +16,8 @@ the fourth, other wake-free images; as bench/threshold_cv.py names them): wake i
 wake found, with at most one false alarm (the transfer issue's target), with the map's peak on
 a wake, with the strongest detection on one, false alarms per wake image, and wake-free images
 without an alarm; then the line search's wakes seen by the CNN too, and how many of those lie on
-a drawn wake. With --majority, two groups of runs (the same study at several seeds, with and
+a drawn wake. Where the run wrote it, the peaks a detector scoring the same windows at random
+would place on a wake (the sum of `peak_by_chance`). With --majority, two groups of runs (the same study at several seeds, with and
 without a change): the images whose verdict (a wake image: a wake found with at most one false
 alarm; a wake-free one: no alarm) the 1.28 km detector gets in most runs of one group and not
 of the other, each with its count per group. Pure Python, no packages.
@@ -36,8 +37,12 @@ def row(label, scores):
     one = sum(s['false_alarms'] <= 1 for s in found)
     peak_alone = sum(s['peak_on_wake'] and s['detections'] <= s['false_alarms'] for s in wake)
     false = sum(s['false_alarms'] for s in wake) / max(1, len(wake))
+    # what the peak finds were the same windows scored at random (the report's `peak_by_chance`,
+    # written since 2026-12-02; runs before have none)
+    chances = [s['peak_by_chance'] for s in wake if s.get('peak_by_chance') is not None]
+    chance = f", by chance {sum(chances):4.1f}" if chances else ""
     return (f"  {label:<16} found {len(found):>2}/{len(wake):<2} with <= 1 false {one:>2}  "
-            f"peak on a wake {sum(s['peak_on_wake'] for s in wake):>2} (found by it alone {peak_alone:>2})  "
+            f"peak on a wake {sum(s['peak_on_wake'] for s in wake):>2}{chance} (found by it alone {peak_alone:>2})  "
             f"strongest on a wake {sum(s['strongest_on_wake'] for s in wake):>2}  "
             f"false per wake image {false:.2f}  wake-free clean {sum(s['detections'] == 0 for s in free)}/{len(free)}")
 

@@ -1,13 +1,16 @@
 //! What `wakelab detect`'s CNN costs, side by side in one run: the shipped 1.28 km detector
 //! (64 x 64 windows at 20 m) scanning a scene of 25.6 x 25.6 km (1,280 x 1,280 pixels at 20 m,
 //! windows half a window apart: 39 x 39 = 1,521 windows), against the same detector scoring
-//! one window centred on each of 20 ships (`score_windows`, the ships' `cnn_probability`).
+//! one window centred on each of 20 ships (`score_windows`, the ships' `cnn_probability`), and
+//! against what `--real` adds to each image: its peak's chance (`peak_by_chance`, 400 random
+//! scorings of the same 1,521 windows, a target 500 m wide across the scene).
 
 use criterion::{criterion_group, criterion_main, Criterion, Throughput};
 use ndarray::Array2;
 use std::path::Path;
 use wakelab_learn::data::RadarScale;
 use wakelab_learn::detect::{detect_image, score_windows, ScanOptions};
+use wakelab_learn::peak_chance::peak_by_chance;
 use wakelab_learn::store::load_detector;
 
 /// 4-look-like speckle around sigma0 0.01, deterministic.
@@ -43,6 +46,11 @@ fn detect_bench(c: &mut Criterion) {
     group.throughput(Throughput::Elements(1521));
     group.bench_function("scan_655km2_1521_windows", |b| {
         b.iter(|| detect_image(&detector, &info, &scene, options, &device, &mut |_, _| {}).expect("scanned"))
+    });
+    let scan = detect_image(&detector, &info, &scene, options, &device, &mut |_, _| {}).expect("scanned");
+    let (cells, n, stride) = (scan.map.dim(), scan.window, scan.stride);
+    group.bench_function("peak_by_chance_400_draws_1521_windows", |b| {
+        b.iter(|| peak_by_chance(&scan.tiles, cells, n, stride, |_, c| (c - 640.0).abs() <= 12.5, 400, 38))
     });
     group.throughput(Throughput::Elements(20));
     group.bench_function("score_20_ship_windows", |b| {

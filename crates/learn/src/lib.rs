@@ -21,6 +21,7 @@ pub mod line_sums;
 pub mod loss;
 pub mod masks;
 pub mod models;
+pub mod peak_chance;
 pub mod robustness;
 pub mod store;
 pub mod synthetic;

@@ -75,7 +75,8 @@ struct DetectionsFile<'a> {
     /// the detector's spacing.
     resampled: (f64, f64),
     notes: &'a [String],
-    /// The map's strongest cell.
+    /// The scan's peak: where its strongest window places the wake (the centroid of the mean
+    /// map over that window's cells, [`Peak`]).
     peak: Located<'a, Peak>,
     detections: Vec<WindowEntry<'a>>,
     /// The ships and wakes the classic searches found (null for infrared), and the targets

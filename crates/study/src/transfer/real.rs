@@ -19,6 +19,12 @@ use crate::product_scan::{open_product, ScanProgress};
 use crate::products::{detect, DetectRequest};
 use crate::sea_findings::ShipSearch;
 use crate::steps::calibration::FOUND_WITHIN_M;
+use wakelab_learn::peak_chance::peak_by_chance;
+
+/// Random scorings of an image's windows for its [`RealScore::peak_by_chance`]: its standard
+/// error at most 0.5 / sqrt(400) = 0.025 per image, and under 0.2 images over 60.
+const CHANCE_DRAWS: usize = 400;
+const CHANCE_SEED: u64 = 38;
 use crate::steps::open_sea::distance_to_segment;
 use crate::Result;
 use anyhow::{anyhow, Context};
@@ -66,8 +72,14 @@ pub struct RealScore {
     pub detections: usize,
     /// Detections more than 500 m from every wake.
     pub false_alarms: usize,
-    /// Whether the map's peak, and the strongest detection, lie within 500 m of a wake.
+    /// Whether the map's peak (where the strongest window places its wake,
+    /// [`wakelab_learn::detect::Peak`]), and the strongest detection, lie within 500 m of a wake.
     pub peak_on_wake: bool,
+    /// The chance that the peak lies within 500 m of a wake were the same windows scored at
+    /// random ([`wakelab_learn::peak_chance`]): what `peak_on_wake` is worth on this image. None
+    /// for wakes drawn in longitude and latitude, and for an image not scanned.
+    #[serde(default)]
+    pub peak_by_chance: Option<f64>,
     pub strongest_on_wake: bool,
     /// Rank (1: the strongest) of the first detection on a wake.
     pub first_on_wake: Option<usize>,
@@ -304,6 +316,21 @@ pub fn score_image(
             vec![None; annotation.wakes.len()]
         })
     };
+    // the scanned grid's pixels in the image's (for wakes drawn in pixels; lonlat needs the frame)
+    let by_chance = (!lonlat).then(|| {
+        let on_wake =
+            |row: f64, col: f64| to_wakes((col * factor.1, row * factor.0), annotation, spacing) <= FOUND_WITHIN_M;
+        let (n, stride) = (detection.window, detection.stride);
+        peak_by_chance(
+            &detection.tiles,
+            detection.map.dim(),
+            n,
+            stride,
+            on_wake,
+            CHANCE_DRAWS,
+            CHANCE_SEED,
+        )
+    });
     let name: String = image.file_name().unwrap_or_default().to_string_lossy().into();
     let km2 = scored_pixels(detection) as f64 * pixel_m2 / 1e6;
     // the search runs on the averaged grid: a centre may lie a scanned pixel from a drawn box
@@ -324,6 +351,7 @@ pub fn score_image(
         detections: on_wake.len(),
         false_alarms: on_wake.iter().filter(|on| !**on).count(),
         peak_on_wake: distance(&written["peak"]) <= FOUND_WITHIN_M,
+        peak_by_chance: by_chance,
         strongest_on_wake: on_wake.first() == Some(&true),
         first_on_wake: on_wake.iter().position(|on| *on).map(|i| i + 1),
         km2,
@@ -449,6 +477,7 @@ pub fn score_real(
                         detections: 0,
                         false_alarms: 0,
                         peak_on_wake: false,
+                        peak_by_chance: None,
                         strongest_on_wake: false,
                         first_on_wake: None,
                         km2: 0.0,
@@ -503,6 +532,12 @@ pub struct RealSummary {
     pub footprint: f64,
     pub wake_images: usize,
     pub found: usize,
+    /// Wake images whose peak lies within 500 m of a wake, and how many would by chance (the sum
+    /// of their [`RealScore::peak_by_chance`]; None where no image has one).
+    #[serde(default)]
+    pub peak_on_wake: usize,
+    #[serde(default)]
+    pub peak_on_wake_by_chance: Option<f64>,
     pub strongest_on_wake: usize,
     pub false_alarms_per_wake_image: f64,
     pub no_wake_images: usize,
@@ -528,6 +563,8 @@ pub fn summarise(footprint: f64, scores: &[&RealScore]) -> RealSummary {
         footprint,
         wake_images: with.len(),
         found: with.iter().filter(|s| s.found()).count(),
+        peak_on_wake: with.iter().filter(|s| s.peak_on_wake).count(),
+        peak_on_wake_by_chance: with.iter().filter_map(|s| s.peak_by_chance).reduce(|a, b| a + b),
         strongest_on_wake: with.iter().filter(|s| s.strongest_on_wake).count(),
         false_alarms_per_wake_image: with.iter().map(|s| s.false_alarms as f64).sum::<f64>() / with.len().max(1) as f64,
         no_wake_images: without.len(),
@@ -655,6 +692,7 @@ mod tests {
             detections,
             false_alarms,
             peak_on_wake: peak,
+            peak_by_chance: Some(0.25),
             strongest_on_wake: first == Some(1),
             first_on_wake: first,
             km2: 10.0,
@@ -675,6 +713,8 @@ mod tests {
         ];
         let s = summarise(1280.0, &scores.iter().collect::<Vec<_>>());
         assert_eq!((s.wake_images, s.found, s.strongest_on_wake, s.skipped), (3, 2, 1, 1));
+        // peaks on a wake, and by chance a quarter for each of the three scanned wake images
+        assert_eq!((s.peak_on_wake, s.peak_on_wake_by_chance), (1, Some(0.75)));
         assert!((s.false_alarms_per_wake_image - 4.0 / 3.0).abs() < 1e-12);
         assert_eq!((s.no_wake_images, s.no_wake_images_without_alarm), (2, 1));
         assert!((s.false_alarms_per_100_km2.unwrap() - 12.0).abs() < 1e-9);

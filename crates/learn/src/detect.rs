@@ -489,9 +489,7 @@ impl<'a> Scan<'a> {
             });
         }
         // a cell no scored window covers is no-data
-        let map = ndarray::Zip::from(&sum)
-            .and(&count)
-            .map_collect(|&s, &c| if c > 0.0 { s / c } else { f32::NAN });
+        let map = mean_map(&sum, &count);
         // each pixel's mask: the mean over the windows that covered it (no-data where none did)
         let mask = mask_sum.zip(mask_count).map(|(mut total, times)| {
             total.zip_mut_with(&times, |v, &t| *v = if t > 0.0 { *v / t } else { f32::NAN });
@@ -527,12 +525,23 @@ fn finish_detection(
     }
 }
 
+/// The map of a scan: each cell the mean of the `sum` of the window probabilities over it by
+/// their `count`, no-data where no window covers it.
+pub(crate) fn mean_map(sum: &Array2<f32>, count: &Array2<f32>) -> Array2<f32> {
+    ndarray::Zip::from(sum)
+        .and(count)
+        .map_collect(|&s, &c| if c > 0.0 { s / c } else { f32::NAN })
+}
+
 /// The scan's [`Peak`]: its strongest window (the first of equals, row by row, as a scan gives
-/// them) placed by the mean `map` over its cells.
+/// them; a window whose probability is NaN only where every one is) placed by the mean `map`
+/// over its cells.
 pub(crate) fn peak_of(map: &Array2<f32>, tiles: &[Tile], n: usize, stride: usize) -> Peak {
     let strongest = tiles
         .iter()
+        .filter(|t| !t.probability.is_nan())
         .reduce(|best, t| if t.probability > best.probability { t } else { best })
+        .or(tiles.first())
         .expect("a scan of at least one window");
     let placed = measure(
         map,
@@ -675,6 +684,28 @@ mod tests {
         // a window from 160 of 100 px covers the 40 px cells 4, 5, 6 (pixels 160..260)
         assert_eq!(covered_cells(160, 100, 40), 4..7);
         assert_eq!(covered_cells(0, 64, 32), 0..2);
+    }
+
+    /// Three windows of 8 px side by side, one cell each: the peak is the strongest window's cell
+    /// centre (a window's cells all hold its own score); a window scored NaN is passed over, and
+    /// where every one is, the first is taken.
+    #[test]
+    fn the_peak_is_the_strongest_scored_window() {
+        let tile = |col, probability| Tile {
+            row: 0,
+            col,
+            probability,
+        };
+        let tiles = [tile(0, f64::NAN), tile(8, 0.9), tile(16, 0.3)];
+        let map = Array2::from_shape_vec((1, 3), vec![f32::NAN, 0.9, 0.3]).unwrap();
+        let peak = peak_of(&map, &tiles, 8, 8);
+        assert_eq!((peak.row, peak.col, peak.probability), (4.0, 12.0, 0.9));
+        let unscored = [tile(0, f64::NAN), tile(8, f64::NAN)];
+        let peak = peak_of(&Array2::from_elem((1, 2), f32::NAN), &unscored, 8, 8);
+        assert_eq!((peak.row, peak.col), (4.0, 4.0));
+        // the scene's probability stays a number
+        let detection = finish_detection(map, None, tiles.to_vec(), 8, 8, 0.5);
+        assert_eq!(detection.probability, 0.9);
     }
 
     #[test]

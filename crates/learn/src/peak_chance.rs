@@ -14,7 +14,7 @@ use ndarray::Array2;
 use rand::{RngExt, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 
-use crate::detect::{peak_of, window_cells, Tile};
+use crate::detect::{mean_map, peak_of, window_cells, Tile};
 
 /// The share of `draws` random scorings (from `seed`) of the windows `tiles` (of side `n`,
 /// every `stride` pixels, on a map of `cells` (rows, columns) of `stride`-pixel cells) whose
@@ -49,9 +49,7 @@ pub fn peak_by_chance(
             }
         }
         // as a scan's map: the mean of the windows over each cell, no-data where none is
-        let map = ndarray::Zip::from(&sum)
-            .and(&count)
-            .map_collect(|&s, &c| if c > 0.0 { s / c } else { f32::NAN });
+        let map = mean_map(&sum, &count);
         let peak = peak_of(&map, &drawn, n, stride);
         hits += usize::from(on_target(peak.row, peak.col));
     }

@@ -19,12 +19,6 @@ use crate::product_scan::{open_product, ScanProgress};
 use crate::products::{detect, DetectRequest};
 use crate::sea_findings::ShipSearch;
 use crate::steps::calibration::FOUND_WITHIN_M;
-use wakelab_learn::peak_chance::peak_by_chance;
-
-/// Random scorings of an image's windows for its [`RealScore::peak_by_chance`]: its standard
-/// error at most 0.5 / sqrt(400) = 0.025 per image, and under 0.2 images over 60.
-const CHANCE_DRAWS: usize = 400;
-const CHANCE_SEED: u64 = 38;
 use crate::steps::open_sea::distance_to_segment;
 use crate::Result;
 use anyhow::{anyhow, Context};
@@ -32,8 +26,14 @@ use serde::{Deserialize, Serialize};
 use serde_json::Value;
 use std::path::{Path, PathBuf};
 use wakelab_learn::detect::ScanOptions;
+use wakelab_learn::peak_chance::peak_by_chance;
 use wakelab_products::{InputScale, ReadOptions, Source};
 use wakelab_schema::band::Band;
+
+/// Random scorings of an image's windows for its [`RealScore::peak_by_chance`]: its standard
+/// error at most 0.5 / sqrt(400) = 0.025 per image, and under 0.2 images over 60.
+const CHANCE_DRAWS: usize = 400;
+const CHANCE_SEED: u64 = 38;
 
 /// How an image is read and where its wakes are, from its `NAME.geojson`.
 #[derive(Debug, Clone, PartialEq)]

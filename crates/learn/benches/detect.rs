@@ -1,17 +1,21 @@
 //! What `wakelab detect`'s CNN costs, side by side in one run: the shipped 1.28 km detector
 //! (64 x 64 windows at 20 m) scanning a scene of 25.6 x 25.6 km (1,280 x 1,280 pixels at 20 m,
 //! windows half a window apart: 39 x 39 = 1,521 windows), against the same detector scoring
-//! one window centred on each of 20 ships (`score_windows`, the ships' `cnn_probability`), and
-//! against what `--real` adds to each image: its peak's chance (`peak_by_chance`, 400 random
-//! scorings of the same 1,521 windows, a target 500 m wide across the scene).
+//! one window centred on each of 20 ships (`score_windows`, the ships' `cnn_probability`),
+//! against the part of the scan that places each window's wake (`strongest_line` of the same
+//! 1,521 normalised windows, done inside the scan), and against what `--real` adds to each
+//! image: its peak's chance (`peak_by_chance` over the 1,521 windows, a target 500 m wide
+//! across the scene).
 
 use criterion::{criterion_group, criterion_main, Criterion, Throughput};
 use ndarray::Array2;
 use std::path::Path;
-use wakelab_learn::data::RadarScale;
-use wakelab_learn::detect::{detect_image, score_windows, ScanOptions};
+use wakelab_learn::data::{detector_input, RadarScale};
+use wakelab_learn::detect::{detect_image, score_windows, window_at, ScanOptions};
 use wakelab_learn::peak_chance::peak_by_chance;
 use wakelab_learn::store::load_detector;
+use wakelab_learn::window_line::strongest_line;
+use wakelab_schema::band::Band;
 
 /// 4-look-like speckle around sigma0 0.01, deterministic.
 fn sea(n: usize, seed: u64) -> Array2<f32> {
@@ -48,9 +52,29 @@ fn detect_bench(c: &mut Criterion) {
         b.iter(|| detect_image(&detector, &info, &scene, options, &device, &mut |_, _| {}).expect("scanned"))
     });
     let scan = detect_image(&detector, &info, &scene, options, &device, &mut |_, _| {}).expect("scanned");
-    let (cells, n, stride) = (scan.map.dim(), scan.window, scan.stride);
-    group.bench_function("peak_by_chance_400_draws_1521_windows", |b| {
-        b.iter(|| peak_by_chance(&scan.tiles, cells, n, stride, |_, c| (c - 640.0).abs() <= 12.5, 400, 38))
+    let n = scan.window;
+    let windows: Vec<Array2<f32>> = scan
+        .tiles
+        .iter()
+        .map(|t| {
+            detector_input(
+                window_at(scene.view(), (t.row as isize, t.col as isize), n),
+                Band::C,
+                options.scale,
+            )
+        })
+        .collect();
+    group.bench_function("strongest_line_1521_windows", |b| {
+        b.iter(|| {
+            windows
+                .iter()
+                .map(|w| strongest_line(w.view()))
+                .filter(Option::is_some)
+                .count()
+        })
+    });
+    group.bench_function("peak_by_chance_1521_windows", |b| {
+        b.iter(|| peak_by_chance(&scan.tiles, n, |_, c| (c - 640.0).abs() <= 12.5))
     });
     group.throughput(Throughput::Elements(20));
     group.bench_function("score_20_ship_windows", |b| {

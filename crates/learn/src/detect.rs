@@ -5,14 +5,16 @@
 //! `stride` x `stride` pixels gets the mean probability of the windows that cover it (a cell on a
 //! wake is covered only by windows that hold the wake, so the map peaks on it); the U-Net's masks
 //! are stitched (overlaps averaged) into one mask of the image; the windows above the threshold
-//! that overlap no stronger one are the detections, each placed by the mean map and with its
-//! orientation and length from the mask.
+//! that overlap no stronger one are the detections. A window places its wake on its strongest
+//! line ([`crate::window_line`]), which also gives its direction and length; the U-Net's mask,
+//! where there is one, gives them instead.
 
 use crate::data::{detector_input, RadarScale};
 use crate::evaluate::detect_with_masks;
 use crate::models::Architecture;
 use crate::store::{Detector, ModelInfo};
 use crate::train::Example;
+use crate::window_line::{strongest_line, WindowLine};
 use burn::tensor::Device;
 use ndarray::{s, Array2, Axis};
 use rayon::prelude::*;
@@ -29,6 +31,21 @@ pub struct Tile {
     pub row: usize,
     pub col: usize,
     pub probability: f64,
+    /// The window's strongest line in the image's pixels ([`crate::window_line`]): where the
+    /// window places its wake. None for a flat window.
+    #[serde(skip)]
+    pub line: Option<WindowLine>,
+}
+
+impl Tile {
+    /// Where the window places its wake (row, column in the scanned pixels): the middle of its
+    /// strongest line's contrast, or the window's centre where it has no line.
+    pub fn place(&self, n: usize) -> (f64, f64) {
+        match self.line {
+            Some(line) => (line.row, line.col),
+            None => (self.row as f64 + 0.5 * n as f64, self.col as f64 + 0.5 * n as f64),
+        }
+    }
 }
 
 /// How a scene is scanned.
@@ -58,38 +75,48 @@ impl Default for ScanOptions {
 /// A window above the threshold that overlaps no stronger one.
 #[derive(Debug, Clone, Serialize)]
 pub struct Found {
-    /// Probability-weighted centroid of the cells (pixels; row down, column right).
+    /// Where the window places its wake (pixels; row down, column right): the middle of the
+    /// stretch of its strongest line that carries the contrast ([`Tile::place`]).
     pub row: f64,
     pub col: f64,
     /// The window's probability.
     pub score: f64,
     /// Area of the window's cells (pixels).
     pub area: usize,
-    /// Direction of the U-Net mask's principal axis within the cells: degrees in [0, 180),
-    /// anticlockwise from the image's column axis (0 = along a row, 90 = up the image). None
-    /// without a U-Net or with fewer than 3 mask pixels.
+    /// The wake's direction: degrees in [0, 180), anticlockwise from the image's column axis
+    /// (0 = along a row, 90 = up the image). The U-Net mask's principal axis within the cells
+    /// where there is a U-Net (None with fewer than 3 mask pixels), else the window's strongest
+    /// line (None for a flat window).
     pub orientation: Option<f64>,
-    /// Extent of those mask pixels along that axis (pixels).
+    /// The wake's extent along that direction (pixels): of the mask's pixels, or of the line's
+    /// stretch of contrast.
     pub length: Option<f64>,
 }
 
-/// Where the scan places its strongest window's wake: the centroid of the mean map over that
-/// window's cells, as a detection is placed ([`Found`]), whether or not it passes the threshold.
+/// Where the scan places its strongest window's wake, as a detection is placed ([`Found`]),
+/// whether or not it passes the threshold: on that window's strongest line ([`Tile::place`]).
 ///
 /// Not the map's largest cell: a cell in an image's corner is one window's probability and an
 /// inner one the mean of up to four (at the default stride of half a window), so the largest
 /// cell falls at the edges and corners more often than the windows' scores say: in 35 % of 244
 /// scans of real images (61 images, four detectors), where corners are on average 11 % of an
-/// image's cells. The strongest window's place follows the window the detector trusts most;
-/// what it finds by chance, [`crate::peak_chance`] (docs/results.md, "The map's peak placed by
-/// its strongest window").
+/// image's cells. Nor the map's centroid over the window's cells (until 2026-12-07): that lies
+/// within a cell of the window's centre, 600-900 m from a wake that crosses a 1.28 km window
+/// off its middle. What the rule finds by chance, [`crate::peak_chance`] (docs/results.md,
+/// "The peak placed on the strongest window's line").
 #[derive(Debug, Clone, Copy, Serialize)]
 pub struct Peak {
-    /// The centroid (pixels; row down, column right).
+    /// The place (pixels; row down, column right).
     pub row: f64,
     pub col: f64,
     /// The strongest window's probability (the image's [`Detection::probability`]).
     pub probability: f64,
+    /// The direction of the window's strongest line, as [`Found::orientation`] (None for a flat
+    /// window).
+    pub orientation: Option<f64>,
+    /// That line's contrast: its sum in the window's robust deviations over the root of its
+    /// pixels, negative for a dark line (unit variance on uncorrelated noise).
+    pub line_contrast: Option<f64>,
 }
 
 /// Detection on one image.
@@ -421,13 +448,23 @@ impl<'a> Scan<'a> {
                             window_example(window_at(band, ((r - start) as isize, c as isize), n), kind, scale)
                         })
                         .collect();
-                    detect_with_masks(detector, architecture, form, &examples, batch_size, device)
+                    let lines: Vec<Option<WindowLine>> = batch
+                        .iter()
+                        .zip(&examples)
+                        .map(|(&(r, c), e)| {
+                            strongest_line(e.image.index_axis(Axis(0), 0)).map(|l| l.shifted((r as f64, c as f64)))
+                        })
+                        .collect();
+                    (
+                        detect_with_masks(detector, architecture, form, &examples, batch_size, device),
+                        lines,
+                    )
                 })
                 .collect();
-            for (batch, (p, masks)) in group.chunks(batch_size).zip(scored) {
-                for (i, (&(r, c), &probability)) in batch.iter().zip(&p).enumerate() {
+            for (batch, ((p, masks), lines)) in group.chunks(batch_size).zip(scored) {
+                for (i, ((&(r, c), &probability), line)) in batch.iter().zip(&p).zip(lines).enumerate() {
                     let probability = self.info.probability(probability);
-                    self.add(r, c, probability, masks.as_ref().map(|m| &m[i]));
+                    self.add(r, c, probability, line, masks.as_ref().map(|m| &m[i]));
                 }
             }
             // progress in windows considered, the unscored no-data ones spread over the band
@@ -441,7 +478,7 @@ impl<'a> Scan<'a> {
     }
 
     /// One scored window into the map, the mask and the tiles.
-    fn add(&mut self, r: usize, c: usize, probability: f64, mask: Option<&Array2<f32>>) {
+    fn add(&mut self, r: usize, c: usize, probability: f64, line: Option<WindowLine>, mask: Option<&Array2<f32>>) {
         let (n, stride) = (self.n, self.stride);
         // a window past the image's edge (an image smaller than the window) covers only the
         // image's cells and pixels
@@ -465,6 +502,7 @@ impl<'a> Scan<'a> {
             row: r,
             col: c,
             probability,
+            line,
         });
     }
 
@@ -508,7 +546,7 @@ fn finish_detection(
     stride: usize,
     threshold: f64,
 ) -> Detection {
-    let peak = peak_of(&map, &tiles, n, stride);
+    let peak = peak_of(&tiles, n);
     let probability = peak.probability.max(0.0);
     let detections = find_wakes(&map, &tiles, n, stride, threshold, mask.as_ref());
     Detection {
@@ -533,34 +571,34 @@ pub(crate) fn mean_map(sum: &Array2<f32>, count: &Array2<f32>) -> Array2<f32> {
         .map_collect(|&s, &c| if c > 0.0 { s / c } else { f32::NAN })
 }
 
-/// The scan's [`Peak`]: its strongest window (the first of equals, row by row, as a scan gives
-/// them; a window whose probability is NaN only where every one is) placed by the mean `map`
-/// over its cells.
-pub(crate) fn peak_of(map: &Array2<f32>, tiles: &[Tile], n: usize, stride: usize) -> Peak {
-    let strongest = tiles
+/// The scan's strongest window: the first of equals, row by row, as a scan gives them; a
+/// window whose probability is NaN only where every one is.
+pub(crate) fn strongest(tiles: &[Tile]) -> &Tile {
+    tiles
         .iter()
         .filter(|t| !t.probability.is_nan())
         .reduce(|best, t| if t.probability > best.probability { t } else { best })
         .or(tiles.first())
-        .expect("a scan of at least one window");
-    let placed = measure(
-        map,
-        &window_cells(strongest, map, n, stride),
-        stride,
-        strongest.probability,
-        None,
-    );
+        .expect("a scan of at least one window")
+}
+
+/// The scan's [`Peak`]: its strongest window's place, of windows of side `n`.
+pub(crate) fn peak_of(tiles: &[Tile], n: usize) -> Peak {
+    let strongest = strongest(tiles);
+    let (row, col) = strongest.place(n);
     Peak {
-        row: placed.row,
-        col: placed.col,
+        row,
+        col,
         probability: strongest.probability,
+        orientation: strongest.line.map(|l| l.angle),
+        line_contrast: strongest.line.map(|l| l.z),
     }
 }
 
 /// The windows above `threshold` after non-maximum suppression: strongest first, a window is
 /// kept unless it overlaps one already kept (the usual sliding-window detector's rule). Each is
-/// placed at the centroid of the mean map over its cells (which peaks on the wake, not on the
-/// window's centre) and measured on the mask where there is one.
+/// placed on its strongest line ([`Tile::place`]) and measured on the mask where there is one,
+/// else by that line.
 fn find_wakes(
     map: &Array2<f32>,
     tiles: &[Tile],
@@ -589,13 +627,7 @@ fn find_wakes(
             continue;
         }
         kept.entry(block).or_default().push((t.row, t.col));
-        found.push(measure(
-            map,
-            &window_cells(t, map, window, stride),
-            stride,
-            t.probability,
-            mask,
-        ));
+        found.push(measure(t, &window_cells(t, map, window, stride), window, stride, mask));
     }
     found
 }
@@ -608,28 +640,19 @@ pub(crate) fn window_cells(t: &Tile, map: &Array2<f32>, window: usize, stride: u
         .collect()
 }
 
-/// Centroid (weighted by the mean map) and area of a window's cells, its score, and the mask's
-/// principal axis within them.
-fn measure(
-    map: &Array2<f32>,
-    cells: &[(usize, usize)],
-    stride: usize,
-    score: f64,
-    mask: Option<&Array2<f32>>,
-) -> Found {
-    let half = stride as f64 / 2.0;
-    let (mut weight, mut row, mut col) = (0.0, 0.0, 0.0);
-    for &(r, c) in cells {
-        let p = (map[[r, c]] as f64).max(1e-12);
-        weight += p;
-        row += p * (r as f64 * stride as f64 + half);
-        col += p * (c as f64 * stride as f64 + half);
-    }
-    let (orientation, length) = mask.map(|m| principal_axis(m, cells, stride)).unwrap_or((None, None));
+/// A window `t` (of side `window`) as a detection: its place, its score, the area of its
+/// `cells`, and its direction and length from the mask's principal axis within them where
+/// there is a mask, else from its strongest line.
+fn measure(t: &Tile, cells: &[(usize, usize)], window: usize, stride: usize, mask: Option<&Array2<f32>>) -> Found {
+    let (row, col) = t.place(window);
+    let (orientation, length) = match mask {
+        Some(m) => principal_axis(m, cells, stride),
+        None => (t.line.map(|l| l.angle), t.line.map(|l| l.length)),
+    };
     Found {
-        row: row / weight,
-        col: col / weight,
-        score,
+        row,
+        col,
+        score: t.probability,
         area: cells.len() * stride * stride,
         orientation,
         length,
@@ -686,23 +709,36 @@ mod tests {
         assert_eq!(covered_cells(0, 64, 32), 0..2);
     }
 
-    /// Three windows of 8 px side by side, one cell each: the peak is the strongest window's cell
-    /// centre (a window's cells all hold its own score); a window scored NaN is passed over, and
-    /// where every one is, the first is taken.
+    /// Three windows of 8 px side by side without lines: the peak is the strongest window's
+    /// centre; a window scored NaN is passed over, and where every one is, the first is taken.
+    /// With a line, the window's line places it, and gives its direction and contrast.
     #[test]
     fn the_peak_is_the_strongest_scored_window() {
         let tile = |col, probability| Tile {
             row: 0,
             col,
             probability,
+            line: None,
         };
-        let tiles = [tile(0, f64::NAN), tile(8, 0.9), tile(16, 0.3)];
+        let mut tiles = [tile(0, f64::NAN), tile(8, 0.9), tile(16, 0.3)];
         let map = Array2::from_shape_vec((1, 3), vec![f32::NAN, 0.9, 0.3]).unwrap();
-        let peak = peak_of(&map, &tiles, 8, 8);
+        let peak = peak_of(&tiles, 8);
         assert_eq!((peak.row, peak.col, peak.probability), (4.0, 12.0, 0.9));
+        assert_eq!((peak.orientation, peak.line_contrast), (None, None));
         let unscored = [tile(0, f64::NAN), tile(8, f64::NAN)];
-        let peak = peak_of(&Array2::from_elem((1, 2), f32::NAN), &unscored, 8, 8);
+        let peak = peak_of(&unscored, 8);
         assert_eq!((peak.row, peak.col), (4.0, 4.0));
+        let line = WindowLine {
+            row: 1.5,
+            col: 9.0,
+            angle: 30.0,
+            length: 6.0,
+            z: -5.0,
+        };
+        tiles[1].line = Some(line);
+        let peak = peak_of(&tiles, 8);
+        assert_eq!((peak.row, peak.col), (1.5, 9.0));
+        assert_eq!((peak.orientation, peak.line_contrast), (Some(30.0), Some(-5.0)));
         // the scene's probability stays a number
         let detection = finish_detection(map, None, tiles.to_vec(), 8, 8, 0.5);
         assert_eq!(detection.probability, 0.9);
@@ -733,7 +769,12 @@ mod tests {
 
     #[test]
     fn overlapping_windows_give_the_strongest_one_detection() {
-        let tile = |row, col, probability| Tile { row, col, probability };
+        let tile = |row, col, probability| Tile {
+            row,
+            col,
+            probability,
+            line: None,
+        };
         // 20 px windows every 10 px: (0, 0) and (10, 10) overlap, (40, 40) does not
         let tiles = [
             tile(10, 10, 0.7),
@@ -748,10 +789,21 @@ mod tests {
         assert_eq!(found.len(), 2);
         assert_eq!((found[0].score, found[0].area), (0.9, 400));
         assert_eq!(found[1].score, 0.6);
-        // the first window's cells (0..2, 0..2) weighted by the mean map: cell centres 5 and 15 px
-        let expected = (0.9 * 5.0 + 0.1 * 5.0 + 0.1 * 15.0 + 0.7 * 15.0) / 1.8;
-        assert!((found[0].row - expected).abs() < 1e-6 && (found[0].col - expected).abs() < 1e-6);
-        assert!((found[1].row - 50.0).abs() < 1e-6 && (found[1].col - 50.0).abs() < 1e-6);
-        assert!(found[0].orientation.is_none());
+        // without a line, each at its window's centre
+        assert_eq!((found[0].row, found[0].col), (10.0, 10.0));
+        assert_eq!((found[1].row, found[1].col), (50.0, 50.0));
+        assert!(found[0].orientation.is_none() && found[0].length.is_none());
+        // with one, on the line, with its direction and length
+        let mut lined = tiles.to_vec();
+        lined[1].line = Some(WindowLine {
+            row: 3.0,
+            col: 17.0,
+            angle: 100.0,
+            length: 12.0,
+            z: 4.0,
+        });
+        let found = find_wakes(&map, &lined, 20, 10, 0.5, None);
+        assert_eq!((found[0].row, found[0].col), (3.0, 17.0));
+        assert_eq!((found[0].orientation, found[0].length), (Some(100.0), Some(12.0)));
     }
 }

@@ -27,6 +27,7 @@ pub mod store;
 pub mod synthetic;
 pub mod train;
 pub mod upsample;
+pub mod window_line;
 
 /// Confusion counts and metrics live in the schema crate (fusion reads them without burn).
 pub use wakelab_schema::metrics;

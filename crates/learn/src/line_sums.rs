@@ -106,13 +106,13 @@ pub fn line_sums(window: &Array2<f32>) -> Array2<f32> {
 /// The lines of a window of side n, the same for every window: for each direction and pixel
 /// (row-major) the offset bin its centre falls in (n where it falls outside), and for each
 /// direction and bin the square root of its pixels.
-struct Plan {
-    bins: Vec<u16>,
-    roots: Vec<f32>,
+pub(crate) struct Plan {
+    pub(crate) bins: Vec<u16>,
+    pub(crate) roots: Vec<f32>,
 }
 
 /// The plan of side `n`, made once per side and kept.
-fn plan(n: usize) -> Arc<Plan> {
+pub(crate) fn plan(n: usize) -> Arc<Plan> {
     static PLANS: OnceLock<Mutex<HashMap<usize, Arc<Plan>>>> = OnceLock::new();
     let plans = PLANS.get_or_init(|| Mutex::new(HashMap::new()));
     let mut plans = plans.lock().unwrap_or_else(|e| e.into_inner());

@@ -427,45 +427,38 @@ fn a_scan_of_a_large_scene_peaks_on_its_line() {
     assert_eq!(calls.len(), 12);
     assert_eq!(calls.last(), Some(&(225, 225)));
     assert_eq!(scan.map.dim(), (16, 16));
-    // the peak: the strongest window's cells (16 px, two by two at a 16 px origin) weighted by
-    // the mean map, the first of equals
+    // the peak: the strongest window (the first of equals), placed on its strongest line
     let strongest = scan
         .tiles
         .iter()
         .fold(&scan.tiles[0], |b, t| if t.probability > b.probability { t } else { b });
-    let (mut weight, mut centre) = (0.0, (0.0, 0.0));
-    for r in strongest.row / 16..strongest.row / 16 + 2 {
-        for c in strongest.col / 16..strongest.col / 16 + 2 {
-            let p = scan.map[[r, c]] as f64;
-            weight += p;
-            centre = (
-                centre.0 + p * (r as f64 * 16.0 + 8.0),
-                centre.1 + p * (c as f64 * 16.0 + 8.0),
-            );
-        }
-    }
-    let centre = (centre.0 / weight, centre.1 / weight);
-    assert!((scan.peak.row - centre.0).abs() < 1e-9 && (scan.peak.col - centre.1).abs() < 1e-9);
+    assert_eq!((scan.peak.row, scan.peak.col), strongest.place(32));
     assert_eq!(scan.peak.probability, strongest.probability);
     assert_eq!(scan.peak.probability, scan.probability);
     // placed as the strongest detection is, where that window passes the threshold
     if let Some(first) = scan.detections.first() {
         assert_eq!((first.row, first.col), (scan.peak.row, scan.peak.col));
     }
-    let near = (0..=32)
+    let centre = (scan.peak.row, scan.peak.col);
+    let near = (0..=120)
         .map(|k| {
-            let t = (k as f64 - 16.0) / 16.0 * 60.0;
+            let t = k as f64 - 60.0;
             let (r, c) = (r0 - t * angle.sin(), c0 + t * angle.cos());
             ((r - centre.0).powi(2) + (c - centre.1).powi(2)).sqrt()
         })
         .fold(f64::MAX, f64::min);
     eprintln!(
-        "peak {centre:?} ({:.3}), {near:.1} px from the line; {:?}",
+        "peak {centre:?} ({:.3}, {:?} deg), {near:.1} px from the line; {:?}",
         scan.peak.probability,
+        scan.peak.orientation,
         scan.detections.first()
     );
-    // within one cell (16 px) of the line
-    assert!(near <= 16.0, "the peak {centre:?} is {near:.1} px from the line");
+    // on the line (its profile is a pixel wide), in its direction: the window's 32 directions
+    // are 5.6 degrees apart, so the nearest is within 2.8 of the line's 30
+    assert!(near <= 3.0, "the peak {centre:?} is {near:.1} px from the line");
+    let orientation = scan.peak.orientation.expect("a line");
+    assert!((orientation - 30.0).abs() <= 3.0, "{orientation}");
+    assert!(scan.peak.line_contrast.unwrap() > 0.0, "a bright line");
     // fed in bands of rows (as a whole product is read), each starting at the first window row
     // not yet scored: the same windows, the same map to the bit
     for height in [32, 40, 100] {

@@ -75,8 +75,8 @@ struct DetectionsFile<'a> {
     /// the detector's spacing.
     resampled: (f64, f64),
     notes: &'a [String],
-    /// The scan's peak: where its strongest window places the wake (the centroid of the mean
-    /// map over that window's cells, [`Peak`]).
+    /// The scan's peak: where its strongest window places the wake (on that window's strongest
+    /// line, [`Peak`]), with the line's direction and contrast.
     peak: Located<'a, Peak>,
     detections: Vec<WindowEntry<'a>>,
     /// The ships and wakes the classic searches found (null for infrared), and the targets
@@ -209,7 +209,10 @@ pub fn write_scan(dir: &Path, scanned: &Scanned, detection: &Detection) -> Resul
         (Rgb([255, 0, 0]), "red tint: wake probability".to_string()),
         (
             DETECTION_COLOUR,
-            format!("box: detection ({0} x {0} px window)", detection.window),
+            format!(
+                "box: detection, a {0} x {0} px window around where it places the wake; line: its direction",
+                detection.window
+            ),
         ),
     ];
     if let Some(sea) = scanned.sea {
@@ -402,6 +405,17 @@ fn draw_detections(picture: &mut RgbImage, detection: &Detection, scale: f64) {
         for row in top..=bottom {
             put(row, left);
             put(row, right);
+        }
+        // the wake's direction and length as the detection measured them, through its place
+        if let (Some(angle), Some(length)) = (found.orientation, found.length) {
+            let (sin, cos) = angle.to_radians().sin_cos();
+            let half_length = 0.5 * length / scale;
+            let steps = (2.0 * half_length).ceil().max(1.0) as i64;
+            for k in 0..=steps {
+                let t = -half_length + 2.0 * half_length * k as f64 / steps as f64;
+                // angle anticlockwise from the column axis with y up the image: rows go down
+                put((r - t * sin).round() as i64, (c + t * cos).round() as i64);
+            }
         }
     }
 }

@@ -30,11 +30,6 @@ use wakelab_learn::peak_chance::peak_by_chance;
 use wakelab_products::{InputScale, ReadOptions, Source};
 use wakelab_schema::band::Band;
 
-/// Random scorings of an image's windows for its [`RealScore::peak_by_chance`]: its standard
-/// error at most 0.5 / sqrt(400) = 0.025 per image, and under 0.2 images over 60.
-const CHANCE_DRAWS: usize = 400;
-const CHANCE_SEED: u64 = 38;
-
 /// How an image is read and where its wakes are, from its `NAME.geojson`.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Annotation {
@@ -320,16 +315,7 @@ pub fn score_image(
     let by_chance = (!lonlat).then(|| {
         let on_wake =
             |row: f64, col: f64| to_wakes((col * factor.1, row * factor.0), annotation, spacing) <= FOUND_WITHIN_M;
-        let (n, stride) = (detection.window, detection.stride);
-        peak_by_chance(
-            &detection.tiles,
-            detection.map.dim(),
-            n,
-            stride,
-            on_wake,
-            CHANCE_DRAWS,
-            CHANCE_SEED,
-        )
+        peak_by_chance(&detection.tiles, detection.window, on_wake)
     });
     let name: String = image.file_name().unwrap_or_default().to_string_lossy().into();
     let km2 = scored_pixels(detection) as f64 * pixel_m2 / 1e6;

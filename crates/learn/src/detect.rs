@@ -11,16 +11,18 @@
 
 use crate::data::{detector_input, RadarScale};
 use crate::evaluate::detect_with_masks;
+use crate::line_sums::line_sums;
 use crate::models::Architecture;
 use crate::store::{Detector, ModelInfo};
 use crate::train::Example;
-use crate::window_line::{strongest_line, WindowLine};
+use crate::window_line::{strongest_line, strongest_line_of, WindowLine};
 use burn::tensor::Device;
 use ndarray::{s, Array2, Axis};
 use rayon::prelude::*;
 use serde::Serialize;
 
 use wakelab_core::{ConfigError, WakelabError};
+use wakelab_schema::architecture::InputForm;
 use wakelab_schema::band::Band;
 
 pub use crate::image_file::read_single_band;
@@ -178,6 +180,20 @@ pub fn window_example(window: Array2<f32>, band: Band, scale: RadarScale) -> Exa
         label: 0,
         mask: None,
     }
+}
+
+/// A window's example and its strongest line; with `summed`, the example's image replaced by
+/// its line sums (channel by channel), which the line is read off, so that they are made once.
+fn with_line(example: Example, summed: bool) -> (Example, Option<WindowLine>) {
+    if !summed {
+        let line = strongest_line(example.image.index_axis(Axis(0), 0));
+        return (example, line);
+    }
+    let sums: Vec<Array2<f32>> = example.image.outer_iter().map(|c| line_sums(&c.to_owned())).collect();
+    let line = strongest_line_of(example.image.index_axis(Axis(0), 0), &sums[0]);
+    let views: Vec<_> = sums.iter().map(|s| s.view().insert_axis(Axis(0))).collect();
+    let image = ndarray::concatenate(Axis(0), &views).expect("channels of one side");
+    (Example { image, ..example }, line)
 }
 
 /// Batches of windows scored at once, side by side.
@@ -437,24 +453,24 @@ impl<'a> Scan<'a> {
             self.band,
             self.options.scale,
         );
+        // a classifier of the plain line sums reads the very sums the window's line is read off:
+        // made once, they go to the network as its input read as pixels (the U-Net reads pixels)
+        let summed = form == InputForm::LineSums && architecture != Architecture::Unet;
         let (before, mut done) = (self.considered, 0);
         for group in origins.chunks(batch_size * PARALLEL_BATCHES) {
             let scored: Vec<_> = group
                 .par_chunks(batch_size)
                 .map(|batch| {
-                    let examples: Vec<Example> = batch
+                    let (examples, lines): (Vec<Example>, Vec<Option<WindowLine>>) = batch
                         .iter()
                         .map(|&(r, c)| {
-                            window_example(window_at(band, ((r - start) as isize, c as isize), n), kind, scale)
+                            let example =
+                                window_example(window_at(band, ((r - start) as isize, c as isize), n), kind, scale);
+                            let (example, line) = with_line(example, summed);
+                            (example, line.map(|l| l.shifted((r as f64, c as f64))))
                         })
-                        .collect();
-                    let lines: Vec<Option<WindowLine>> = batch
-                        .iter()
-                        .zip(&examples)
-                        .map(|(&(r, c), e)| {
-                            strongest_line(e.image.index_axis(Axis(0), 0)).map(|l| l.shifted((r as f64, c as f64)))
-                        })
-                        .collect();
+                        .unzip();
+                    let form = if summed { InputForm::Pixels } else { form };
                     (
                         detect_with_masks(detector, architecture, form, &examples, batch_size, device),
                         lines,

@@ -11,7 +11,7 @@
 //! contrast lies, a wake's arm or trough from the ship's end to where it fades, not the chord
 //! across the window. Its middle is the point; the line's direction is the wake's.
 
-use ndarray::ArrayView2;
+use ndarray::{Array2, ArrayView2};
 
 use crate::line_sums::{line_sums, plan, CLIP};
 
@@ -53,10 +53,15 @@ const SHORTEST: usize = 4;
 /// of its pixels (clipped as the line sums clip them, signed as the sum) less half the line's
 /// mean. None where every sum is 0 (a flat window).
 pub fn strongest_line(window: ArrayView2<f32>) -> Option<WindowLine> {
+    strongest_line_of(window, &line_sums(&window.to_owned()))
+}
+
+/// [`strongest_line`] given the window's line sums, where they were made for the network.
+pub fn strongest_line_of(window: ArrayView2<f32>, sums: &Array2<f32>) -> Option<WindowLine> {
     let n = window.nrows();
     assert_eq!(n, window.ncols(), "a square window");
+    assert_eq!(sums.dim(), (n, n), "the window's line sums");
     let plan = plan(n);
-    let sums = line_sums(&window.to_owned());
     let long_enough = ((n / SHORTEST).max(1) as f32).sqrt();
     let ((a, b), z) = sums
         .indexed_iter()

@@ -2,6 +2,10 @@
 """Two rules for a scan's peak, read off the same windows, and what each finds by chance
 (docs/results.md, "The map's peak placed by its strongest window").
 
+Both rules are superseded since 2026-12-07: `detect` places the peak on its strongest window's
+line (docs/results.md, "The peak placed on the strongest window's line"), which the map does not
+hold; this script reproduces the figures of the 2026-12-02 section from that section's runs.
+
 usage: peak_rules.py DRAWINGS DIR [DIR ...]
 
 DRAWINGS holds each image's NAME.geojson (wakes in pixel coordinates, as `--real` reads them).

@@ -20,15 +20,11 @@ import math
 import os
 import sys
 
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from score_real_wakes import point_segment  # noqa: E402
+
 WITHIN_M = 500.0
 AGREE_DEG = 20.0
-
-
-def point_segment(p, a, b):
-    (px, py), (ax, ay), (bx, by) = p, a, b
-    length2 = (bx - ax) ** 2 + (by - ay) ** 2
-    t = 0.0 if length2 == 0 else max(0.0, min(1.0, ((px - ax) * (bx - ax) + (py - ay) * (by - ay)) / length2))
-    return math.hypot(px - ax - t * (bx - ax), py - ay - t * (by - ay))
 
 
 def segments(drawing):

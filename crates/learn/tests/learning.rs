@@ -220,6 +220,21 @@ fn line_sums_show_a_faint_line_and_the_scan_reads_them_alike() {
     // the scan makes the line sums once, for the network and the window's line: the same bits
     assert_eq!(scan.tiles[0].probability, alone(InputForm::LineSums));
     assert!((scan.tiles[0].probability - alone(InputForm::Pixels)).abs() > 1e-4);
+
+    // so does a "cls" detector, whose second channel is a copy of the first
+    let cls = train_detector(Architecture::Cls, &train, &options, 7, &device, &mut |_, _| {}).unwrap();
+    let info = detector_info(Architecture::Cls, "S", 32, InputForm::LineSums);
+    let image = test[0].image.mapv(|v| 10f32.powf(v / 10.0));
+    let scan = detect_image(&cls, &info, &image, ScanOptions::default(), &device, &mut |_, _| {}).unwrap();
+    let alone = detect_with_masks(
+        &cls,
+        Architecture::Cls,
+        InputForm::LineSums,
+        std::slice::from_ref(&window),
+        1,
+        &device,
+    );
+    assert_eq!(scan.tiles[0].probability, alone.0[0]);
 }
 
 /// A "base" detector of 32-pixel windows of `bands` at threshold 0.5, reading `input_form`.

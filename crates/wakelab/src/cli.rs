@@ -150,8 +150,7 @@ pub enum Command {
     Eval(EvalArgs),
     /// Run a saved detector over an image of any size (a Sentinel-1, TerraSAR-X or COSMO-SkyMed
     /// product, a GeoTIFF / COG, npy or PNG) and find its ships and their wakes (course, speed). Writes
-    /// the probability map (COG), the windows, ships and wakes (GeoJSON) and an overlay. The peak
-    /// and each detection lie on their window's strongest line, with the wake's direction.
+    /// the probability map (COG), the windows, ships and wakes (GeoJSON) and an overlay.
     #[command(after_help = include_str!("../help/detect.txt"))]
     Detect(DetectArgs),
     /// Calibrate a SAR product to sigma0 (SNAP's "Calibration"): the masked sigma0 that detect

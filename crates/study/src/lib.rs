@@ -39,6 +39,7 @@ pub mod products;
 pub mod progress_log;
 pub mod report;
 pub mod scan;
+pub mod scan_windows;
 pub mod scene;
 pub mod sea_findings;
 pub mod shipped;

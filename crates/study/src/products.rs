@@ -76,11 +76,12 @@ impl Detected {
             text += &format!("wake evidence: {}\n", evidence.describe());
         }
         text + &format!(
-            "wrote {} (map), {}, {} and {}",
+            "wrote {} (map), {}, {}, {} and {} (every window)",
             files.map.display(),
             files.geojson.display(),
             files.overlay.display(),
-            files.detections.display()
+            files.detections.display(),
+            files.windows.display()
         )
     }
 }

@@ -99,6 +99,8 @@ pub struct ScanFiles {
     pub overlay: PathBuf,
     pub detections: PathBuf,
     pub geojson: PathBuf,
+    /// Every window: its probability and strongest line ([`crate::scan_windows`]).
+    pub windows: PathBuf,
     pub mask: Option<PathBuf>,
 }
 
@@ -168,6 +170,7 @@ pub fn write_scan(dir: &Path, scanned: &Scanned, detection: &Detection) -> Resul
         overlay: dir.join("overlay.png"),
         detections: dir.join("detections.json"),
         geojson: dir.join("detections.geojson"),
+        windows: dir.join("windows.csv"),
         mask: detection.mask.as_ref().map(|_| dir.join("mask.tif")),
     };
     let stride = detection.stride as f64;
@@ -378,6 +381,7 @@ pub fn write_scan(dir: &Path, scanned: &Scanned, detection: &Detection) -> Resul
     findings.extend(sea_entries.2);
     let collection = feature_collection(frame, &findings, &common);
     write_atomically(&files.geojson, serde_json::to_string_pretty(&collection)?.as_bytes())?;
+    crate::scan_windows::write_windows(&files.windows, detection, scanned.factor)?;
     Ok(files)
 }
 

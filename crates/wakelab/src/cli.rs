@@ -427,9 +427,9 @@ pub struct DetectArgs {
     /// Decision threshold on a window's wake probability; default: the detector's.
     #[arg(long, value_name = "P", allow_negative_numbers = true)]
     pub threshold: Option<f64>,
-    /// Output directory: probability.tif (the wake-probability map, a COG on the input's
-    /// ground), overlay.png, detections.geojson (longitude/latitude), detections.json and, for a
-    /// "unet" detector, mask.tif. Default: detect-<image name> in the current directory.
+    /// Output directory: probability.tif (the wake-probability map, a COG on the input's ground),
+    /// overlay.png, detections.geojson (longitude/latitude), detections.json, windows.csv (every
+    /// window) and, for a "unet" detector, mask.tif. Default: detect-<image name> in the current directory.
     #[arg(long, value_name = "DIR")]
     pub out: Option<PathBuf>,
     /// Also write the wake mask (PNG) here.

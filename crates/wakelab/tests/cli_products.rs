@@ -107,6 +107,22 @@ fn detect(image: &Path, model: &Path, out: &Path, more: &[&str]) -> serde_json::
     serde_json::from_str(&std::fs::read_to_string(out.join("detections.json")).unwrap()).unwrap()
 }
 
+/// The scan's windows.csv, each row by its header's names (an empty field as NaN).
+fn windows_csv(scan: &Path) -> Vec<std::collections::HashMap<String, f64>> {
+    let mut csv = csv::Reader::from_path(scan.join("windows.csv")).unwrap();
+    let header = csv.headers().unwrap().clone();
+    csv.records()
+        .map(|r| {
+            let r = r.unwrap();
+            header
+                .iter()
+                .zip(r.iter())
+                .map(|(k, v)| (k.to_string(), v.parse().unwrap_or(f64::NAN)))
+                .collect()
+        })
+        .collect()
+}
+
 fn probability(v: &serde_json::Value) -> f64 {
     v["probability"].as_f64().unwrap()
 }
@@ -186,6 +202,30 @@ fn real_inputs_score_the_same_sea_alike_and_land_where_gdal_puts_them() {
         "{resampled}"
     );
     assert!(resampled["notes"].to_string().contains("area-averaged"));
+    // windows.csv: every window, the peak placed as its strongest window places the wake, in
+    // the product's pixels (the 5 m scan's twice the 10 m scan's)
+    let ten = windows_csv(&scan);
+    let five_m = windows_csv(&dir.join("scan_5m"));
+    assert_eq!(ten.len() as u64, base["windows"].as_u64().unwrap());
+    assert_eq!(five_m.len(), ten.len());
+    let strongest = ten
+        .iter()
+        .max_by(|a, b| a["probability"].total_cmp(&b["probability"]))
+        .unwrap();
+    assert_eq!(strongest["probability"], probability(&base));
+    for (key, want) in [("place_row", "product_row"), ("place_col", "product_col")] {
+        assert!(
+            (strongest[key] - base["peak"][want].as_f64().unwrap()).abs() < 1e-9,
+            "{strongest:?}"
+        );
+    }
+    for (a, b) in ten.iter().zip(&five_m) {
+        assert_eq!(
+            (b["window_row"], b["window_col"]),
+            (2.0 * a["window_row"], 2.0 * a["window_col"])
+        );
+        assert!((a["probability"] - b["probability"]).abs() < 1e-4, "{a:?} {b:?}");
+    }
 
     // a no-data border (the left third zero): its windows are not scored, its cells are nodata
     let mut border = sea.clone();

@@ -17,7 +17,7 @@ wake found, with at most one false alarm (the transfer issue's target), with the
 a wake, with the strongest detection on one, false alarms per wake image, and wake-free images
 without an alarm; then the line search's wakes seen by the CNN too, and how many of those lie on
 a drawn wake. Where the run wrote it, the peaks a detector scoring the same windows at random
-would place on a wake (the sum of `peak_by_chance`). With --majority, two groups of runs (the same study at several seeds, with and
+would place on a wake (the sum of `peak_by_chance`), and a detector of lines alone (`peak_by_line`). With --majority, two groups of runs (the same study at several seeds, with and
 without a change): the images whose verdict (a wake image: a wake found with at most one false
 alarm; a wake-free one: no alarm) the 1.28 km detector gets in most runs of one group and not
 of the other, each with its count per group. Pure Python, no packages.
@@ -41,6 +41,9 @@ def row(label, scores):
     # written since 2026-12-02; runs before have none)
     chances = [s['peak_by_chance'] for s in wake if s.get('peak_by_chance') is not None]
     chance = f", by chance {sum(chances):4.1f}" if chances else ""
+    # and what a detector of lines alone would (`peak_by_line`, written since 2026-12-07)
+    lines = [s['peak_by_line'] for s in wake if s.get('peak_by_line') is not None]
+    chance += f", by the line {sum(lines):>2}" if lines else ""
     return (f"  {label:<16} found {len(found):>2}/{len(wake):<2} with <= 1 false {one:>2}  "
             f"peak on a wake {sum(s['peak_on_wake'] for s in wake):>2}{chance} (found by it alone {peak_alone:>2})  "
             f"strongest on a wake {sum(s['strongest_on_wake'] for s in wake):>2}  "

@@ -1,5 +1,6 @@
 //! How often a scan's peak would land on a target by chance: the same windows scored at random,
-//! their peak placed as [`crate::detect`] does.
+//! their peak placed as [`crate::detect`] does; and where a detector of lines alone would place
+//! it ([`peak_by_line`]), the baseline a learnt detector has to beat besides chance.
 //!
 //! A peak is not a point drawn uniformly over the image: it is one of the scan's windows, placed
 //! on that window's strongest line ([`crate::detect::Tile::place`]), so it stays inside a
@@ -33,6 +34,19 @@ pub fn peak_by_chance(tiles: &[Tile], n: usize, on_target: impl Fn(f64, f64) -> 
     hits as f64 / tiles.len() as f64
 }
 
+/// Where a detector that knows lines but not wakes places its peak: the place of the window
+/// whose strongest line has the largest contrast |z| ([`crate::window_line`]; the first such in
+/// scan order), the classic detector's choice of the Radon plane's largest sum (Rey et al.
+/// 1990), made over the scan's windows. The network's peak beating it, not only chance, is
+/// what its learning adds on real images. None where no window has a line.
+pub fn peak_by_line(tiles: &[Tile], n: usize) -> Option<(f64, f64)> {
+    let strongest = tiles
+        .iter()
+        .filter_map(|t| t.line.map(|l| (t, l.z.abs())))
+        .reduce(|best, next| if next.1 > best.1 { next } else { best })?;
+    Some(strongest.0.place(n))
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -40,6 +54,32 @@ mod tests {
     use crate::window_line::WindowLine;
     use rand::{RngExt, SeedableRng};
     use rand_chacha::ChaCha8Rng;
+
+    /// The window of the largest |z| wins, a dark line as a bright one, whatever the
+    /// probabilities; the first of equals; none without a line.
+    #[test]
+    fn the_line_peak_is_the_strongest_lines_window() {
+        let lined = |col: usize, z: f64, probability: f64| Tile {
+            probability,
+            line: Some(WindowLine {
+                row: 3.0,
+                col: col as f64 + 2.0,
+                angle: 0.0,
+                length: 8.0,
+                z,
+            }),
+            ..tile(0, col, None)
+        };
+        let tiles = [
+            lined(0, 4.0, 0.9),
+            lined(8, -6.5, 0.1),
+            tile(0, 16, None),
+            lined(24, 6.5, 0.5),
+        ];
+        assert_eq!(peak_by_line(&tiles, 8), Some((3.0, 10.0)));
+        assert_eq!(peak_by_line(&tiles[2..3], 8), None);
+        assert_eq!(peak_by_line(&[], 8), None);
+    }
 
     fn tile(row: usize, col: usize, line: Option<(f64, f64)>) -> Tile {
         Tile {

@@ -609,6 +609,8 @@ mod tests {
         let wake_score = scored.scores.iter().find(|s| s.image == "wake.npy").unwrap();
         let visibility = wake_score.wake_visibility[0].unwrap();
         assert!((10.0..40.0).contains(&visibility), "{visibility}");
+        // a detector of lines alone finds that line: the strongest line of the scan is on it
+        assert_eq!(wake_score.peak_by_line, Some(true), "{wake_score:?}");
         let csv = std::fs::read_to_string(dir.path().join("report/tables/transfer_real.csv")).unwrap();
         assert_eq!(csv.lines().count(), 3, "{csv}");
         // the classic search ran once per image: the line (1.8 km, 5.2 dB dark) is a free wake

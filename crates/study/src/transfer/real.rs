@@ -26,7 +26,7 @@ use serde::{Deserialize, Serialize};
 use serde_json::Value;
 use std::path::{Path, PathBuf};
 use wakelab_learn::detect::ScanOptions;
-use wakelab_learn::peak_chance::peak_by_chance;
+use wakelab_learn::peak_chance::{peak_by_chance, peak_by_line};
 use wakelab_products::{InputScale, ReadOptions, Source};
 use wakelab_schema::band::Band;
 
@@ -75,6 +75,12 @@ pub struct RealScore {
     /// for wakes drawn in longitude and latitude, and for an image not scanned.
     #[serde(default)]
     pub peak_by_chance: Option<f64>,
+    /// Whether a detector of lines alone would place its peak on a wake: the window of the
+    /// strongest line's contrast, placed as the peak is ([`wakelab_learn::peak_chance::peak_by_line`]),
+    /// within 500 m of a wake. The baseline the network has to beat besides chance. None as for
+    /// `peak_by_chance`.
+    #[serde(default)]
+    pub peak_by_line: Option<bool>,
     pub strongest_on_wake: bool,
     /// Rank (1: the strongest) of the first detection on a wake.
     pub first_on_wake: Option<usize>,
@@ -312,11 +318,11 @@ pub fn score_image(
         })
     };
     // the scanned grid's pixels in the image's (for wakes drawn in pixels; lonlat needs the frame)
-    let by_chance = (!lonlat).then(|| {
-        let on_wake =
-            |row: f64, col: f64| to_wakes((col * factor.1, row * factor.0), annotation, spacing) <= FOUND_WITHIN_M;
-        peak_by_chance(&detection.tiles, detection.window, on_wake)
-    });
+    let scanned_on_wake =
+        |row: f64, col: f64| to_wakes((col * factor.1, row * factor.0), annotation, spacing) <= FOUND_WITHIN_M;
+    let by_chance = (!lonlat).then(|| peak_by_chance(&detection.tiles, detection.window, scanned_on_wake));
+    let by_line = (!lonlat)
+        .then(|| peak_by_line(&detection.tiles, detection.window).is_some_and(|(row, col)| scanned_on_wake(row, col)));
     let name: String = image.file_name().unwrap_or_default().to_string_lossy().into();
     let km2 = scored_pixels(detection) as f64 * pixel_m2 / 1e6;
     // the search runs on the averaged grid: a centre may lie a scanned pixel from a drawn box
@@ -338,6 +344,7 @@ pub fn score_image(
         false_alarms: on_wake.iter().filter(|on| !**on).count(),
         peak_on_wake: distance(&written["peak"]) <= FOUND_WITHIN_M,
         peak_by_chance: by_chance,
+        peak_by_line: by_line,
         strongest_on_wake: on_wake.first() == Some(&true),
         first_on_wake: on_wake.iter().position(|on| *on).map(|i| i + 1),
         km2,
@@ -464,6 +471,7 @@ pub fn score_real(
                         false_alarms: 0,
                         peak_on_wake: false,
                         peak_by_chance: None,
+                        peak_by_line: None,
                         strongest_on_wake: false,
                         first_on_wake: None,
                         km2: 0.0,
@@ -524,6 +532,10 @@ pub struct RealSummary {
     pub peak_on_wake: usize,
     #[serde(default)]
     pub peak_on_wake_by_chance: Option<f64>,
+    /// Wake images whose peak a detector of lines alone would place on a wake (of those with a
+    /// [`RealScore::peak_by_line`]; None where none has one).
+    #[serde(default)]
+    pub peak_on_wake_by_line: Option<usize>,
     pub strongest_on_wake: usize,
     pub false_alarms_per_wake_image: f64,
     pub no_wake_images: usize,
@@ -551,6 +563,11 @@ pub fn summarise(footprint: f64, scores: &[&RealScore]) -> RealSummary {
         found: with.iter().filter(|s| s.found()).count(),
         peak_on_wake: with.iter().filter(|s| s.peak_on_wake).count(),
         peak_on_wake_by_chance: with.iter().filter_map(|s| s.peak_by_chance).reduce(|a, b| a + b),
+        peak_on_wake_by_line: with
+            .iter()
+            .filter_map(|s| s.peak_by_line)
+            .map(usize::from)
+            .reduce(|a, b| a + b),
         strongest_on_wake: with.iter().filter(|s| s.strongest_on_wake).count(),
         false_alarms_per_wake_image: with.iter().map(|s| s.false_alarms as f64).sum::<f64>() / with.len().max(1) as f64,
         no_wake_images: without.len(),
@@ -679,6 +696,8 @@ mod tests {
             false_alarms,
             peak_on_wake: peak,
             peak_by_chance: Some(0.25),
+            // the line's peak on the wake where the network's is not
+            peak_by_line: Some(!peak),
             strongest_on_wake: first == Some(1),
             first_on_wake: first,
             km2: 10.0,
@@ -701,6 +720,7 @@ mod tests {
         assert_eq!((s.wake_images, s.found, s.strongest_on_wake, s.skipped), (3, 2, 1, 1));
         // peaks on a wake, and by chance a quarter for each of the three scanned wake images
         assert_eq!((s.peak_on_wake, s.peak_on_wake_by_chance), (1, Some(0.75)));
+        assert_eq!(s.peak_on_wake_by_line, Some(2));
         assert!((s.false_alarms_per_wake_image - 4.0 / 3.0).abs() < 1e-12);
         assert_eq!((s.no_wake_images, s.no_wake_images_without_alarm), (2, 1));
         assert!((s.false_alarms_per_100_km2.unwrap() - 12.0).abs() < 1e-9);

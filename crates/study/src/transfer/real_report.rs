@@ -7,7 +7,7 @@ use super::real_search::{SearchScore, SearchSummary, AXIS_WITHIN_DEG};
 use super::real_ships::SHIP_WITHIN_M;
 use std::fmt::Write;
 
-const HEADER: [&str; 13] = [
+const HEADER: [&str; 14] = [
     "image",
     "footprint_m",
     "wakes",
@@ -16,6 +16,7 @@ const HEADER: [&str; 13] = [
     "found",
     "peak_on_wake",
     "peak_by_chance",
+    "peak_by_line",
     "strongest_on_wake",
     "first_on_wake",
     "km2",
@@ -37,6 +38,7 @@ fn row(s: &RealScore) -> Vec<String> {
         },
         s.peak_on_wake.to_string(),
         s.peak_by_chance.map_or("-".into(), |p| format!("{p:.3}")),
+        s.peak_by_line.map_or("-".into(), |on| on.to_string()),
         s.strongest_on_wake.to_string(),
         s.first_on_wake.map_or("-".into(), |r| r.to_string()),
         format!("{:.2}", s.km2),
@@ -70,15 +72,21 @@ fn by_chance(s: &RealSummary) -> String {
     s.peak_on_wake_by_chance.map_or("-".into(), |c| format!("{c:.1}"))
 }
 
+/// The wake images whose peak a detector of lines alone would place on a wake.
+fn by_line(s: &RealSummary) -> String {
+    s.peak_on_wake_by_line.map_or("-".into(), |n| n.to_string())
+}
+
 /// One line per detector: what it did on the user's images.
 pub fn describe(s: &RealSummary) -> String {
     format!(
-        "  real images, {:.2} km window: wakes found {}/{} (peak on a wake in {}, {} by chance; strongest detection on the wake in {}), {:.1} false alarms per wake image; no-wake images without an alarm {}/{}; {} false alarms per 100 km^2; {} image(s) skipped; wake visibility {}",
+        "  real images, {:.2} km window: wakes found {}/{} (peak on a wake in {}, {} by chance, {} by the strongest line alone; strongest detection on the wake in {}), {:.1} false alarms per wake image; no-wake images without an alarm {}/{}; {} false alarms per 100 km^2; {} image(s) skipped; wake visibility {}",
         s.footprint / 1000.0,
         s.found,
         s.wake_images,
         s.peak_on_wake,
         by_chance(s),
+        by_line(s),
         s.strongest_on_wake,
         s.false_alarms_per_wake_image,
         s.no_wake_images_without_alarm,
@@ -94,11 +102,11 @@ pub fn markdown(real: &RealResults) -> String {
     let mut md = String::from("\n## Real images\n\n");
     let _ = writeln!(
         md,
-        "The images of `{}` with their wakes as annotated (`--real`), scanned by `wakelab detect` with the detectors above, frozen with their thresholds. A wake is found when a detection or the map's peak (where the strongest window places its wake: the middle of the contrast along that window's strongest line) lies within 500 m of it; every other detection is a false alarm. A peak lands on a wake by chance too, most often on an image not much larger than a window and cut around its ship: \"by chance\" is how many peaks would, were each image's windows scored at random (each window equally likely the strongest, its peak placed by the same rule), the sum of `peak_by_chance`. An image a detector could not scan (one filling under half its window, unreadable) is left out of its figures and says why in the table's last column.\n",
+        "The images of `{}` with their wakes as annotated (`--real`), scanned by `wakelab detect` with the detectors above, frozen with their thresholds. A wake is found when a detection or the map's peak (where the strongest window places its wake: the middle of the contrast along that window's strongest line) lies within 500 m of it; every other detection is a false alarm. A peak lands on a wake by chance too, most often on an image not much larger than a window and cut around its ship: \"by chance\" is how many peaks would, were each image's windows scored at random (each window equally likely the strongest, its peak placed by the same rule), the sum of `peak_by_chance`. \"By the line\" is how many peaks a detector of lines alone would place on a wake: each image's window of the strongest line's contrast (the largest |line sum|, the classic Radon-plane detector's choice), placed by the same rule (`peak_by_line`); what the network learnt shows as peaks beyond both. An image a detector could not scan (one filling under half its window, unreadable) is left out of its figures and says why in the table's last column.\n",
         real.dir.display()
     );
     md += "The wakes' visibility is measured as in the training windows above, on each wake's image as the detector sees it (read and averaged as `detect` does), in windows of the detector's side a quarter, half and three quarters along it (the median of the three; a wake drawn in longitude and latitude is not measured).\n\n";
-    md += "| detector | wakes found | peak on a wake (by chance) | strongest detection on the wake | false alarms per wake image | no-wake images without an alarm | false alarms per 100 km^2 | wake visibility: quartiles, share above 3 |\n";
+    md += "| detector | wakes found | peak on a wake (by chance; by the line) | strongest detection on the wake | false alarms per wake image | no-wake images without an alarm | false alarms per 100 km^2 | wake visibility: quartiles, share above 3 |\n";
     md += "| --- | --- | --- | --- | --- | --- | --- | --- |\n";
     for s in &real.summaries {
         let visibility = s
@@ -106,12 +114,13 @@ pub fn markdown(real: &RealResults) -> String {
             .map_or("-".into(), |v| format!("{}, {:.2}", v.describe(), v.above_3));
         let _ = writeln!(
             md,
-            "| {:.2} km | {}/{} | {} ({}) | {}/{} | {:.1} | {}/{} | {} | {visibility} |",
+            "| {:.2} km | {}/{} | {} ({}; {}) | {}/{} | {:.1} | {}/{} | {} | {visibility} |",
             s.footprint / 1000.0,
             s.found,
             s.wake_images,
             s.peak_on_wake,
             by_chance(s),
+            by_line(s),
             s.strongest_on_wake,
             s.wake_images,
             s.false_alarms_per_wake_image,

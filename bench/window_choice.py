@@ -9,7 +9,8 @@ than 500 m from every drawn wake; the detections are the scan's, whatever the ru
 usage: window_choice.py DIR RUN [RUN ...]
 
 DIR holds the drawings (NAME.geojson, wakes as LineStrings in pixel coordinates with
-"pixel_spacing_m"); RUN/real/1280m/NAME/ the scan (`wakelab run --study transfer --real DIR`).
+"pixel_spacing_m"); RUN/real/FOOTPRINT/NAME/ the scan (`wakelab run --study transfer --real DIR`),
+scored for each footprint there (1280m, 2560m).
 Rules:
   probability   the window of largest wake probability (`detect`'s peak)
   line          the window of largest |line_z| (its strongest line's contrast)
@@ -90,14 +91,14 @@ def number(v):
     return float(v) if v != '' else float('nan')
 
 
-def scored(src, run):
+def scored(src, run, footprint='1280m'):
     """Per wake image: (name, set, its windows, on_wake(row, col), detections' on-wake flags)."""
     for name in sorted(f[:-8] for f in os.listdir(src) if f.endswith('.geojson')):
         drawing = json.load(open(os.path.join(src, name + '.geojson')))
         meta = drawing.get('wakelab', {})
         if meta.get('coordinates', 'pixel') != 'pixel':
             continue
-        scan = os.path.join(run, 'real', '1280m', name)
+        scan = os.path.join(run, 'real', footprint, name)
         if not os.path.exists(os.path.join(scan, 'windows.csv')):
             continue
         wakes = list(segments(drawing))
@@ -119,9 +120,9 @@ def main():
     if len(sys.argv) < 3:
         sys.exit(__doc__)
     src = sys.argv[1]
-    for run in sys.argv[2:]:
-        images = list(scored(src, run))
-        print(f"{run}: {len(images)} wake images")
+    for run, footprint in ((r, f) for r in sys.argv[2:] for f in sorted(os.listdir(os.path.join(r, 'real')))):
+        images = list(scored(src, run, footprint))
+        print(f"{run}, {footprint}: {len(images)} wake images")
         chance = {}
         for name, group, windows, on_wake, _ in images:
             share = sum(on_wake(w['place_row'], w['place_col']) for w in windows) / len(windows)

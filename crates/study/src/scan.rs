@@ -155,7 +155,7 @@ pub struct Scanned<'a> {
 
 impl Scanned<'_> {
     /// A scanned pixel position in the product's pixels.
-    fn in_product(&self, row: f64, col: f64) -> (f64, f64) {
+    pub(crate) fn in_product(&self, row: f64, col: f64) -> (f64, f64) {
         (row * self.factor.0, col * self.factor.1)
     }
 }
@@ -381,7 +381,7 @@ pub fn write_scan(dir: &Path, scanned: &Scanned, detection: &Detection) -> Resul
     findings.extend(sea_entries.2);
     let collection = feature_collection(frame, &findings, &common);
     write_atomically(&files.geojson, serde_json::to_string_pretty(&collection)?.as_bytes())?;
-    crate::scan_windows::write_windows(&files.windows, detection, scanned.factor)?;
+    crate::scan_windows::write_windows(&files.windows, detection, |r, c| scanned.in_product(r, c))?;
     Ok(files)
 }
 

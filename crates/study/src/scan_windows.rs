@@ -32,19 +32,23 @@ struct WindowRow {
 }
 
 /// `detection`'s windows written to `path` (CSV, a header row then one row a window in the
-/// scan's order), their scanned pixels multiplied by `factor` (product pixels per scanned pixel,
-/// rows and columns) into the product's.
-pub fn write_windows(path: &Path, detection: &Detection, factor: (f64, f64)) -> Result<()> {
+/// scan's order), each scanned pixel position (row, column) taken into the product's by
+/// `in_product` ([`crate::scan::Scanned`]'s).
+pub fn write_windows(path: &Path, detection: &Detection, in_product: impl Fn(f64, f64) -> (f64, f64)) -> Result<()> {
     let half = 0.5 * detection.window as f64;
     let mut csv = csv::Writer::from_writer(Vec::new());
     for tile in &detection.tiles {
-        let (place_row, place_col) = tile.place(detection.window);
+        let (window_row, window_col) = in_product(tile.row as f64 + half, tile.col as f64 + half);
+        let (place_row, place_col) = {
+            let (row, col) = tile.place(detection.window);
+            in_product(row, col)
+        };
         csv.serialize(WindowRow {
-            window_row: (tile.row as f64 + half) * factor.0,
-            window_col: (tile.col as f64 + half) * factor.1,
+            window_row,
+            window_col,
             probability: tile.probability,
-            place_row: place_row * factor.0,
-            place_col: place_col * factor.1,
+            place_row,
+            place_col,
             orientation_deg: tile.line.map(|l| l.angle),
             line_length_px: tile.line.map(|l| l.length),
             line_z: tile.line.map(|l| l.z),

@@ -6,7 +6,7 @@ window gives (on its strongest line) lies within 500 m of a drawn wake; a wake i
 when the peak or a detection is on a wake, with at most one false alarm (a detection farther
 than 500 m from every drawn wake; the detections are the scan's, whatever the rule).
 
-usage: window_choice.py DIR RUN [RUN ...]
+usage: window_choice.py DIR RUN [RUN ...]      (a RUN may be RUN+RUN+...: their mean probability)
 
 DIR holds the drawings (NAME.geojson, wakes as LineStrings in pixel coordinates with
 "pixel_spacing_m"); RUN/real/FOOTPRINT/NAME/ the scan (`wakelab run --study transfer --real DIR`),
@@ -91,15 +91,23 @@ def number(v):
     return float(v) if v != '' else float('nan')
 
 
+def windows_of(scan):
+    with open(os.path.join(scan, 'windows.csv')) as f:
+        return [{k: number(v) for k, v in r.items()} for r in csv.DictReader(f)]
+
+
 def scored(src, run, footprint='1280m'):
-    """Per wake image: (name, set, its windows, on_wake(row, col), detections' on-wake flags)."""
+    """Per wake image: (name, set, its windows, on_wake(row, col), detections' on-wake flags).
+    RUN+RUN+...: the runs' probabilities averaged window by window (the same detector grid,
+    checked), without detections (the mean has no threshold)."""
+    parts = run.split('+')
     for name in sorted(f[:-8] for f in os.listdir(src) if f.endswith('.geojson')):
         drawing = json.load(open(os.path.join(src, name + '.geojson')))
         meta = drawing.get('wakelab', {})
         if meta.get('coordinates', 'pixel') != 'pixel':
             continue
-        scan = os.path.join(run, 'real', footprint, name)
-        if not os.path.exists(os.path.join(scan, 'windows.csv')):
+        scans = [os.path.join(part, 'real', footprint, name) for part in parts]
+        if not all(os.path.exists(os.path.join(scan, 'windows.csv')) for scan in scans):
             continue
         wakes = list(segments(drawing))
         if not wakes:
@@ -109,10 +117,22 @@ def scored(src, run, footprint='1280m'):
         def on_wake(row, col, wakes=wakes, spacing=spacing):
             return min(point_segment((col, row), a, b) for a, b in wakes) * spacing <= WITHIN_M
 
-        with open(os.path.join(scan, 'windows.csv')) as f:
-            windows = [{k: number(v) for k, v in r.items()} for r in csv.DictReader(f)]
-        result = json.load(open(os.path.join(scan, 'detections.json')))
-        detections = [on_wake(d['product_row'], d['product_col']) for d in result['detections']]
+        windows = windows_of(scans[0])
+        if not windows:
+            continue
+        for scan in scans[1:]:
+            more = windows_of(scan)
+            if [(w['window_row'], w['window_col']) for w in more] != [(w['window_row'], w['window_col']) for w in windows]:
+                sys.exit(f"{scan}: its windows are not {scans[0]}'s; a mean needs runs of one window grid")
+            for w, m in zip(windows, more):
+                w['probability'] += m['probability']
+        for w in windows:
+            w['probability'] /= len(scans)
+        if len(scans) > 1:
+            detections = []
+        else:
+            result = json.load(open(os.path.join(scans[0], 'detections.json')))
+            detections = [on_wake(d['product_row'], d['product_col']) for d in result['detections']]
         yield name, set_of(name), windows, on_wake, detections
 
 
@@ -120,7 +140,12 @@ def main():
     if len(sys.argv) < 3:
         sys.exit(__doc__)
     src = sys.argv[1]
-    for run, footprint in ((r, f) for r in sys.argv[2:] for f in sorted(os.listdir(os.path.join(r, 'real')))):
+    for run in sys.argv[2:]:
+        for part in run.split('+'):
+            if not os.path.isdir(os.path.join(part, 'real')):
+                sys.exit(f"{part}/real: missing; run `wakelab run --study transfer --out {part} --real {src}` first")
+    first = lambda run: os.path.join(run.split('+')[0], 'real')  # noqa: E731
+    for run, footprint in ((r, f) for r in sys.argv[2:] for f in sorted(os.listdir(first(r)))):
         images = list(scored(src, run, footprint))
         print(f"{run}, {footprint}: {len(images)} wake images")
         chance = {}

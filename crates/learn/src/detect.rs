@@ -13,7 +13,10 @@ use crate::data::{detector_input, RadarScale};
 use crate::evaluate::detect_with_masks;
 use crate::line_sums::line_sums;
 use crate::models::Architecture;
+use crate::peak::{most_probable, peak_of};
+pub use crate::peak::{Peak, PeakRule};
 use crate::store::{Detector, ModelInfo};
+pub use crate::tile::Tile;
 use crate::train::Example;
 use crate::window_line::{strongest_line, strongest_line_of, WindowLine};
 use burn::tensor::Device;
@@ -27,29 +30,6 @@ use wakelab_schema::band::Band;
 
 pub use crate::image_file::read_single_band;
 
-/// One window's result.
-#[derive(Debug, Clone, Serialize)]
-pub struct Tile {
-    pub row: usize,
-    pub col: usize,
-    pub probability: f64,
-    /// The window's strongest line in the image's pixels ([`crate::window_line`]): where the
-    /// window places its wake. None for a flat window.
-    #[serde(skip)]
-    pub line: Option<WindowLine>,
-}
-
-impl Tile {
-    /// Where the window places its wake (row, column in the scanned pixels): the middle of its
-    /// strongest line's contrast, or the window's centre where it has no line.
-    pub fn place(&self, n: usize) -> (f64, f64) {
-        match self.line {
-            Some(line) => (line.row, line.col),
-            None => (self.row as f64 + 0.5 * n as f64, self.col as f64 + 0.5 * n as f64),
-        }
-    }
-}
-
 /// How a scene is scanned.
 #[derive(Debug, Clone, Copy)]
 pub struct ScanOptions {
@@ -61,6 +41,8 @@ pub struct ScanOptions {
     pub batch: usize,
     /// Decision threshold on a window's wake probability; None: the detector's.
     pub threshold: Option<f64>,
+    /// Which window is the scan's [`Peak`].
+    pub peak: PeakRule,
 }
 
 impl Default for ScanOptions {
@@ -70,6 +52,7 @@ impl Default for ScanOptions {
             scale: RadarScale::Linear,
             batch: 256,
             threshold: None,
+            peak: PeakRule::default(),
         }
     }
 }
@@ -93,32 +76,6 @@ pub struct Found {
     /// The wake's extent along that direction (pixels): of the mask's pixels, or of the line's
     /// stretch of contrast.
     pub length: Option<f64>,
-}
-
-/// Where the scan places its strongest window's wake, as a detection is placed ([`Found`]),
-/// whether or not it passes the threshold: on that window's strongest line ([`Tile::place`]).
-///
-/// Not the map's largest cell: a cell in an image's corner is one window's probability and an
-/// inner one the mean of up to four (at the default stride of half a window), so the largest
-/// cell falls at the edges and corners more often than the windows' scores say: in 35 % of 244
-/// scans of real images (61 images, four detectors), where corners are on average 11 % of an
-/// image's cells. Nor the map's centroid over the window's cells (until 2026-12-07): that lies
-/// within a cell of the window's centre, 600-900 m from a wake that crosses a 1.28 km window
-/// off its middle. What the rule finds by chance, [`crate::peak_chance`] (docs/results.md,
-/// "The peak placed on the strongest window's line").
-#[derive(Debug, Clone, Copy, Serialize)]
-pub struct Peak {
-    /// The place (pixels; row down, column right).
-    pub row: f64,
-    pub col: f64,
-    /// The strongest window's probability (the image's [`Detection::probability`]).
-    pub probability: f64,
-    /// The direction of the window's strongest line, as [`Found::orientation`] (None for a flat
-    /// window).
-    pub orientation: Option<f64>,
-    /// That line's contrast: its sum in the window's robust deviations over the root of its
-    /// pixels, negative for a dark line (unit variance on uncorrelated noise).
-    pub line_contrast: Option<f64>,
 }
 
 /// Detection on one image.
@@ -549,7 +506,15 @@ impl<'a> Scan<'a> {
             total.zip_mut_with(&times, |v, &t| *v = if t > 0.0 { *v / t } else { f32::NAN });
             total
         });
-        Ok(finish_detection(map, mask, tiles, n, stride, threshold))
+        Ok(finish_detection(
+            map,
+            mask,
+            tiles,
+            n,
+            stride,
+            threshold,
+            self.options.peak,
+        ))
     }
 }
 
@@ -561,9 +526,11 @@ fn finish_detection(
     n: usize,
     stride: usize,
     threshold: f64,
+    rule: PeakRule,
 ) -> Detection {
-    let peak = peak_of(&tiles, n);
-    let probability = peak.probability.max(0.0);
+    let peak = peak_of(&tiles, n, rule);
+    // the chance a wake is somewhere in the image, whichever window the peak is
+    let probability = most_probable(&tiles).probability.max(0.0);
     let detections = find_wakes(&map, &tiles, n, stride, threshold, mask.as_ref());
     Detection {
         probability,
@@ -585,30 +552,6 @@ pub(crate) fn mean_map(sum: &Array2<f32>, count: &Array2<f32>) -> Array2<f32> {
     ndarray::Zip::from(sum)
         .and(count)
         .map_collect(|&s, &c| if c > 0.0 { s / c } else { f32::NAN })
-}
-
-/// The scan's strongest window: the first of equals, row by row, as a scan gives them; a
-/// window whose probability is NaN only where every one is.
-pub(crate) fn strongest(tiles: &[Tile]) -> &Tile {
-    tiles
-        .iter()
-        .filter(|t| !t.probability.is_nan())
-        .reduce(|best, t| if t.probability > best.probability { t } else { best })
-        .or(tiles.first())
-        .expect("a scan of at least one window")
-}
-
-/// The scan's [`Peak`]: its strongest window's place, of windows of side `n`.
-pub(crate) fn peak_of(tiles: &[Tile], n: usize) -> Peak {
-    let strongest = strongest(tiles);
-    let (row, col) = strongest.place(n);
-    Peak {
-        row,
-        col,
-        probability: strongest.probability,
-        orientation: strongest.line.map(|l| l.angle),
-        line_contrast: strongest.line.map(|l| l.z),
-    }
 }
 
 /// The windows above `threshold` after non-maximum suppression: strongest first, a window is
@@ -738,11 +681,11 @@ mod tests {
         };
         let mut tiles = [tile(0, f64::NAN), tile(8, 0.9), tile(16, 0.3)];
         let map = Array2::from_shape_vec((1, 3), vec![f32::NAN, 0.9, 0.3]).unwrap();
-        let peak = peak_of(&tiles, 8);
+        let peak = peak_of(&tiles, 8, PeakRule::Network);
         assert_eq!((peak.row, peak.col, peak.probability), (4.0, 12.0, 0.9));
         assert_eq!((peak.orientation, peak.line_contrast), (None, None));
         let unscored = [tile(0, f64::NAN), tile(8, f64::NAN)];
-        let peak = peak_of(&unscored, 8);
+        let peak = peak_of(&unscored, 8, PeakRule::Network);
         assert_eq!((peak.row, peak.col), (4.0, 4.0));
         let line = WindowLine {
             row: 1.5,
@@ -752,12 +695,16 @@ mod tests {
             z: -5.0,
         };
         tiles[1].line = Some(line);
-        let peak = peak_of(&tiles, 8);
+        let peak = peak_of(&tiles, 8, PeakRule::Network);
         assert_eq!((peak.row, peak.col), (1.5, 9.0));
         assert_eq!((peak.orientation, peak.line_contrast), (Some(30.0), Some(-5.0)));
-        // the scene's probability stays a number
-        let detection = finish_detection(map, None, tiles.to_vec(), 8, 8, 0.5);
-        assert_eq!(detection.probability, 0.9);
+        // the scene's probability stays a number, and the most probable window's under the
+        // line's rule too (the 0.3 window's line is the stronger there)
+        tiles[2].line = Some(WindowLine { z: 7.0, ..line });
+        for rule in PeakRule::ALL {
+            let detection = finish_detection(map.clone(), None, tiles.to_vec(), 8, 8, 0.5, rule);
+            assert_eq!((detection.probability, detection.peak.rule), (0.9, rule));
+        }
     }
 
     #[test]

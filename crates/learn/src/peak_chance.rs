@@ -40,17 +40,14 @@ pub fn peak_by_chance(tiles: &[Tile], n: usize, on_target: impl Fn(f64, f64) -> 
 /// 1990), made over the scan's windows. The network's peak beating it, not only chance, is
 /// what its learning adds on real images. None where no window has a line.
 pub fn peak_by_line(tiles: &[Tile], n: usize) -> Option<(f64, f64)> {
-    let strongest = tiles
-        .iter()
-        .filter_map(|t| t.line.map(|l| (t, l.z.abs())))
-        .reduce(|best, next| if next.1 > best.1 { next } else { best })?;
-    Some(strongest.0.place(n))
+    crate::peak::strongest_line_window(tiles).map(|t| t.place(n))
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::detect::peak_of;
+    use crate::detect::PeakRule;
+    use crate::peak::peak_of;
     use crate::window_line::WindowLine;
     use rand::{RngExt, SeedableRng};
     use rand_chacha::ChaCha8Rng;
@@ -119,7 +116,7 @@ mod tests {
                 for t in four.iter_mut() {
                     t.probability = rng.random_range(0.0..1.0);
                 }
-                let peak = peak_of(&four, 8);
+                let peak = peak_of(&four, 8, PeakRule::Network);
                 on_target(peak.row, peak.col)
             })
             .count();

@@ -39,10 +39,8 @@ pub struct ConfigArgs {
 
 impl ConfigArgs {
     pub fn load(&self) -> Result<WakelabConfig> {
-        Ok(WakelabConfig::from_file_with_preset(
-            self.config.as_deref(),
-            self.preset,
-        )?)
+        let file = self.config.as_deref();
+        Ok(WakelabConfig::from_file_with_preset(file, self.preset)?)
     }
 
     /// The configuration with the command line's --wind and --incidence applied, validated.
@@ -149,8 +147,7 @@ pub enum Command {
     #[command(after_help = include_str!("../help/eval.txt"))]
     Eval(EvalArgs),
     /// Run a saved detector over an image of any size (a Sentinel-1, TerraSAR-X or COSMO-SkyMed
-    /// product, a GeoTIFF / COG, npy or PNG) and find its ships and their wakes (course, speed). Writes
-    /// the probability map (COG), the windows, ships and wakes (GeoJSON) and an overlay.
+    /// product, a GeoTIFF / COG, npy or PNG) and find its ships and their wakes (course, speed).
     #[command(after_help = include_str!("../help/detect.txt"))]
     Detect(DetectArgs),
     /// Calibrate a SAR product to sigma0 (SNAP's "Calibration"): the masked sigma0 that detect
@@ -427,11 +424,12 @@ pub struct DetectArgs {
     /// Decision threshold on a window's wake probability; default: the detector's.
     #[arg(long, value_name = "P", allow_negative_numbers = true)]
     pub threshold: Option<f64>,
-    /// Output directory: probability.tif (the wake-probability map, a COG on the input's ground),
-    /// overlay.png, detections.geojson (longitude/latitude), detections.json, windows.csv (every
-    /// window) and, for a "unet" detector, mask.tif. Default: detect-<image name> in the current directory.
+    /// Output directory (its files: below); default: detect-<image name> in the current directory.
     #[arg(long, value_name = "DIR")]
     pub out: Option<PathBuf>,
+    /// The peak's window: `line` (of the strongest line's contrast) or `network` (the most probable).
+    #[arg(long, value_name = "RULE", default_value = "line")]
+    pub peak: wakelab_learn::detect::PeakRule,
     /// Also write the wake mask (PNG) here.
     #[arg(long, value_name = "FILE")]
     pub mask: Option<PathBuf>,

@@ -18,6 +18,7 @@ pub fn run_detect(args: &DetectArgs, quiet: bool) -> Result<()> {
         options: ScanOptions {
             stride: args.stride,
             threshold: args.threshold,
+            peak: args.peak,
             ..ScanOptions::default()
         },
         device: &args.device,

@@ -188,6 +188,12 @@ fn every_bad_input_is_refused_by_name_without_a_panic_or_leftovers() {
             &["--ship-pfa", "0.5", "at most 0.01"],
         ),
         case(
+            "unknown peak rule",
+            "detect {dir}/inf.npy --model {dir}/models/S_base.safetensors --out {out} --peak strongest",
+            2,
+            &["--peak", "strongest", "`line` or `network`"],
+        ),
+        case(
             "constant image in detect",
             "detect {dir}/constant.npy --model {dir}/models/S_base.safetensors --out {out}",
             1,

@@ -202,22 +202,38 @@ fn real_inputs_score_the_same_sea_alike_and_land_where_gdal_puts_them() {
         "{resampled}"
     );
     assert!(resampled["notes"].to_string().contains("area-averaged"));
-    // windows.csv: every window, the peak placed as its strongest window places the wake, in
-    // the product's pixels (the 5 m scan's twice the 10 m scan's)
+    // windows.csv: every window, in the product's pixels (the 5 m scan's twice the 10 m
+    // scan's). The peak is placed as its window places the wake: by default the window of the
+    // strongest line's contrast, with `--peak network` the most probable one; the image's
+    // probability and its detections are the same under both rules
     let ten = windows_csv(&scan);
     let five_m = windows_csv(&dir.join("scan_5m"));
     assert_eq!(ten.len() as u64, base["windows"].as_u64().unwrap());
     assert_eq!(five_m.len(), ten.len());
-    let strongest = ten
-        .iter()
-        .max_by(|a, b| a["probability"].total_cmp(&b["probability"]))
-        .unwrap();
-    assert_eq!(strongest["probability"], probability(&base));
-    for (key, want) in [("place_row", "product_row"), ("place_col", "product_col")] {
-        assert!(
-            (strongest[key] - base["peak"][want].as_f64().unwrap()).abs() < 1e-9,
-            "{strongest:?}"
-        );
+    let largest = |key: &str| {
+        let of = |w: &std::collections::HashMap<String, f64>| if w[key].is_nan() { 0.0 } else { w[key].abs() };
+        ten.iter().max_by(|a, b| of(a).total_cmp(&of(b))).unwrap().clone()
+    };
+    let by_network = detect(
+        &linear,
+        &model,
+        &dir.join("scan_network"),
+        &["--threshold", "0", "--peak", "network"],
+    );
+    assert_eq!(probability(&by_network), probability(&base));
+    assert_eq!(by_network["detections"], base["detections"]);
+    assert_eq!(largest("probability")["probability"], probability(&base));
+    for (scanned, key, rule) in [(&base, "line_z", "line"), (&by_network, "probability", "network")] {
+        let window = largest(key);
+        assert_eq!(scanned["peak"]["rule"], rule);
+        for (key, want) in [("place_row", "product_row"), ("place_col", "product_col")] {
+            let place = scanned["peak"][want].as_f64().unwrap();
+            assert!(
+                (window[key] - place).abs() < 1e-9,
+                "{rule}: {window:?} {}",
+                scanned["peak"]
+            );
+        }
     }
     for (a, b) in ten.iter().zip(&five_m) {
         assert_eq!(

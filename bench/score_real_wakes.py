@@ -16,7 +16,12 @@ found, where one is found with at most one false wake (the transfer issue's targ
 by how they look (drawn "look": dark, bright, both), the CNN's, and the two together as a user
 of `detect` reads them: a wake found by either, with at most one false wake and window away (a
 window away on a false wake's line counted once); and, by `detect`'s `cnn_windows` and `on_wake`,
-how often a wake seen by both searches, or by one alone, lies on a drawn wake. An image with no wake drawn
+how often a wake seen by both searches, or by one alone, lies on a drawn wake. Item 7's rule of the transfer issue is
+printed too: a wake found by the search's wake, a flagged window or the map's peak, with at most
+one false alarm (false wakes and windows away). From each scan's `windows.csv`, how well its
+windows are ranked: the AUC of a window on a wake (its centre within 500 m of one) against the
+others, by the network's probability and by the strongest line's |z| (`--peak line`'s key),
+pooled and per image. An image with no wake drawn
 (certified wake-free) is scored apart: whether any wake, and any CNN window, is reported there.
 Every reported ship's own CNN window (`cnn_probability`) is scored against the line search from
 the ship: a ship is a wake's when it lies within 500 m of a drawn wake's line.
@@ -28,7 +33,7 @@ every other reported ship is false. Where it also says "wakes_drawn": false (ben
 only its ships are scored.
 Pure Python, no packages.
 """
-import json, math, os, subprocess, sys
+import csv, json, math, os, subprocess, sys
 
 TOL = os.environ.get("TOL")
 TOL_M = float(os.environ.get("TOL_M", "300"))
@@ -66,6 +71,7 @@ def main():
                   ship_images=0, ships_drawn=0, ships_found=0, ships_false=0)
     by_kind = {}
     ship_records = []
+    window_records = []
     faint_records = []
     promoted = []
     for name in sorted(f[:-8] for f in os.listdir(src) if f.endswith(".geojson")):
@@ -165,6 +171,13 @@ def main():
         totals["either_found"] += any(hits) or cnn_hits > 0
         totals["either_target"] += (any(hits) or cnn_hits > 0) and either_false <= 1
         totals["either_false"] += either_false
+        # the issue's item 7: a wake found when the search's wake, a flagged window or the map's
+        # peak lies on it; its false alarms are the search's false wakes and the windows away
+        item7 = any(hits) or cnn_hits > 0 or on_peak
+        totals["item7_found"] = totals.get("item7_found", 0) + item7
+        totals["item7_target"] = totals.get("item7_target", 0) + (item7 and false + away <= 1)
+        # every scored window (`windows.csv`): on a wake when its centre lies within 500 m of one
+        window_records.extend(scored_windows(run, name, lambda p: any(near(p, d) for d in drawn)))
         # the searches read together (`detect`'s `cnn_windows` and `on_wake`): how often a wake
         # seen by both, or by the line search alone, is a drawn one; and a window on no
         # reported wake lies within 500 m of a drawn one
@@ -191,6 +204,8 @@ def main():
           f"{t['cnn_target']}; peak on a wake in {t['cnn_peak']}; windows away {t['cnn_away']} of {t['cnn_windows']}")
     print(f"either: a wake found in {t['either_found']} images, with at most one false in {t['either_target']}; "
           f"false {t['either_false']} ({t['either_false'] / max(t['images'], 1):.2f} per wake image)")
+    print(f"item 7's rule (the search's wake, a flagged window or the map's peak within 500 m): a wake found in "
+          f"{t.get('item7_found', 0)} images, with at most one false (false wakes and windows away) in {t.get('item7_target', 0)}")
     print(f"read together: wakes seen by both {t['both']}, on a drawn wake {t['both_true']}; by the line search "
           f"alone {t['line_only']}, on a drawn wake {t['line_only_true']}; CNN windows on no reported wake "
           f"{t['cnn_only']}, within 500 m of a drawn wake {t['cnn_only_near']} (images with wakes drawn)")
@@ -206,6 +221,8 @@ def main():
         ship_windows(ship_records)
     if faint_records:
         faint_lines(faint_records)
+    if window_records:
+        window_ranking(window_records)
 
 
 def faint_lines(records):
@@ -223,6 +240,44 @@ def faint_lines(records):
               f"wake-free images with a faint line {sum(1 for r in rows if not r['drawn'] and r['lines'])}")
     line("tuning set", [r for r in records if r["image"].isdigit()])
     line("held-out and wake-free images", [r for r in records if not r["image"].isdigit()])
+
+
+def scored_windows(run, name, on_wake):
+    """The scan's windows of `windows.csv` in `run` (none where an older `detect` wrote no such
+    file), each with its probability, its strongest line's |z| and whether `on_wake` holds at
+    its centre (product pixels)."""
+    path = os.path.join(run, "windows.csv")
+    if not os.path.exists(path):
+        return []
+    with open(path) as f:
+        return [dict(image=name, p=float(w["probability"]), z=abs(float(w["line_z"] or 0)),
+                     wake=on_wake((float(w["window_col"]), float(w["window_row"]))))
+                for w in csv.DictReader(f)]
+
+
+def window_ranking(records):
+    """How well the scan's windows are ranked: the AUC of a window on a wake (its centre within
+    500 m of one) against the others, by the network's probability and by the strongest line's
+    |z| (the `--peak line` rule's key), pooled over the wake images and per image (its median,
+    over images with windows of both kinds)."""
+    def line(label, rows):
+        pos, neg = [r for r in rows if r["wake"]], [r for r in rows if not r["wake"]]
+        per = {}
+        for r in rows:
+            per.setdefault(r["image"], []).append(r)
+        by_image = [(auc([r["p"] for r in v if r["wake"]], [r["p"] for r in v if not r["wake"]]),
+                     auc([r["z"] for r in v if r["wake"]], [r["z"] for r in v if not r["wake"]]))
+                    for v in per.values() if any(r["wake"] for r in v) and not all(r["wake"] for r in v)]
+        median = lambda xs: sorted(xs)[len(xs) // 2] if len(xs) % 2 else sum(sorted(xs)[len(xs) // 2 - 1:len(xs) // 2 + 1]) / 2
+        print(f"windows' ranking, {label}: {len(pos)} windows on a wake, {len(neg)} away; AUC by the network's "
+              f"probability {auc([r['p'] for r in pos], [r['p'] for r in neg]):.3f}, by the line's |z| "
+              f"{auc([r['z'] for r in pos], [r['z'] for r in neg]):.3f}; per image ({len(by_image)}): median "
+              f"{median([a for a, _ in by_image]) if by_image else float('nan'):.3f} and "
+              f"{median([b for _, b in by_image]) if by_image else float('nan'):.3f}, above 0.5 in "
+              f"{sum(a > 0.5 for a, _ in by_image)} and {sum(b > 0.5 for _, b in by_image)}")
+    line("all wake images", records)
+    line("tuning set", [r for r in records if r["image"].isdigit()])
+    line("held-out", [r for r in records if not r["image"].isdigit()])
 
 
 def auc(positives, negatives):

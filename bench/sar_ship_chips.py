@@ -9,14 +9,14 @@ The chips are the SAR-Ship-Dataset samples (Wang et al. 2019, Remote Sensing 11(
 Gaofen-3 and Sentinel-1 chips of 256 x 256 pixels) that Rc-W024/SAR_Ship_detection_CFAR holds
 at commit f2e4a779 in "Raw images/" (the repository is MIT), read with `git show` from
 DIR/Rc-W024+SAR_Ship_detection_CFAR (default /work/.mirror). Of its twelve chips, the four
-kept are those of open sea whose sea the display stretch kept (looked at by eye, 2026-12-07):
-five hold land, a harbour or a river bank (Gao_ship_hh_0201611139301040015,
+kept are those of open sea whose sea the display stretch kept. Five hold land, a harbour or a
+river bank (looked at by eye, 2026-12-07: Gao_ship_hh_0201611139301040015,
 Gao_ship_hh_02017012977040807, Gao_ship_hh_02017110638010408, Sen_ship_hh_0201610150202506,
-Sen_ship_hv_02017102202012015); in three the stretch clipped the sea to black, its median grey
-0-3 of 255 (Gao_ship_hh_02017010717010109: 84 % of pixels 0, which `detect` reads as a no-data
-border and refuses; Sen_ship_hh_0201705190105404, Sen_ship_vv_02017091501054029: 2-6 grey
-levels of sea, no texture left to judge a detector on). Gao_ship_vh_020170115650701803 is kept
-with the sea-ice-like texture in its top-left corner. No chip shows a wake to the eye; several
+Sen_ship_hv_02017102202012015) and are not read. Of the seven open-sea chips (OPEN_SEA), those
+whose median grey is below CLIPPED (10 of 255) are left out, each printed with its median and
+its share of 0s: the stretch clipped their sea to black, leaving no texture to judge a
+detector on (one, 84 % zeros, `detect` reads as a no-data border and refuses).
+Gao_ship_vh_020170115650701803 is kept with the sea-ice-like texture in its top-left corner. No chip shows a wake to the eye; several
 show a ship's azimuth sidelobes as bright streaks.
 
 Writes OUT/sd_NAME.png (the chip's first band; the JPEGs are grey, R = G = B) and
@@ -24,31 +24,25 @@ OUT/sd_NAME.geojson: no wake drawn (so bench/score_real_wakes.py counts it wake-
 a Polygon of "kind": "ship" with "ships_drawn": true. The dataset states a chip's product
 (Gaofen-3 at 3-10 m, Sentinel-1 SM or IW) but not its spacing: every chip is taken at 5 m, the
 size that makes its ships 60-200 m long; the display scale, as the JPEGs are display-stretched.
-Needs GDAL's Python bindings (python3-gdal) and numpy. Prints each output's name and sha256.
+Needs GDAL's Python bindings (python3-gdal) and numpy; reads the mirror with
+bench/wake_free_images.py's helpers. Prints each output's name and sha256.
 """
 import argparse
 import hashlib
 import json
 import os
 import re
-import subprocess
-import tempfile
 
 import numpy as np
 from osgeo import gdal
 
+from wake_free_images import git_show, read_band
+
 REPO, COMMIT = 'Rc-W024+SAR_Ship_detection_CFAR', 'f2e4a779'
-CHIPS = ['Gao_ship_hh_0201802133701016010', 'Gao_ship_vh_020170115650701803', 'ship010902', 'ship050304']
+OPEN_SEA = ['Gao_ship_hh_02017010717010109', 'Gao_ship_hh_0201802133701016010', 'Gao_ship_vh_020170115650701803',
+            'Sen_ship_hh_0201705190105404', 'Sen_ship_vv_02017091501054029', 'ship010902', 'ship050304']
+CLIPPED = 10
 SPACING_M = 5
-
-
-def git_show(mirrors, path):
-    for where in (os.path.join(mirrors, REPO, 'repo'), os.path.join(mirrors, REPO)):
-        if os.path.isdir(where):
-            git_dir = os.path.join(where, '.git') if os.path.isdir(os.path.join(where, '.git')) else where
-            return subprocess.run(['git', f'--git-dir={git_dir}', 'show', f'{COMMIT}:{path}'],
-                                  check=True, capture_output=True).stdout
-    raise SystemExit(f'{REPO}: not in {mirrors} (fetch github:{REPO.replace("+", "/")} first)')
 
 
 def boxes(xml):
@@ -66,19 +60,20 @@ def main():
     parser.add_argument('--mirrors', default='/work/.mirror')
     args = parser.parse_args()
     os.makedirs(args.out, exist_ok=True)
-    for chip in CHIPS:
-        with tempfile.NamedTemporaryFile(suffix='.jpg') as f:
-            f.write(git_show(args.mirrors, f'Raw images/{chip}.jpg'))
-            f.flush()
-            grey = gdal.Open(f.name).ReadAsArray()
+    for chip in OPEN_SEA:
+        grey = read_band(git_show(args.mirrors, REPO, COMMIT, f'Raw images/{chip}.jpg'), '.jpg')
         grey = (grey[0] if grey.ndim == 3 else grey).astype(np.uint8)
+        if np.median(grey) < CLIPPED:
+            print(f'left out {chip}: sea clipped to black (median grey {np.median(grey):.0f}, '
+                  f'{np.mean(grey == 0):.0%} of pixels 0)')
+            continue
         name = 'sd_' + chip
         png = os.path.join(args.out, name + '.png')
         mem = gdal.GetDriverByName('MEM').Create('', grey.shape[1], grey.shape[0], 1, gdal.GDT_Byte)
         mem.GetRasterBand(1).WriteArray(grey)
         gdal.GetDriverByName('PNG').CreateCopy(png + '.part', mem)
         os.replace(png + '.part', png)
-        rings = boxes(git_show(args.mirrors, f'Raw images/{chip}.xml').decode())
+        rings = boxes(git_show(args.mirrors, REPO, COMMIT, f'Raw images/{chip}.xml').decode())
         meta = {'type': 'FeatureCollection',
                 'wakelab': {'coordinates': 'pixel', 'pixel_spacing_m': SPACING_M, 'scale': 'display', 'ships_drawn': True},
                 'notes': f"SOURCE {REPO.replace('+', '/')}@{COMMIT}:Raw images/{chip}.jpg; no_wake",

@@ -33,7 +33,7 @@ every other reported ship is false. Where it also says "wakes_drawn": false (ben
 only its ships are scored.
 Pure Python, no packages.
 """
-import csv, json, math, os, subprocess, sys
+import csv, json, math, os, statistics, subprocess, sys
 
 TOL = os.environ.get("TOL")
 TOL_M = float(os.environ.get("TOL_M", "300"))
@@ -238,8 +238,7 @@ def faint_lines(records):
               f"{sum(r['found'] for r in wake_rows)}, with a wake found or under a faint line "
               f"{sum(r['found_with_faint'] for r in wake_rows)} of {len(wake_rows)}; "
               f"wake-free images with a faint line {sum(1 for r in rows if not r['drawn'] and r['lines'])}")
-    line("tuning set", [r for r in records if r["image"].isdigit()])
-    line("held-out and wake-free images", [r for r in records if not r["image"].isdigit()])
+    by_set(line, records, "held-out and wake-free images")
 
 
 def scored_windows(run, name, on_wake):
@@ -268,16 +267,20 @@ def window_ranking(records):
         by_image = [(auc([r["p"] for r in v if r["wake"]], [r["p"] for r in v if not r["wake"]]),
                      auc([r["z"] for r in v if r["wake"]], [r["z"] for r in v if not r["wake"]]))
                     for v in per.values() if any(r["wake"] for r in v) and not all(r["wake"] for r in v)]
-        median = lambda xs: sorted(xs)[len(xs) // 2] if len(xs) % 2 else sum(sorted(xs)[len(xs) // 2 - 1:len(xs) // 2 + 1]) / 2
+        median = lambda xs: statistics.median(xs) if xs else float("nan")
         print(f"windows' ranking, {label}: {len(pos)} windows on a wake, {len(neg)} away; AUC by the network's "
               f"probability {auc([r['p'] for r in pos], [r['p'] for r in neg]):.3f}, by the line's |z| "
               f"{auc([r['z'] for r in pos], [r['z'] for r in neg]):.3f}; per image ({len(by_image)}): median "
-              f"{median([a for a, _ in by_image]) if by_image else float('nan'):.3f} and "
-              f"{median([b for _, b in by_image]) if by_image else float('nan'):.3f}, above 0.5 in "
+              f"{median([a for a, _ in by_image]):.3f} and {median([b for _, b in by_image]):.3f}, above 0.5 in "
               f"{sum(a > 0.5 for a, _ in by_image)} and {sum(b > 0.5 for _, b in by_image)}")
     line("all wake images", records)
+    by_set(line, records, "held-out")
+
+
+def by_set(line, records, rest):
+    """`line` of the tuning set's records (images named by digits), then of the rest."""
     line("tuning set", [r for r in records if r["image"].isdigit()])
-    line("held-out", [r for r in records if not r["image"].isdigit()])
+    line(rest, [r for r in records if not r["image"].isdigit()])
 
 
 def auc(positives, negatives):
@@ -305,8 +308,7 @@ def ship_windows(records):
               f"either: {rate(pos, lambda r: r['line'] or flagged(r))}, {rate(neg, lambda r: r['line'] or flagged(r))}; "
               f"both: {rate(pos, lambda r: r['line'] and flagged(r))}, {rate(neg, lambda r: r['line'] and flagged(r))}")
     line("all", records)
-    line("tuning set", [r for r in records if r["image"].isdigit()])
-    line("held-out and wake-free images", [r for r in records if not r["image"].isdigit()])
+    by_set(line, records, "held-out and wake-free images")
 
 
 if __name__ == "__main__":
